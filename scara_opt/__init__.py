@@ -1,0 +1,42 @@
+"""scara_opt: model-based kinematics and trajectories of SCARA robots and any serial URDF chain.
+
+Robots are URDFs loaded into Pinocchio (:class:`Robot`); the bundled ones are
+generated from the papers' DH tables (:func:`load_robot`, :func:`list_robots`).
+"""
+
+import logging
+
+from scara_opt.errors import (
+    FrameNotFoundError,
+    InputError,
+    JointLimitError,
+    RobotNotFoundError,
+    ScaraOptError,
+    SolverOptionError,
+    TargetError,
+    TrajectoryError,
+    UnknownSolverError,
+    URDFError,
+)
+from scara_opt.robot import Robot, list_robots, load_robot
+
+__version__ = "0.1.0"
+
+logging.getLogger(__name__).addHandler(logging.NullHandler())
+
+__all__ = [
+    "FrameNotFoundError",
+    "InputError",
+    "JointLimitError",
+    "Robot",
+    "RobotNotFoundError",
+    "ScaraOptError",
+    "SolverOptionError",
+    "TargetError",
+    "TrajectoryError",
+    "URDFError",
+    "UnknownSolverError",
+    "__version__",
+    "list_robots",
+    "load_robot",
+]

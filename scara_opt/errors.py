@@ -1,0 +1,91 @@
+"""The scara_opt exception family: every error the toolkit raises on bad input.
+
+Each class subclasses :class:`ScaraOptError` and the matching builtin, so both
+``except ScaraOptError`` and ``except ValueError`` catch it. Messages say what
+was wrong, where, and what to do.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Iterable
+
+
+class ScaraOptError(Exception):
+    """Base class of every scara_opt error."""
+
+
+class InputError(ScaraOptError, ValueError):
+    """An argument has the wrong shape, type, or a non-finite value."""
+
+
+class URDFError(ScaraOptError, ValueError):
+    """A URDF (or DH robot file) is missing, malformed or not usable as a serial chain."""
+
+
+class RobotNotFoundError(URDFError, LookupError):
+    """A bundled robot name is unknown and is not a path to a file either."""
+
+    def __init__(self, name: str, available: Iterable[str]) -> None:
+        self.name = name
+        self.available = sorted(available)
+        super().__init__(
+            f"no bundled robot named {name!r} and no file at that path; "
+            f"bundled robots: {', '.join(self.available)}; "
+            "pass one of these names or the path to a .urdf or .toml file"
+        )
+
+
+class FrameNotFoundError(URDFError, LookupError):
+    """A frame (link) name does not exist in the model."""
+
+    def __init__(self, frame: str, available: Iterable[str]) -> None:
+        self.frame = frame
+        self.available = list(available)
+        super().__init__(
+            f"frame {frame!r} is not in the URDF; frames that exist: "
+            f"{', '.join(self.available)}; pass one of them as tip="
+        )
+
+
+class JointLimitError(ScaraOptError, ValueError):
+    """A joint value or a joint-limit specification is invalid."""
+
+    def __init__(self, message: str, joint: str | None = None) -> None:
+        self.joint = joint
+        super().__init__(message)
+
+
+class TargetError(ScaraOptError, ValueError):
+    """An IK target is malformed or asks for a task the robot cannot do."""
+
+
+class UnknownSolverError(ScaraOptError, KeyError):
+    """A solver (or time-parameterisation) method name is not registered."""
+
+    def __init__(self, name: str, available: Iterable[str], kind: str = "IK method") -> None:
+        self.name = name
+        self.available = sorted(available)
+        super().__init__(name)
+        self._message = (
+            f"unknown {kind} {name!r}; registered: {', '.join(self.available)}"
+        )
+
+    def __str__(self) -> str:  # KeyError would otherwise quote the message
+        return self._message
+
+
+class SolverOptionError(ScaraOptError, TypeError):
+    """A solver was given an option it does not accept."""
+
+    def __init__(self, method: str, unknown: Iterable[str], accepted: Iterable[str]) -> None:
+        self.method = method
+        self.unknown = sorted(unknown)
+        self.accepted = sorted(accepted)
+        super().__init__(
+            f"method {method!r} does not accept option(s) {', '.join(self.unknown)}; "
+            f"accepted: {', '.join(self.accepted) or '(none)'}"
+        )
+
+
+class TrajectoryError(ScaraOptError, ValueError):
+    """A path or its limits cannot be time-parameterised as asked."""

@@ -1,0 +1,49 @@
+"""Symbolic forward kinematics in casadi, built by walking the Pinocchio model tree.
+
+The PyPI ``pin`` wheel has no ``pinocchio.casadi``, so the expression is assembled
+here from the joint placements, joint kinds and axes, and the tip placement that
+:class:`scara_opt.Robot` reads from its Pinocchio model.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from typing import TYPE_CHECKING
+
+import casadi as ca
+import numpy as np
+
+if TYPE_CHECKING:
+    from scara_opt.robot import ChainJoint
+
+
+def _rotation(axis: np.ndarray, angle: ca.SX) -> ca.SX:
+    """3×3 rotation about a constant unit ``axis`` by a symbolic ``angle`` (Rodrigues)."""
+    c, s = ca.cos(angle), ca.sin(angle)
+    K = ca.SX(np.array([[0, -axis[2], axis[1]], [axis[2], 0, -axis[0]], [-axis[1], axis[0], 0]]))
+    return ca.SX.eye(3) + s * K + (1 - c) * (K @ K)
+
+
+def build_symbolic_fk(chain: Sequence[ChainJoint], tip_placement: np.ndarray,
+                      name: str = "fk") -> ca.Function:
+    """casadi Function ``q (nq,) -> (p (3,), R (3×3))`` of the tip pose in the world frame.
+
+    Args:
+        chain: the movable joints in order (placement in the parent frame, kind, axis).
+        tip_placement: 4×4 placement of the tip in the last joint's frame [m].
+        name: the Function's name.
+    """
+    q = ca.SX.sym("q", len(chain))
+    R: ca.SX = ca.SX.eye(3)
+    p: ca.SX = ca.SX.zeros(3)
+    for k, j in enumerate(chain):
+        p = p + R @ ca.DM(j.placement[:3, 3])
+        if not np.array_equal(j.placement[:3, :3], np.eye(3)):
+            R = R @ ca.DM(j.placement[:3, :3])
+        if j.kind == "prismatic":
+            p = p + (R @ ca.DM(j.axis)) * q[k]
+        else:
+            R = R @ _rotation(j.axis, q[k])
+    p = p + R @ ca.DM(tip_placement[:3, 3])
+    R = R @ ca.DM(tip_placement[:3, :3])
+    return ca.Function(name, [q], [ca.simplify(p), ca.simplify(R)], ["q"], ["p", "R"])

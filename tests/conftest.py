@@ -1,0 +1,68 @@
+"""Shared fixtures and the papers' closed-form forward kinematics (the independent reference)."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import scara_opt as so
+
+DATA = Path(__file__).parent / "data"
+ROOT = Path(__file__).resolve().parent.parent
+IN = 0.0254  # metres per inch
+BUNDLED = ["fang", "inverted5", "nguyen", "peng2025", "zavar2024"]
+
+
+def _rz(a: float) -> np.ndarray:
+    c, s = np.cos(a), np.sin(a)
+    return np.array([[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]])
+
+
+def paper_fk(name: str, q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Tip position [m] and rotation of each bundled robot, typed in from its paper."""
+    if name == "zavar2024":  # zavar2024 eq. 3/5: a1 = a2 = 0.2 m, z = -d3 - d4, d4 = 0.05 m
+        t1, t2, d3, t4 = q
+        p = [0.2 * np.cos(t1) + 0.2 * np.cos(t1 + t2), 0.2 * np.sin(t1) + 0.2 * np.sin(t1 + t2),
+             -d3 - 0.05]
+        return np.array(p), _rz(t1 + t2 + t4)
+    if name == "fang":  # fang eq. 1: L1 = L2 = 200 mm, z = -d3 - d4 with d4 = 15 mm
+        t1, t2, d3, t4 = q
+        p = [0.2 * np.cos(t1) + 0.2 * np.cos(t1 + t2), 0.2 * np.sin(t1) + 0.2 * np.sin(t1 + t2),
+             -d3 - 0.015]
+        return np.array(p), _rz(t1 + t2 + t4)
+    if name == "peng2025":  # peng2025 eq. 4.6 (mm): x = 120 + 220 c1 + 200 c12, z = z0 + 172
+        z0, t1, t2, t3 = q
+        p = [0.12 + 0.22 * np.cos(t1) + 0.2 * np.cos(t1 + t2),
+             0.22 * np.sin(t1) + 0.2 * np.sin(t1 + t2), z0 + 0.172]
+        return np.array(p), _rz(t1 + t2 + t3)
+    if name == "nguyen":  # nguyen eq. 5/7: a2 = a3 = 300 mm, d5 = 80 mm
+        d1, t2, t3, d4, t5 = q
+        A = t2 + t3 + t5
+        p = [0.3 * np.cos(t2) + 0.3 * np.cos(t2 + t3), -d4 - 0.08,
+             d1 + 0.3 * np.sin(t2) + 0.3 * np.sin(t2 + t3)]
+        R = np.array([[np.cos(A), -np.sin(A), 0.0], [0.0, 0.0, -1.0], [np.sin(A), np.cos(A), 0.0]])
+        return np.array(p), R
+    if name == "inverted5":  # inverted5 Sec. III: L2 = L3 = L4 = 7.87 in, z = -P1 - P5
+        P1, t1, t2, t3, P5 = q
+        L = 7.87 * IN
+        p = [L + L * np.cos(t1 - np.pi) + L * np.cos(t1 + t2 - 2 * np.pi),
+             L * np.sin(t1 - np.pi) + L * np.sin(t1 + t2 - 2 * np.pi), -P1 - P5]
+        return np.array(p), _rz(t1 + t2 + t3 - 2 * np.pi)
+    raise KeyError(name)
+
+
+@pytest.fixture(scope="session")
+def robots() -> dict[str, so.Robot]:
+    return {name: so.load_robot(name) for name in BUNDLED}
+
+
+@pytest.fixture(scope="session")
+def arm6() -> so.Robot:
+    return so.Robot.from_urdf(DATA / "arm6.urdf")
+
+
+def random_q(robot: so.Robot, n: int, seed: int = 0) -> np.ndarray:
+    """``n`` configurations drawn uniformly within the joint limits, (n, nq)."""
+    return np.random.default_rng(seed).uniform(robot.lower, robot.upper, (n, robot.nq))

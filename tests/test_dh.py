@@ -1,0 +1,93 @@
+"""DH tables to URDF: the bundled files are fresh, the conventions agree, bad files fail clearly."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+import scara_opt as so
+from scara_opt.dh import DHJoint, DHRobot, bundled_dir, dh_to_urdf, load_dh
+from tests.conftest import BUNDLED, random_q
+
+
+@pytest.mark.parametrize("name", BUNDLED)
+def test_committed_urdf_is_not_stale(name):
+    """Regenerating each bundled URDF from its TOML gives the committed file byte for byte."""
+    folder = bundled_dir()
+    expected = dh_to_urdf(load_dh(folder / f"{name}.toml"))
+    assert (folder / f"{name}.urdf").read_text() == expected, (
+        f"robots/{name}.urdf is stale: run python -m scara_opt.dh"
+    )
+
+
+def test_every_bundled_robot_has_a_source_and_units():
+    """Each robot file names its paper and its units explicitly."""
+    import tomllib
+
+    for name in BUNDLED:
+        data = tomllib.loads((bundled_dir() / f"{name}.toml").read_text())
+        assert data["source"] and "seeds/" in data["source"]
+        assert data["length_unit"] in ("m", "mm", "in") and data["angle_unit"] == "deg"
+
+
+def test_modified_dh_matches_standard_dh_for_a_planar_arm():
+    """A 3R planar arm written in standard and in modified DH reaches the same tool pose."""
+    lim = dict(lower=-3.0, upper=3.0)
+    std = DHRobot("std", (DHJoint("j1", "revolute", a=0.3, **lim),
+                          DHJoint("j2", "revolute", a=0.2, **lim),
+                          DHJoint("j3", "revolute", a=0.1, **lim)))
+    mod = DHRobot("mod", (DHJoint("j1", "revolute", **lim),
+                          DHJoint("j2", "revolute", a=0.3, **lim),
+                          DHJoint("j3", "revolute", a=0.2, **lim),
+                          DHJoint("tip", "fixed", a=0.1)), convention="modified")
+    rs, rm = so.Robot.from_dh(std), so.Robot.from_dh(mod)
+    Q = random_q(rs, 200, seed=4)
+    np.testing.assert_allclose(rs.fk_batch(Q), rm.fk_batch(Q), atol=1e-12)
+
+
+def test_sign_and_offset_enter_the_joint_variable():
+    """A row theta = offset + sign*q: sign -1 and a 90 deg offset turn the arm the other way."""
+    row = DHJoint("j", "revolute", a=1.0, theta=math.pi / 2, sign=-1.0, lower=-1, upper=1)
+    robot = so.Robot.from_dh(DHRobot("one", (row,)))
+    np.testing.assert_allclose(robot.position([0.3]), [math.cos(math.pi / 2 - 0.3),
+                                                       math.sin(math.pi / 2 - 0.3), 0], atol=1e-12)
+
+
+def test_inverted_limits_raise_joint_limit_error():
+    """A DH row whose lower limit is above its upper limit is refused with the joint named."""
+    with pytest.raises(so.JointLimitError, match="'j2'.*not below"):
+        DHJoint("j2", "revolute", lower=1.0, upper=-1.0)
+
+
+def test_bad_robot_files_raise_urdf_error(tmp_path):
+    """Missing file, bad TOML, unknown unit, unknown joint type: each a URDFError saying which."""
+    with pytest.raises(so.URDFError, match="does not exist"):
+        load_dh(tmp_path / "none.toml")
+    bad = tmp_path / "bad.toml"
+    bad.write_text("name = [")
+    with pytest.raises(so.URDFError, match="not valid TOML"):
+        load_dh(bad)
+    bad.write_text('length_unit = "furlong"\nangle_unit = "deg"\n[[joints]]\ntype="revolute"\n')
+    with pytest.raises(so.URDFError, match="length_unit"):
+        load_dh(bad)
+    bad.write_text('length_unit = "m"\nangle_unit = "deg"\n[[joints]]\ntype="helical"\n')
+    with pytest.raises(so.URDFError, match="helical"):
+        load_dh(bad)
+    bad.write_text('length_unit = "m"\nangle_unit = "deg"\n[[joints]]\ntype="fixed"\na=1\n')
+    with pytest.raises(so.URDFError, match="no movable joint"):
+        load_dh(bad)
+
+
+def test_load_robot_accepts_a_dh_toml_path(tmp_path):
+    """load_robot takes a path to a user's own DH file as well as a bundled name."""
+    path = tmp_path / "mine.toml"
+    path.write_text(
+        'name = "mine"\nlength_unit = "mm"\nangle_unit = "deg"\n'
+        '[[joints]]\nname = "q1"\ntype = "revolute"\na = 250\nlower = -90\nupper = 90\n'
+    )
+    robot = so.load_robot(path)
+    assert robot.name == "mine" and robot.nq == 1
+    np.testing.assert_allclose(robot.position([0.0]), [0.25, 0, 0], atol=1e-15)
+    np.testing.assert_allclose(robot.upper, [math.pi / 2])

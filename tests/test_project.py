@@ -1,0 +1,16 @@
+"""The project's promises about itself: README commands and CI stay in step."""
+
+from __future__ import annotations
+
+from tests.conftest import ROOT
+
+
+def test_ci_runs_the_readme_commands():
+    """.ci/run executes the README's first two commands verbatim (install + main job, tests)."""
+    readme = (ROOT / "README.md").read_text()
+    block = readme.split("```bash\n", 1)[1].split("```", 1)[0].strip().splitlines()
+    assert len(block) >= 2
+    ci = (ROOT / ".ci" / "run").read_text()
+    for command in block[:2]:
+        assert command in ci, f"README command not in .ci/run: {command}"
+    assert "pytest" in block[1]

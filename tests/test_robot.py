@@ -1,0 +1,208 @@
+"""Robot: FK against the papers' closed forms, batches, Jacobians, limits and bad input."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+import scara_opt as so
+from tests.conftest import BUNDLED, DATA, IN, paper_fk, random_q
+
+
+@pytest.mark.parametrize("name", BUNDLED)
+def test_fk_equals_the_papers_closed_form(robots, name):
+    """Pinocchio FK of each bundled robot equals its paper's closed-form FK on 200 random q."""
+    robot = robots[name]
+    for q in random_q(robot, 200, seed=1):
+        p, R = paper_fk(name, q)
+        T = robot.fk(q)
+        np.testing.assert_allclose(T[:3, 3], p, atol=1e-12)
+        np.testing.assert_allclose(T[:3, :3], R, atol=1e-12)
+
+
+def test_inverted5_reference_pose(robots):
+    """inverted5 Fig. 3: q = (0, 0, 0, 0, 3.94 in) puts the tip at (7.87, 0, -3.94) in."""
+    p = robots["inverted5"].position([0, 0, 0, 0, 3.94 * IN]) / IN
+    np.testing.assert_allclose(p, [7.87, 0.0, -3.94], atol=1e-9)
+
+
+def test_peng2025_height_at_zero(robots):
+    """peng2025 eq. 4.6: at zero joints z = 172 mm (62 + 70 + 40), x = 540 mm."""
+    p = robots["peng2025"].position(np.zeros(4)) * 1000
+    np.testing.assert_allclose(p, [540.0, 0.0, 172.0], atol=1e-9)
+
+
+@pytest.mark.parametrize("name", BUNDLED + ["arm6"])
+def test_fk_batch_matches_pinocchio(robots, arm6, name):
+    """fk_batch (numpy walk of the model) equals Pinocchio's fk on 500 random q."""
+    robot = arm6 if name == "arm6" else robots[name]
+    Q = random_q(robot, 500, seed=2)
+    expected = np.array([robot.fk(q) for q in Q])
+    np.testing.assert_allclose(robot.fk_batch(Q), expected, atol=1e-12)
+    np.testing.assert_allclose(robot.positions(Q), expected[:, :3, 3], atol=1e-12)
+
+
+@pytest.mark.parametrize("name", BUNDLED + ["arm6"])
+def test_jacobian_matches_finite_differences(robots, arm6, name):
+    """The world-aligned tip Jacobian's linear rows match central differences of position."""
+    robot = arm6 if name == "arm6" else robots[name]
+    h = 1e-6
+    for q in random_q(robot, 20, seed=3):
+        J = robot.jacobian(q)
+        assert J.shape == (6, robot.nq)
+        fd = np.column_stack([(robot.position(q + h * e) - robot.position(q - h * e)) / (2 * h)
+                              for e in np.eye(robot.nq)])
+        np.testing.assert_allclose(J[:3], fd, atol=1e-8)
+
+
+def test_jacobian_angular_rows_follow_yaw(robots):
+    """For a SCARA the angular rows are the yaw axis on each revolute joint, zero on prismatic."""
+    robot = robots["zavar2024"]
+    J = robot.jacobian([0.3, -0.4, 0.01, 0.5])
+    np.testing.assert_allclose(J[3:], [[0, 0, 0, 0], [0, 0, 0, 0], [1, 1, 0, 1]], atol=1e-12)
+
+
+@settings(max_examples=60, deadline=None)
+@given(st.lists(st.floats(-1e3, 1e3), min_size=4, max_size=4))
+def test_fk_is_defined_for_any_finite_q(q):
+    """FK accepts finite q outside the limits (limits are within_limits' business)."""
+    robot = so.load_robot("zavar2024")
+    T = robot.fk(q)
+    assert np.isfinite(T).all()
+    np.testing.assert_allclose(T[:3, :3] @ T[:3, :3].T, np.eye(3), atol=1e-9)
+
+
+def test_within_limits(robots):
+    """within_limits is true inside, false outside, and works on batches."""
+    robot = robots["zavar2024"]
+    assert robot.within_limits([0, 0, 0.01, 0])
+    assert not robot.within_limits([0, 0, 0.05, 0])  # d3 stroke is [0, 0.048] m
+    Q = np.array([[0, 0, 0.01, 0], [3.0, 0, 0.01, 0]])
+    assert robot.within_limits(Q).tolist() == [True, False]
+
+
+def test_limits_and_properties_of_zavar2024(robots):
+    """zavar2024 Table 1: theta in +-120 deg, d3 in [0, 0.048] m; velocity/acceleration given."""
+    robot = robots["zavar2024"]
+    assert robot.nq == 4 and robot.joint_types == ["revolute", "revolute", "prismatic", "revolute"]
+    np.testing.assert_allclose(robot.lower, np.radians([-120, -120, 0, -120]) * [1, 1, 0, 1])
+    np.testing.assert_allclose(robot.upper[2], 0.048)
+    assert np.all(robot.velocity_limit > 0) and np.all(np.isfinite(robot.acceleration_limit))
+
+
+def test_yaw_axis_and_tool_angle(robots, arm6):
+    """SCARAs turn about +z, nguyen's tool about -y (A = theta2+theta3+theta5); arm6 has none."""
+    np.testing.assert_allclose(robots["zavar2024"].yaw_axis, [0, 0, 1], atol=1e-12)
+    np.testing.assert_allclose(robots["nguyen"].yaw_axis, [0, -1, 0], atol=1e-12)
+    q = [0.1, 0.4, -0.3, 0.05, 1.0]
+    assert robots["nguyen"].yaw(q) == pytest.approx(0.4 - 0.3 + 1.0)
+    assert robots["zavar2024"].yaw([0.5, 0.6, 0.01, -0.2]) == pytest.approx(0.9)
+    assert arm6.yaw_axis is None
+    with pytest.raises(so.TargetError, match="rotation="):
+        arm6.yaw(np.zeros(6))
+
+
+# ---------------------------------------------------------------------------- bad input
+@pytest.mark.parametrize("q, match", [
+    ([0, 0, 0], r"shape \(4,\)"),
+    ([[0, 0, 0, 0]], r"shape \(4,\)"),
+    ([0, np.nan, 0, 0], "non-finite.*theta2"),
+    ([0, 0, np.inf, 0], "non-finite.*d3"),
+    (["a", 0, 0, 0], "numeric"),
+])
+def test_bad_q_raises_input_error(robots, q, match):
+    """A q of the wrong length, NaN, inf or non-numeric raises InputError naming the problem."""
+    with pytest.raises(so.InputError, match=match):
+        robots["zavar2024"].fk(q)
+
+
+def test_bad_batch_raises_input_error(robots):
+    """fk_batch refuses a (n, wrong) array and NaN rows, naming the rows."""
+    robot = robots["zavar2024"]
+    with pytest.raises(so.InputError, match=r"shape \(n, 4\)"):
+        robot.fk_batch(np.zeros((3, 5)))
+    Q = np.zeros((3, 4))
+    Q[1, 0] = np.nan
+    with pytest.raises(so.InputError, match=r"rows \[1\]"):
+        robot.fk_batch(Q)
+
+
+def test_missing_file_and_unknown_robot():
+    """A missing URDF is a URDFError; an unknown robot name lists the bundled ones."""
+    with pytest.raises(so.URDFError, match="does not exist"):
+        so.Robot.from_urdf("/nonexistent/robot.urdf")
+    with pytest.raises(so.RobotNotFoundError, match="zavar2024"):
+        so.load_robot("no_such_robot")
+
+
+def _write(tmp_path, text):
+    path = tmp_path / "r.urdf"
+    path.write_text(text)
+    return path
+
+
+LINK = '<link name="{}"/>'
+JOINT = ('<joint name="{n}" type="{t}"><parent link="{p}"/><child link="{c}"/>'
+         '<axis xyz="0 0 1"/><limit lower="{lo}" upper="{hi}" effort="0" velocity="1"/></joint>')
+
+
+def _urdf(links, joints):
+    body = "".join(LINK.format(name) for name in links)
+    for n, t, p, c, *lim in joints:
+        lo, hi = lim if lim else (-1, 1)
+        body += JOINT.format(n=n, t=t, p=p, c=c, lo=lo, hi=hi)
+    return f'<robot name="r">{body}</robot>'
+
+
+def test_malformed_xml_raises_urdf_error(tmp_path):
+    """Broken XML fails with the parser's line/column before Pinocchio sees it."""
+    with pytest.raises(so.URDFError, match="not well-formed XML.*line 1"):
+        so.Robot.from_urdf(_write(tmp_path, '<robot name="x"><link name='))
+    with pytest.raises(so.URDFError, match="<robot>"):
+        so.Robot.from_urdf(_write(tmp_path, "<notrobot/>"))
+
+
+def test_branching_chain_raises_urdf_error(tmp_path):
+    """A tree with two end links is refused, naming them and the remedy."""
+    text = _urdf(["b", "l1", "l2", "l3"], [("j1", "revolute", "b", "l1"),
+                                            ("j2", "revolute", "l1", "l2"),
+                                            ("j3", "revolute", "l1", "l3")])
+    with pytest.raises(so.URDFError, match=r"branches.*'l2'.*'l3'|branches.*'l3'.*'l2'"):
+        so.Robot.from_urdf(_write(tmp_path, text))
+    with pytest.raises(so.URDFError, match=r"movable joints \[.j3.\] are not on the path"):
+        so.Robot.from_urdf(_write(tmp_path, text), tip="l2")
+
+
+def test_unknown_tip_lists_the_frames(tmp_path):
+    """A tip that is not a link (no path to it) raises FrameNotFoundError listing the links."""
+    text = _urdf(["b", "l1"], [("j1", "revolute", "b", "l1")])
+    with pytest.raises(so.FrameNotFoundError, match="'tool'.*frames that exist: b, l1"):
+        so.Robot.from_urdf(_write(tmp_path, text), tip="tool")
+
+
+def test_inverted_urdf_limits_and_unsupported_joints(tmp_path):
+    """lower >= upper is a JointLimitError; continuous joints are refused with a remedy."""
+    text = _urdf(["b", "l1"], [("j1", "revolute", "b", "l1", 1, -1)])
+    with pytest.raises(so.JointLimitError, match="'j1'.*swap"):
+        so.Robot.from_urdf(_write(tmp_path, text))
+    text = _urdf(["b", "l1"], [("j1", "continuous", "b", "l1")])
+    with pytest.raises(so.URDFError, match="continuous"):
+        so.Robot.from_urdf(_write(tmp_path, text))
+
+
+def test_urdf_with_only_fixed_joints_is_refused(tmp_path):
+    """A URDF without a movable joint cannot be a robot: URDFError."""
+    text = '<robot name="r"><link name="a"/><link name="b"/><joint name="f" type="fixed">' \
+           '<parent link="a"/><child link="b"/></joint></robot>'
+    with pytest.raises(so.URDFError, match="no movable joint"):
+        so.Robot.from_urdf(_write(tmp_path, text))
+
+
+def test_general_arm_loads_with_its_tip(arm6):
+    """A 6-joint arm with rotated origins loads; its tip defaults to the last link."""
+    assert arm6.nq == 6 and arm6.tip == "tool0"
+    assert arm6.joint_types.count("prismatic") == 1
+    assert np.isinf(arm6.acceleration_limit).all()  # URDF carries none
+    assert so.Robot.from_urdf(DATA / "arm6.urdf", tip="wrist3").tip == "wrist3"
