@@ -18,7 +18,9 @@ from scara_opt.errors import (
     UnknownSolverError,
     URDFError,
 )
+from scara_opt.ik import IKResult, Status, get_solver, ik_all, register_solver, solve_ik, solvers
 from scara_opt.robot import Robot, list_robots, load_robot
+from scara_opt.target import Target
 
 __version__ = "0.1.0"
 
@@ -26,6 +28,14 @@ logging.getLogger(__name__).addHandler(logging.NullHandler())
 
 __all__ = [
     "FrameNotFoundError",
+    "IKResult",
+    "Status",
+    "Target",
+    "get_solver",
+    "ik_all",
+    "register_solver",
+    "solve_ik",
+    "solvers",
     "InputError",
     "JointLimitError",
     "Robot",

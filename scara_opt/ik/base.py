@@ -1,0 +1,182 @@
+"""The solver contract (template method): the base checks input, seeds, times and assembles
+the :class:`IKResult`; a subclass implements :meth:`Solver._solve` only.
+
+Every solver's answer is judged here, the same way: the final ``q`` goes through the robot's
+FK, the residual is recomputed, and ``solved`` is granted only when it is within ``tol``.
+A solver that cannot prove a target unreachable (a metaheuristic) has its failures checked
+by an exact solver, so ``"unreachable"`` always means outside the workspace and
+``"max_iter"`` means the budget ran out on a reachable target.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from abc import ABC, abstractmethod
+from dataclasses import dataclass, field
+from typing import Any, ClassVar
+
+import numpy as np
+from numpy.typing import NDArray
+
+from scara_opt.errors import InputError, JointLimitError, SolverOptionError
+from scara_opt.ik.result import STATUS_MESSAGES, IKResult, Status
+from scara_opt.ik.task import check_task, cost_from_errors, error_from, errors_from_poses
+from scara_opt.robot import Robot
+from scara_opt.target import Target, as_target
+
+Array = NDArray[np.float64]
+
+#: joint values may leave the limits by this much through floating-point round-off [rad or m]
+LIMIT_SLACK = 1e-10
+
+
+@dataclass
+class SolverOutput:
+    """What a solver's ``_solve`` hands back to the base.
+
+    Attributes:
+        q: (nq,) the best configuration found.
+        iterations: iterations (generations) run.
+        evaluations: FK evaluations used.
+        history: best cost per iteration.
+        status: the solver's own verdict when the residual is above ``tol``
+            (``UNREACHABLE`` only from solvers that can certify it).
+        message: specifics to append to the standard message.
+    """
+
+    q: Array
+    iterations: int = 0
+    evaluations: int = 0
+    history: Array = field(default_factory=lambda: np.zeros(0))
+    status: Status = Status.MAX_ITER
+    message: str = ""
+
+
+def check_q0(robot: Robot, q0: object | None) -> Array | None:
+    """``q0`` as an in-limit (nq,) array, or ``None``.
+
+    Raises:
+        InputError: wrong shape or non-finite values.
+        JointLimitError: a joint outside its limits (names it, its value and range).
+    """
+    if q0 is None:
+        return None
+    q = robot.check_q(q0, "q0")
+    for name, kind, v, lo, hi in zip(robot.joint_names, robot.joint_types, q, robot.lower,
+                                     robot.upper, strict=True):
+        if not lo - LIMIT_SLACK <= v <= hi + LIMIT_SLACK:
+            unit = "rad" if kind == "revolute" else "m"
+            raise JointLimitError(
+                f"q0: joint {name!r} = {v:.4g} {unit} is outside [{lo:.4g}, {hi:.4g}] {unit}; "
+                "pass q0 inside the limits or q0=None", joint=name)
+    return np.clip(q, robot.lower, robot.upper)
+
+
+def default_q0(robot: Robot) -> Array:
+    """The start used when ``q0`` is None: zero where within the limits, else mid-range."""
+    mid = 0.5 * (robot.lower + robot.upper)
+    zero_ok = (robot.lower <= 0) & (robot.upper >= 0)
+    return np.where(zero_ok, 0.0, mid)
+
+
+def _describe_miss(dp: Array, dang: float | None, tol: float) -> str:
+    """Which coordinates miss, e.g. "misses along z (dz = +0.102 m)"."""
+    axes = [axis for axis, v in zip("xyz", dp, strict=True) if abs(v) > tol]
+    parts = [f"d{axis} = {dp['xyz'.index(axis)]:+.4g} m" for axis in axes]
+    if dang is not None and abs(dang) > tol:
+        axes.append("the tool angle")
+        parts.append(f"dangle = {dang:+.4g} rad")
+    if not axes:
+        return "no single coordinate above tol"
+    return f"misses along {', '.join(axes)} ({', '.join(parts)})"
+
+
+def make_result(robot: Robot, target: Target, out: SolverOutput, *, tol: float, method: str,
+                seed: int | None, time_s: float, certified: bool) -> IKResult:
+    """Judge a solver's output and build the :class:`IKResult` (see module docstring)."""
+    q = np.asarray(out.q, dtype=float)
+    over = np.maximum(robot.lower - q, q - robot.upper).max()
+    status_if_miss, extra = out.status, out.message
+    if not np.isfinite(q).all() or over > LIMIT_SLACK:
+        # a solver bug must not leak: report failure at the closest in-limit point
+        status_if_miss = Status.FAILED
+        extra = f"solver returned q outside the limits by {over:.3g}; " + extra
+        q = np.clip(np.nan_to_num(q), robot.lower, robot.upper)
+        certified = True  # nothing to certify: this is a failure, not a verdict on the target
+    q = np.clip(q, robot.lower, robot.upper)  # only round-off (<= LIMIT_SLACK) remains here
+    dp_all, dang_all = errors_from_poses(robot, target, robot.fk(q)[None])
+    dp = dp_all[0]
+    dang = None if dang_all is None else float(dang_all[0])
+    error = error_from(dp, dang)
+    cost = float(cost_from_errors(target, dp_all, dang_all)[0])
+    if error <= tol:
+        status = Status.SOLVED
+    elif status_if_miss == Status.FAILED or certified:
+        status = status_if_miss
+    else:
+        from scara_opt.ik.reach import is_reachable
+
+        status = Status.MAX_ITER if is_reachable(robot, target, tol) else Status.UNREACHABLE
+    message = STATUS_MESSAGES[status]
+    if status != Status.SOLVED:
+        message += f"; residual {error:.4g} ({_describe_miss(dp, dang, tol)}), tol {tol:g}"
+    if extra:
+        message += f"; {extra}"
+    return IKResult(q=q, success=status == Status.SOLVED, status=status, message=message,
+                    position_error=dp, yaw_error=dang, error=error, cost=cost,
+                    iterations=int(out.iterations), evaluations=int(out.evaluations),
+                    time_s=time_s, history=np.asarray(out.history, dtype=float), method=method,
+                    seed=seed, tol=tol)
+
+
+class Solver(ABC):
+    """Base of every IK solver.
+
+    Subclasses set ``name``, ``defaults`` (every accepted option with its default) and
+    ``certifies_unreachable`` (True for exact solvers whose failure proves unreachability),
+    and implement :meth:`_solve`.
+    """
+
+    name: ClassVar[str] = ""
+    defaults: ClassVar[dict[str, Any]] = {}
+    certifies_unreachable: ClassVar[bool] = False
+
+    def __init__(self, **options: Any) -> None:
+        unknown = set(options) - set(self.defaults)
+        if unknown:
+            raise SolverOptionError(self.name, unknown, self.defaults)
+        self.options: dict[str, Any] = {**self.defaults, **options}
+
+    def solve(self, robot: Robot, target: Target | object, q0: object | None = None,
+              seed: int | None = 0, tol: float = 1e-9) -> IKResult:
+        """Solve IK for ``target``.
+
+        Args:
+            robot: the robot.
+            target: a :class:`Target` or a bare (3,) position [m].
+            q0: (nq,) start / preferred configuration within the limits, or ``None``.
+            seed: seed of the solver's ``numpy.random.Generator`` (same seed, same result).
+            tol: residual [m and rad] below which the target counts as reached.
+
+        Raises:
+            TargetError: malformed target, or a yaw for a robot whose tool cannot turn.
+            InputError: malformed ``q0`` or ``tol``.
+            JointLimitError: ``q0`` outside the joint limits.
+        """
+        target = as_target(target)
+        check_task(robot, target)
+        q0a = check_q0(robot, q0)
+        if not (isinstance(tol, (int, float)) and math.isfinite(tol) and tol > 0):
+            raise InputError(f"tol must be a positive number [m, rad]; got {tol!r}")
+        rng = np.random.default_rng(seed)
+        start = time.perf_counter()
+        out = self._solve(robot, target, q0a, rng, float(tol))
+        elapsed = time.perf_counter() - start
+        return make_result(robot, target, out, tol=float(tol), method=self.name, seed=seed,
+                           time_s=elapsed, certified=self.certifies_unreachable)
+
+    @abstractmethod
+    def _solve(self, robot: Robot, target: Target, q0: Array | None,
+               rng: np.random.Generator, tol: float) -> SolverOutput:
+        """Search for ``q``; never raise for an unreachable target (return the best found)."""

@@ -1,0 +1,75 @@
+"""One registry of IK solvers: ``solve_ik(robot, target, method=...)`` looks the name up."""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from typing import Any, TypeVar
+
+from scara_opt.errors import InputError, UnknownSolverError
+from scara_opt.ik.base import Solver
+from scara_opt.ik.result import IKResult
+from scara_opt.robot import Robot
+from scara_opt.target import Target
+
+_REGISTRY: dict[str, Callable[..., Solver]] = {}
+
+F = TypeVar("F", bound=Callable[..., Solver])
+
+
+def register_solver(name: str, factory: F | None = None, *, replace: bool = False) -> Any:
+    """Register a solver factory (a :class:`Solver` subclass or a callable returning one).
+
+    Usable directly, ``register_solver("mine", MySolver)``, or as a class decorator,
+    ``@register_solver("mine")``.
+
+    Raises:
+        InputError: the name is empty, not lowercase, or taken (unless ``replace=True``).
+    """
+    if not name or name != name.lower() or not name.replace("_", "").isalnum():
+        raise InputError(f"solver name must be a short lowercase tag like 'pso'; got {name!r}")
+
+    def add(f: F) -> F:
+        if name in _REGISTRY and not replace:
+            raise InputError(f"a solver named {name!r} is already registered; pick another name "
+                             "or pass replace=True")
+        _REGISTRY[name] = f
+        return f
+
+    return add if factory is None else add(factory)
+
+
+def solvers() -> list[str]:
+    """Names of the registered IK solvers, sorted."""
+    return sorted(_REGISTRY)
+
+
+def get_solver(method: str, **options: Any) -> Solver:
+    """An instance of the solver registered as ``method`` with its ``options``.
+
+    Raises:
+        UnknownSolverError: ``method`` is not registered (the message lists the names).
+        SolverOptionError: an option the solver does not accept.
+    """
+    if method not in _REGISTRY:
+        raise UnknownSolverError(method, _REGISTRY)
+    return _REGISTRY[method](**options)
+
+
+def solve_ik(robot: Robot, target: Target | object, method: str = "ipopt",
+             q0: object | None = None, seed: int | None = 0, tol: float = 1e-9,
+             **options: Any) -> IKResult:
+    """Solve inverse kinematics with any registered method.
+
+    Args:
+        robot: the robot.
+        target: a :class:`Target` or a (3,) position [m].
+        method: a name from :func:`solvers` (``"ipopt"``, ``"analytic"``, ``"pso"``, …).
+        q0: (nq,) start / preferred configuration within the limits, or ``None``.
+        seed: seed of the solver's random generator.
+        tol: residual [m and rad] below which the status is ``"solved"``.
+        **options: solver-specific options (an unknown one raises SolverOptionError).
+
+    Returns:
+        IKResult: the same result type for every method.
+    """
+    return get_solver(method, **options).solve(robot, target, q0=q0, seed=seed, tol=tol)

@@ -1,0 +1,81 @@
+"""Task errors and costs shared by every IK solver, evaluated for a whole batch at once."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numpy.typing import NDArray
+
+from scara_opt.errors import TargetError
+from scara_opt.robot import Robot
+from scara_opt.target import Target
+
+Array = NDArray[np.float64]
+
+
+def check_task(robot: Robot, target: Target) -> None:
+    """Refuse a yaw target on a robot whose tool has no single turning axis.
+
+    Raises:
+        TargetError: ``target.yaw`` is set but ``robot.yaw_axis`` is ``None``.
+    """
+    if target.kind == "yaw" and robot.yaw_axis is None:
+        raise TargetError(
+            f"robot {robot.name!r} has no single tool-angle axis (its revolute axes are not all "
+            "parallel), so yaw= is undefined; give rotation= (3×3) or a position-only target"
+        )
+
+
+def wrap_angle(a: Array | float) -> Array | float:
+    """Angles wrapped to [-π, π)."""
+    return (np.asarray(a) + math.pi) % (2 * math.pi) - math.pi
+
+
+def task_errors(robot: Robot, target: Target, Q: Array) -> tuple[Array, Array | None]:
+    """Position errors (n, 3) [m] and angle errors (n,) [rad] (``None`` for position-only).
+
+    The position error is ``p(q) - p*``. The angle error is the wrapped yaw difference for a
+    yaw target and the rotation angle of :math:`R^{*T} R(q)` for a rotation target.
+    """
+    return errors_from_poses(robot, target, robot.fk_batch(Q))
+
+
+def errors_from_poses(robot: Robot, target: Target, T: Array) -> tuple[Array, Array | None]:
+    """:func:`task_errors` from tip poses ``T`` (n, 4, 4) already computed."""
+    dp = T[:, :3, 3] - target.position
+    if target.kind == "position":
+        return dp, None
+    R = T[:, :3, :3]
+    if target.kind == "yaw":
+        e1, e2 = robot.yaw_basis()
+        x = R[:, :, 0]
+        yaw = np.arctan2(x @ e2, x @ e1)
+        return dp, np.asarray(wrap_angle(yaw - target.yaw))
+    # ||R - R*||_F = 2√2 sin(θ/2): stable for small angles, unlike acos of the trace
+    frob = np.linalg.norm(R - target.rotation, axis=(1, 2))
+    return dp, 2.0 * np.arcsin(np.clip(frob / (2.0 * math.sqrt(2.0)), 0.0, 1.0))
+
+
+def cost_from_errors(target: Target, dp: Array, dang: Array | None) -> Array:
+    """Weighted Euclidean task error (n,).
+
+    zavar2024 eq. 8 for a position target, :math:`\\sqrt{w_p^2 |Δp|^2}`; with an angle,
+    nguyen eq. 10, :math:`\\sqrt{w_p^2 |Δp|^2 + w_a^2 Δ_A^2}` [m and rad together].
+    """
+    wp, wa = target.weights
+    sq = wp**2 * np.einsum("ij,ij->i", dp, dp)
+    if dang is not None:
+        sq = sq + wa**2 * dang**2
+    return np.sqrt(sq)
+
+
+def cost_batch(robot: Robot, target: Target, Q: Array) -> Array:
+    """Task cost (n,) of configurations ``Q`` (n, nq): one vectorised FK call."""
+    return cost_from_errors(target, *task_errors(robot, target, Q))
+
+
+def error_from(dp: Array, dang: float | None) -> float:
+    """The honest residual of one solution: max(|Δp| [m], |Δangle| [rad])."""
+    err = float(np.linalg.norm(dp))
+    return err if dang is None else max(err, abs(float(dang)))
