@@ -8,9 +8,11 @@ against Pinocchio.
 
 from __future__ import annotations
 
+import copy
 import io
 import logging
 import math
+import tomllib
 import xml.etree.ElementTree as ET
 from dataclasses import dataclass
 from functools import cached_property
@@ -164,11 +166,13 @@ class Robot:
         chain: the movable joints in order, read from the Pinocchio model.
         tip_placement: 4×4 placement of the tip in the last joint's frame [m].
         source: where the robot comes from (paper, file path).
+        metadata: extra data of a robot file (for bundled robots: the whole parsed TOML,
+            e.g. a ``[footprint]`` table); empty for a plain URDF.
     """
 
     def __init__(self, urdf_text: str, tip: str | None = None, *, name: str | None = None,
                  where: str = "URDF", source: str = "", notes: str = "",
-                 mesh_dir: str | None = None) -> None:
+                 mesh_dir: str | None = None, metadata: dict | None = None) -> None:
         import yourdfpy
 
         _check_xml(urdf_text, where)
@@ -189,6 +193,7 @@ class Robot:
         self.name = name or urdf.robot.name
         self.source = source or where
         self.notes = notes
+        self.metadata: dict = dict(metadata or {})
         if not self.model.existFrame(self.tip):
             raise FrameNotFoundError(self.tip, [f.name for f in self.model.frames])
         self.tip_id = self.model.getFrameId(self.tip)
@@ -270,6 +275,38 @@ class Robot:
     def acceleration_limit(self) -> Array:
         """Joint acceleration limits (nq,) [rad/s² or m/s²]; ``inf`` where none is given."""
         return self._acceleration.copy()
+
+    def with_limits(self, **ranges: tuple[float, float]) -> Robot:
+        """A copy with some joints' position limits replaced, by joint name [rad or m].
+
+        Example: ``robot.with_limits(z0=(-0.005, 0.040))`` widens peng2025's stroke.
+
+        Raises:
+            JointLimitError: unknown joint, non-finite values, or lower >= upper.
+        """
+        new = copy.copy(self)
+        new.model = pin.Model(self.model)
+        new.data = new.model.createData()
+        new.__dict__.pop("_ik_nlp_cache", None)
+        new.__dict__.pop("_scara_geometry", None)
+        lower, upper = new.model.lowerPositionLimit.copy(), new.model.upperPositionLimit.copy()
+        for name, value in ranges.items():
+            if name not in self.joint_names:
+                raise JointLimitError(f"with_limits: no joint named {name!r}; joints: "
+                                      f"{self.joint_names}", joint=name)
+            try:
+                lo, hi = (float(v) for v in value)
+            except (TypeError, ValueError):
+                raise JointLimitError(f"with_limits: {name} needs a (lower, upper) pair; got "
+                                      f"{value!r}", joint=name) from None
+            if not (math.isfinite(lo) and math.isfinite(hi) and lo < hi):
+                raise JointLimitError(
+                    f"with_limits: joint {name!r} range ({lo}, {hi}) is not finite with lower < "
+                    "upper; pass (lower, upper) in rad or m", joint=name)
+            k = self.joint_names.index(name)
+            lower[k], upper[k] = lo, hi
+        new.model.lowerPositionLimit, new.model.upperPositionLimit = lower, upper
+        return new
 
     def __repr__(self) -> str:
         joints = ", ".join(f"{j.name}:{j.kind[0].upper()}" for j in self.chain)
@@ -355,7 +392,17 @@ class Robot:
         """Tip positions (n, 3) [m] for ``Q`` (n, nq); the batch form of :meth:`position`."""
         return self._fk_batch_rp(self.check_q_batch(Q))[1]
 
-    def _fk_batch_rp(self, Q: Array) -> tuple[Array, Array]:
+    def joint_origins(self, Q: object) -> Array:
+        """World positions (n, nq + 1, 3) [m] of every joint frame's origin, then the tip.
+
+        For drawing the arm as a stick figure and checking links against obstacles.
+        """
+        Qa = self.check_q_batch(Q)
+        frames: list[Array] = []
+        p = self._fk_batch_rp(Qa, frames)[1]
+        return np.stack([f.T for f in frames] + [p], axis=1)
+
+    def _fk_batch_rp(self, Q: Array, frames: list[Array] | None = None) -> tuple[Array, Array]:
         # R is kept as its three columns, each (3, n), so every step is a few fused
         # elementwise operations over the batch instead of stacked 3×3 products.
         n = Q.shape[0]
@@ -363,6 +410,8 @@ class Robot:
         p = np.zeros((3, n))
         for k, j in enumerate(self.chain):
             p = p + _combine(cols, j.placement[:3, 3])
+            if frames is not None:
+                frames.append(np.broadcast_to(p, (3, n)))
             cols = _rotate_const(cols, j.placement[:3, :3])
             q = Q[:, k]
             if j.kind == "prismatic":
@@ -493,10 +542,13 @@ def load_robot(name: str | Path, tip: str | None = None) -> Robot:
         dh = load_dh(folder / f"{name}.toml")
         urdf = folder / f"{name}.urdf"
         return Robot(urdf.read_text(), tip or "tool", name=name, where=f"robot {name!r}",
-                     source=dh.source, notes=dh.notes)
+                     source=dh.source, notes=dh.notes,
+                     metadata=tomllib.loads((folder / f"{name}.toml").read_text()))
     path = Path(name)
     if not path.is_file():
         raise RobotNotFoundError(str(name), list_robots())
     if path.suffix == ".toml":
-        return Robot.from_dh(load_dh(path), tip or "tool")
+        robot = Robot.from_dh(load_dh(path), tip or "tool")
+        robot.metadata = tomllib.loads(path.read_text())
+        return robot
     return Robot.from_urdf(path, tip)
