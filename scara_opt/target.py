@@ -72,9 +72,13 @@ class Target:
                 )
             rot.flags.writeable = False
         object.__setattr__(self, "rotation", rot)
-        w = (1.0, 1.0) if weights is None else tuple(float(v) for v in weights)  # type: ignore[union-attr]
+        try:
+            w = (1.0, 1.0) if weights is None else tuple(float(v) for v in weights)
+        except (TypeError, ValueError):
+            w = ()
         if len(w) != 2 or not all(math.isfinite(v) and v > 0 for v in w):
-            raise TargetError(f"weights must be two positive numbers (position, angle); got {weights!r}")
+            raise TargetError(
+                f"weights must be two positive numbers (position, angle); got {weights!r}")
         object.__setattr__(self, "weights", w)
 
     @property

@@ -1,4 +1,4 @@
-"""Closed-form IK of SCARA-type chains: every branch, atan2 forms valid in every quadrant.
+r"""Closed-form IK of SCARA-type chains: every branch, atan2 forms valid in every quadrant.
 
 A chain is SCARA-type when every revolute axis is parallel to one axis ``n`` (the robot's
 :attr:`~scara_opt.Robot.yaw_axis`) and exactly two revolute joints move the tip in the plane

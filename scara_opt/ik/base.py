@@ -1,5 +1,7 @@
-"""The solver contract (template method): the base checks input, seeds, times and assembles
-the :class:`IKResult`; a subclass implements :meth:`Solver._solve` only.
+"""The solver contract (template method): the base checks, seeds, times and judges.
+
+The base checks input, seeds, times and assembles the :class:`IKResult`; a subclass
+implements :meth:`Solver._solve` only.
 
 Every solver's answer is judged here, the same way: the final ``q`` goes through the robot's
 FK, the residual is recomputed, and ``solved`` is granted only when it is within ``tol``.

@@ -1,4 +1,4 @@
-"""The deterministic reference: IK as a casadi NLP solved by IPOPT, with seeded multi-start.
+r"""The deterministic reference: IK as a casadi NLP solved by IPOPT, with seeded multi-start.
 
 Problem (built once per robot and task kind, then cached on the robot):
 
@@ -34,7 +34,7 @@ import casadi as ca
 import numpy as np
 import pinocchio as pin
 
-from scara_opt.ik.base import LIMIT_SLACK, Solver, SolverOutput, default_q0
+from scara_opt.ik.base import Solver, SolverOutput, default_q0
 from scara_opt.ik.registry import register_solver
 from scara_opt.ik.result import Status
 from scara_opt.ik.task import error_from, errors_from_poses
@@ -186,12 +186,12 @@ def polish(robot: Robot, target: Target, q: Array, q_ref: Array,
 
 @register_solver("ipopt")
 class IpoptSolver(Solver):
-    """IK by IPOPT on the casadi NLP (see the module docstring for the problem and rules).
+    r"""IK by IPOPT on the casadi NLP (see the module docstring for the problem and rules).
 
     Options:
         restarts: further seeded random starts after the first misses (default 10).
         max_iter: IPOPT iterations per start (default 100).
-        regularization: weight :math:`\\lambda` of the pull toward ``q0`` (default 1e-8).
+        regularization: weight :math:`\lambda` of the pull toward ``q0`` (default 1e-8).
         polish: run the Gauss–Newton polish (default True).
         verbose: let IPOPT print (default False).
     """

@@ -11,7 +11,7 @@ from numpy.typing import NDArray
 Array = NDArray[np.float64]
 
 
-class Status(str, Enum):
+class Status(str, Enum):  # noqa: UP042  (StrEnum's str() differs; we keep value semantics)
     """How a solve ended; compares equal to its plain string (``res.status == "solved"``)."""
 
     SOLVED = "solved"
@@ -34,8 +34,10 @@ STATUS_MESSAGES = {
 
 @dataclass(frozen=True, repr=False)
 class IKResult:
-    """Outcome of one IK solve. Invariants: ``q`` within the joint limits; ``success`` iff
-    ``status == "solved"``, and then ``error <= tol``.
+    """Outcome of one IK solve.
+
+    Invariants: ``q`` within the joint limits; ``success`` iff ``status == "solved"``, and
+    then ``error <= tol``.
 
     Attributes:
         q: (nq,) joint values [rad or m], always within the joint limits.

@@ -58,10 +58,10 @@ def errors_from_poses(robot: Robot, target: Target, T: Array) -> tuple[Array, Ar
 
 
 def cost_from_errors(target: Target, dp: Array, dang: Array | None) -> Array:
-    """Weighted Euclidean task error (n,).
+    r"""Weighted Euclidean task error (n,).
 
-    zavar2024 eq. 8 for a position target, :math:`\\sqrt{w_p^2 |Δp|^2}`; with an angle,
-    nguyen eq. 10, :math:`\\sqrt{w_p^2 |Δp|^2 + w_a^2 Δ_A^2}` [m and rad together].
+    zavar2024 eq. 8 for a position target, :math:`\sqrt{w_p^2 |Δp|^2}`; with an angle,
+    nguyen eq. 10, :math:`\sqrt{w_p^2 |Δp|^2 + w_a^2 Δ_A^2}` [m and rad together].
     """
     wp, wa = target.weights
     sq = wp**2 * np.einsum("ij,ij->i", dp, dp)
