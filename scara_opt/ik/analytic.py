@@ -149,25 +149,23 @@ def _extract(robot: Robot) -> ScaraGeometry:
     def plane(v: Array) -> Array:
         return np.array([v @ e1, v @ e2])
 
-    tip_plane = plane(tip)
-    lever = [np.linalg.norm(tip_plane - plane(origins[k])) for k in revolute]
-    arms = [k for k, lv in zip(revolute, lever, strict=True) if lv > _EPS]
+    # in-plane link vectors: each revolute axis to the next one, the last one to the tip
+    stops = [plane(origins[k]) for k in revolute] + [plane(tip)]
+    links = [b - a for a, b in zip(stops[:-1], stops[1:], strict=True)]
+    arms = [k for k, v in zip(revolute, links, strict=True) if np.linalg.norm(v) > _EPS]
     if len(arms) != 2 or arms != revolute[:2]:
         raise refuse(f"moves the tip in the plane with {len(arms)} revolute joints (need the "
                      "first two, the rest on the tip axis)")
     sh, el = arms
-    v1 = plane(origins[el]) - plane(origins[sh])
-    v2 = tip_plane - plane(origins[el])
+    v1, v2 = links[0], stops[-1] - stops[1]
     l1, l2 = float(np.linalg.norm(v1)), float(np.linalg.norm(v2))
-    if l1 < _EPS:
-        raise refuse("has its shoulder and elbow axes on one line")
     wrists = revolute[2:]
     geom = ScaraGeometry(
         n=n, e1=e1, e2=e2, shoulder=sh, elbow=el, wrist=wrists[-1] if wrists else -1,
         height=verticals[-1] if verticals else -1,
         redundant=tuple(sorted([k for k in range(nq) if rail[k].any()] + verticals[:-1]
                                + wrists[:-1])),
-        s=s, sigma=sigma, rail=rail, base=plane(origins[sh]), l1=l1, l2=l2,
+        s=s, sigma=sigma, rail=rail, base=stops[0], l1=l1, l2=l2,
         phi1=math.atan2(v1[1], v1[0]), phi2=math.atan2(v2[1], v2[0]),
         h0=float(tip @ n), yaw0=robot.yaw(q_zero),
     )

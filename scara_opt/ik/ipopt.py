@@ -244,4 +244,5 @@ class IpoptSolver(Solver):
         if analytic_reachable(robot, target, tol) is True:
             return Status.FAILED, (f"IPOPT missed from {n_starts} starts ({statuses[-1]}) but "
                                    "the closed form reaches the target: try more restarts")
-        return Status.UNREACHABLE, f"best of {n_starts} IPOPT starts"
+        return Status.UNREACHABLE, (f"best of {n_starts} IPOPT starts; more restarts= can "
+                                    "only help if the target is in fact reachable")

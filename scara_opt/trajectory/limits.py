@@ -1,0 +1,129 @@
+"""Joint velocity, acceleration and jerk limits of a timing, resolved and validated once."""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+from numpy.typing import NDArray
+
+from scara_opt.errors import InputError, JointLimitError, TrajectoryError
+from scara_opt.robot import Robot
+
+Array = NDArray[np.float64]
+
+#: default jerk limit per joint: ``JERK_PER_ACCELERATION × amax`` [1/s × rad/s² or m/s²], i.e.
+#: the acceleration limit is reached in 0.1 s (robot files carry no jerk limit)
+JERK_PER_ACCELERATION = 10.0
+
+
+@dataclass(frozen=True)
+class Limits:
+    """Per-joint limits used to time a joint path.
+
+    Attributes:
+        vmax: (nq,) velocity limits [rad/s or m/s], finite and positive.
+        amax: (nq,) acceleration limits [rad/s² or m/s²], finite and positive.
+        jmax: (nq,) jerk limits [rad/s³ or m/s³], or ``None`` when the method ignores jerk.
+        joint_names: one name per joint.
+        joint_types: ``"revolute"``, ``"prismatic"`` or ``"joint"`` (unknown) per joint.
+        lower: (nq,) lower position limits [rad or m] (``-inf`` when unknown).
+        upper: (nq,) upper position limits [rad or m] (``+inf`` when unknown).
+    """
+
+    vmax: Array
+    amax: Array
+    jmax: Array | None
+    joint_names: tuple[str, ...]
+    joint_types: tuple[str, ...]
+    lower: Array
+    upper: Array
+
+    @property
+    def nq(self) -> int:
+        """Number of joints."""
+        return int(self.vmax.shape[0])
+
+    def unit(self, k: int) -> str:
+        """Position unit of joint ``k``: ``"rad"``, ``"m"`` or ``"rad or m"``."""
+        return {"revolute": "rad", "prismatic": "m"}.get(self.joint_types[k], "rad or m")
+
+
+def _per_joint(value: object, nq: int, what: str, unit: str,
+               names: tuple[str, ...]) -> Array:
+    """``value`` (scalar or (nq,)) as a checked (nq,) array of finite positive numbers."""
+    try:
+        arr = np.asarray(value, dtype=float)
+    except (TypeError, ValueError):
+        raise InputError(f"{what} must be a number or one number per joint {list(names)} "
+                         f"[{unit}]; got {value!r}") from None
+    if arr.ndim == 0:
+        arr = np.full(nq, float(arr))
+    if arr.shape != (nq,):
+        raise InputError(f"{what} must be a scalar or have shape ({nq},), one entry per joint "
+                         f"{list(names)} [{unit}]; got shape {arr.shape}")
+    if np.isnan(arr).any():
+        bad = [names[k] for k in np.flatnonzero(np.isnan(arr))]
+        raise InputError(f"{what} is NaN for joints {bad}; give a positive number [{unit}]")
+    for k, v in enumerate(arr):
+        if not (v > 0 and math.isfinite(v)):
+            raise JointLimitError(
+                f"{what} for joint {names[k]!r} is {v:g} {unit}; each limit must be finite and "
+                f"> 0: pass a positive {what}= (scalar or one per joint)", joint=names[k])
+    return arr
+
+
+def resolve_limits(robot: Robot | None, nq: int, vmax: object | None = None,
+                   amax: object | None = None, jmax: object | None = None,
+                   need_jerk: bool = False) -> Limits:
+    """The limits of a timing: overrides where given, else the robot's own.
+
+    Args:
+        robot: the robot whose limits are the defaults, or ``None`` (then ``vmax`` and
+            ``amax`` are required).
+        nq: number of joints of the path.
+        vmax: velocity limits [rad/s or m/s]: scalar or (nq,), or ``None`` for the robot's.
+        amax: acceleration limits [rad/s² or m/s²]: scalar or (nq,), or ``None``.
+        jmax: jerk limits [rad/s³ or m/s³]: scalar or (nq,), or ``None`` for
+            ``JERK_PER_ACCELERATION × amax`` (only used when ``need_jerk``).
+        need_jerk: whether the method uses a jerk limit.
+
+    Raises:
+        InputError: wrong shape, non-numeric or NaN limits; path and robot joint counts differ.
+        JointLimitError: a zero, negative or infinite limit (names the joint).
+        TrajectoryError: no limit given and the robot has none for some joint.
+    """
+    if robot is not None and robot.nq != nq:
+        raise InputError(f"the path has {nq} joints but robot {robot.name!r} has {robot.nq} "
+                         f"({robot.joint_names}); pass a path of shape (n, {robot.nq})")
+    if robot is not None:
+        names = tuple(robot.joint_names)
+        types = tuple(robot.joint_types)
+        lower, upper = robot.lower, robot.upper
+    else:
+        names = tuple(f"joint{k}" for k in range(nq))
+        types = ("joint",) * nq
+        lower, upper = np.full(nq, -np.inf), np.full(nq, np.inf)
+    unit = "rad or m"
+
+    def pick(value: object | None, own: str, what: str, u: str) -> Array:
+        if value is not None:
+            return _per_joint(value, nq, what, u, names)
+        if robot is None:
+            raise InputError(f"without a robot, {what}= is required (scalar or one per joint) "
+                             f"[{u}]")
+        arr = getattr(robot, own)
+        missing = [names[k] for k in np.flatnonzero(~np.isfinite(arr))]
+        if missing:
+            raise TrajectoryError(f"robot {robot.name!r} has no {what} for joints {missing}; "
+                                  f"pass {what}= (scalar or one per joint) [{u}]")
+        return _per_joint(arr, nq, what, u, names)
+
+    v = pick(vmax, "velocity_limit", "vmax", f"{unit}/s")
+    a = pick(amax, "acceleration_limit", "amax", f"{unit}/s²")
+    j = None
+    if need_jerk:
+        j = (JERK_PER_ACCELERATION * a if jmax is None
+             else _per_joint(jmax, nq, "jmax", f"{unit}/s³", names))
+    return Limits(v, a, j, names, types, np.asarray(lower, float), np.asarray(upper, float))

@@ -1,0 +1,225 @@
+r"""The timed joint trajectory: one piecewise polynomial per joint, sampled and checked exactly.
+
+Every backend (toppra's cubic spline, ruckig's constant-jerk phases, the quintic) yields
+piecewise polynomials in time, so a :class:`Trajectory` keeps one
+:class:`scipy.interpolate.PPoly` per joint. Its limit check is exact, not sampled: the
+largest :math:`|\dot q|` and :math:`|\ddot q|` of a polynomial piece lie at the piece's ends
+or where the next derivative vanishes, and those points are all evaluated.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+from numpy.typing import NDArray
+from scipy.interpolate import PPoly
+
+from scara_opt.errors import InputError
+from scara_opt.trajectory.limits import Limits
+
+Array = NDArray[np.float64]
+
+#: times may leave [0, duration] by this much (relative to the duration) through round-off
+_T_SLACK = 1e-9
+
+
+def _end_values(pp: PPoly) -> Array:
+    """Values of every piece at both of its ends, (2 m,): left limits included."""
+    h = np.diff(pp.x)
+    right = pp.c[0].copy()
+    for row in pp.c[1:]:
+        right = right * h + row
+    return np.concatenate([pp.c[-1], right])
+
+
+def sup_abs(pp: PPoly) -> float:
+    """Largest ``|f(t)|`` of a 1-D piecewise polynomial over its whole domain (exact).
+
+    Candidates are the ends of every piece and the real roots of ``f'`` inside the pieces.
+    """
+    vals = np.abs(_end_values(pp))
+    if pp.c.shape[0] > 2:
+        roots = pp.derivative().roots(discontinuity=False, extrapolate=False)
+        roots = roots[np.isfinite(roots)]
+        if roots.size:
+            vals = np.concatenate([vals, np.abs(pp(roots))])
+    return float(vals.max())
+
+
+def stretch(pp: PPoly, factor: float) -> PPoly:
+    """``t ↦ f(t / factor)``: the same path ``factor`` times slower (velocities / factor)."""
+    deg = pp.c.shape[0] - 1
+    scale = factor ** -(deg - np.arange(deg + 1.0))
+    return PPoly(pp.c * scale[:, None], pp.x * factor, extrapolate=False)
+
+
+def concatenate(pieces: list[PPoly]) -> PPoly:
+    """One PPoly from consecutive ones, each starting at time 0, laid end to end in time."""
+    deg = max(p.c.shape[0] for p in pieces)
+    xs, cs, t0 = [np.zeros(1)], [], 0.0
+    for p in pieces:
+        c = np.vstack([np.zeros((deg - p.c.shape[0], p.c.shape[1])), p.c])
+        xs.append(p.x[1:] - p.x[0] + t0)
+        cs.append(c)
+        t0 = xs[-1][-1]
+    return PPoly(np.hstack(cs), np.concatenate(xs), extrapolate=False)
+
+
+@dataclass(frozen=True, repr=False, eq=False)
+class Trajectory:
+    """A timed joint trajectory from rest to rest.
+
+    Attributes:
+        pieces: one 1-D :class:`~scipy.interpolate.PPoly` per joint, time [s] → q [rad or m].
+        limits: the limits it was timed for (velocity, acceleration, jerk, position).
+        method: registry name of the timing method (``"toppra"``, ``"ruckig"``, ``"quintic"``).
+        waypoints: (n, nq) the joint waypoints it passes [rad or m].
+        waypoint_times: (n,) when it passes them [s].
+        compute_time_s: wall-clock time of the computation [s].
+        notes: what the backend did beyond the obvious (safety margin, stretch factor, ...).
+    """
+
+    pieces: tuple[PPoly, ...]
+    limits: Limits
+    method: str
+    waypoints: Array
+    waypoint_times: Array
+    compute_time_s: float = 0.0
+    notes: str = ""
+    _derivs: dict = field(default_factory=dict, init=False)
+
+    @property
+    def nq(self) -> int:
+        """Number of joints."""
+        return len(self.pieces)
+
+    @property
+    def duration(self) -> float:
+        """Total duration [s]."""
+        return float(self.pieces[0].x[-1])
+
+    def _derivative(self, k: int, order: int) -> PPoly:
+        key = (k, order)
+        if key not in self._derivs:
+            self._derivs[key] = self.pieces[k].derivative(order) if order else self.pieces[k]
+        return self._derivs[key]
+
+    def _times(self, t: object) -> Array:
+        try:
+            ts = np.asarray(t, dtype=float)
+        except (TypeError, ValueError):
+            raise InputError(f"t must be a time or an array of times [s]; got {t!r}") from None
+        T = self.duration
+        slack = _T_SLACK * max(T, 1.0)
+        if ts.size and (not np.isfinite(ts).all() or ts.min() < -slack or ts.max() > T + slack):
+            raise InputError(f"times must lie within [0, {T:.6g}] s (the duration); got values "
+                             f"in [{np.nanmin(ts):.6g}, {np.nanmax(ts):.6g}] s")
+        return np.clip(ts, 0.0, T)
+
+    def evaluate(self, t: object, order: int = 0) -> Array:
+        """``order``-th time derivative of ``q`` at ``t``: (nq,) for a scalar, (m, nq) for (m,).
+
+        Raises:
+            InputError: a time outside [0, duration] or not finite.
+        """
+        ts = self._times(t)
+        flat = ts.reshape(-1)
+        out = np.stack([self._derivative(k, order)(flat) for k in range(self.nq)], axis=-1)
+        return out.reshape(ts.shape + (self.nq,))
+
+    def sample(self, t: object) -> tuple[Array, Array, Array]:
+        """Positions, velocities and accelerations at ``t`` [s].
+
+        Args:
+            t: a time or an array of times (m,) within [0, duration] [s].
+
+        Returns:
+            ``(q, qd, qdd)``, each (nq,) for a scalar ``t`` or (m, nq) for an array
+            [rad or m, per s, per s²].
+
+        Raises:
+            InputError: a time outside [0, duration] or not finite.
+        """
+        return self.evaluate(t, 0), self.evaluate(t, 1), self.evaluate(t, 2)
+
+    def times(self, dt: float = 0.01) -> Array:
+        """A grid 0, dt, 2 dt, ... ending exactly at the duration, (m,) [s].
+
+        Raises:
+            InputError: ``dt`` not a positive finite number.
+        """
+        if not (isinstance(dt, (int, float)) and math.isfinite(dt) and dt > 0):
+            raise InputError(f"dt must be a positive number [s]; got {dt!r}")
+        T = self.duration
+        grid = np.arange(0.0, T, dt)
+        if grid.size and T - grid[-1] < 1e-9 * dt:
+            grid = grid[:-1]
+        return np.append(grid, T)
+
+    def positions(self, dt: float = 0.01) -> Array:
+        """Positions (m, nq) [rad or m] on :meth:`times` ``(dt)``."""
+        return self.evaluate(self.times(dt))
+
+    def peaks(self) -> dict[str, Array]:
+        """Largest |qd|, |qdd| (and |qddd| when jerk-limited) per joint, exact, (nq,) each."""
+        orders = {"velocity": 1, "acceleration": 2}
+        if self.limits.jmax is not None:
+            orders["jerk"] = 3
+        return {name: np.array([sup_abs(self._derivative(k, order)) for k in range(self.nq)])
+                for name, order in orders.items()}
+
+    def check_limits(self) -> dict[str, Array]:
+        """Largest ``|qd| / vmax`` and ``|qdd| / amax`` per joint (and jerk for ruckig).
+
+        The maxima are exact over the whole trajectory (see the module docstring), so any
+        sample of it is at or below them; a ratio <= 1 means the limit holds.
+
+        Returns:
+            ``{"velocity": (nq,), "acceleration": (nq,)}``, plus ``"jerk"`` when the
+            trajectory was timed with a jerk limit.
+        """
+        lim = {"velocity": self.limits.vmax, "acceleration": self.limits.amax,
+               "jerk": self.limits.jmax}
+        return {name: peak / lim[name] for name, peak in self.peaks().items()}
+
+    def to_csv(self, path: str | Path, dt: float = 0.01) -> Path:
+        """Write t, q, qd, qdd on the grid ``dt`` to a CSV file; units in the column names.
+
+        Returns:
+            The path written.
+        """
+        t = self.times(dt)
+        q, qd, qdd = self.sample(t)
+        cols, header = [t], ["t_s"]
+        for k, name in enumerate(self.limits.joint_names):
+            u = {"rad": "rad", "m": "m"}.get(self.limits.unit(k), "unit")
+            cols += [q[:, k], qd[:, k], qdd[:, k]]
+            header += [f"{name}_{u}", f"{name}_{u}_per_s", f"{name}_{u}_per_s2"]
+        path = Path(path)
+        np.savetxt(path, np.column_stack(cols), delimiter=",", header=",".join(header),
+                   comments="", fmt="%.10g")
+        return path
+
+    def plot(self, path: str | Path, dt: float | None = None, title: str | None = None) -> Path:
+        """Save a PNG of q, qd, qdd per joint with the limit lines (matplotlib, Agg).
+
+        Args:
+            path: the PNG file to write.
+            dt: sampling step [s]; default: 1/500 of the duration.
+            title: figure title; default: method and duration.
+
+        Returns:
+            The path written.
+        """
+        from scara_opt.trajectory.plot import plot_trajectory
+
+        return plot_trajectory(self, path, dt=dt, title=title)
+
+    def __repr__(self) -> str:
+        return (f"Trajectory(method={self.method!r}, duration={self.duration:.4f} s, "
+                f"nq={self.nq}, waypoints={len(self.waypoints)})")
+
+    __str__ = __repr__

@@ -1,0 +1,295 @@
+"""Exact IK: IPOPT reference and closed form, one registry, one result type, the papers' cases."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+import scara_opt as so
+from scara_opt.ik.analytic import NotScaraError, solve_batch
+from scara_opt.ik.ipopt import cached_nlp
+from tests.conftest import BUNDLED, random_q
+
+FOUR_JOINT = ["fang", "peng2025", "zavar2024"]
+
+
+def reachable_targets(robot: so.Robot, n: int, seed: int) -> np.ndarray:
+    """Positions (n, 3) of random in-limit configurations: reachable by construction."""
+    return robot.positions(random_q(robot, n, seed))
+
+
+def assert_invariants(robot: so.Robot, res: so.IKResult) -> None:
+    assert robot.within_limits(res.q)
+    assert res.success == (res.status == "solved")
+    if res.success:
+        assert res.error <= res.tol
+    assert res.message and np.isfinite(res.error) and res.position_error.shape == (3,)
+
+
+# ------------------------------------------------------------------ IPOPT reference
+@pytest.mark.parametrize("name", BUNDLED)
+def test_ipopt_solves_1000_reachable_targets(robots, name):
+    """IPOPT reaches 1000 random reachable targets of each bundled robot to 1e-9 m."""
+    robot = robots[name]
+    results = [so.solve_ik(robot, p, tol=1e-9) for p in reachable_targets(robot, 1000, seed=7)]
+    for res in results:
+        assert_invariants(robot, res)
+    failed = [r for r in results if not r.success]
+    assert not failed, f"{len(failed)} failures, e.g. {failed[:2]}"
+    assert max(r.error for r in results) <= 1e-9
+
+
+@pytest.mark.parametrize("name", FOUR_JOINT)
+def test_ipopt_answer_is_one_of_the_closed_form_branches(robots, name):
+    """For the 4-joint robots IPOPT's q (position target) equals one branch of ik_all."""
+    robot = robots[name]
+    for p in reachable_targets(robot, 200, seed=8):
+        res = so.solve_ik(robot, p)
+        branches = so.ik_all(robot, p)
+        assert branches, "reachable target without closed-form branch"
+        gap = min(np.abs(b.q - res.q).max() for b in branches)
+        assert gap < 1e-6, (res, branches)
+
+
+@pytest.mark.parametrize("name", FOUR_JOINT)
+def test_ipopt_with_yaw(robots, name):
+    """IPOPT reaches position and tool angle together (nguyen eq. 10 task) on 100 targets."""
+    robot = robots[name]
+    Q = random_q(robot, 100, seed=9)
+    for q, p in zip(Q, robot.positions(Q), strict=True):
+        res = so.solve_ik(robot, so.Target(p, yaw=robot.yaw(q)))
+        assert res.success, res
+        assert abs(res.yaw_error) <= 1e-9
+
+
+def test_ipopt_with_a_full_rotation_on_a_general_arm(arm6):
+    """A 6-joint arm with full pose targets is solved to 1e-9 (nothing SCARA-only).
+
+    This test arm (unaligned elbow, a short unaligned slide) has narrow basins: measured
+    19/20 solved with restarts=40 (seed 10), so at least 18 are asserted; every answer,
+    solved or not, keeps the invariants.
+    """
+    results = []
+    for q in random_q(arm6, 20, seed=10):
+        T = arm6.fk(q)
+        results.append(so.solve_ik(arm6, so.Target(T[:3, 3], rotation=T[:3, :3]), restarts=40))
+    for res in results:
+        assert_invariants(arm6, res)
+    assert sum(r.success for r in results) >= 18, results
+
+
+def test_nlp_is_built_once_per_robot_and_task_kind(robots):
+    """A second solve reuses the cached casadi NLP instead of rebuilding it."""
+    robot = robots["zavar2024"]
+    so.solve_ik(robot, [0.2, 0.1, -0.06])
+    first = cached_nlp(robot, "position")
+    so.solve_ik(robot, [0.25, -0.1, -0.07])
+    assert cached_nlp(robot, "position") is first
+
+
+def test_redundant_inverted5_splits_the_stroke_closest_to_q0(robots):
+    """inverted5's two z strokes (P1, P5) share a move evenly from an even q0 (nearest rule)."""
+    robot = robots["inverted5"]
+    q0 = np.array([0.02, 0.5, 1.0, 0.0, 0.02])
+    p = robot.position(q0) + [0, 0, -0.02]  # 2 cm lower: P1 + P5 must grow by 0.02 m
+    res = so.solve_ik(robot, p, q0=q0)
+    assert res.success
+    np.testing.assert_allclose(res.q[[0, 4]], [0.03, 0.03], atol=1e-6)
+    np.testing.assert_allclose(res.q[1:4], q0[1:4], atol=1e-6)
+
+
+def test_redundant_nguyen_moves_least_from_q0(robots):
+    """nguyen: a target reached from q0 itself returns q0 (zero motion is the nearest)."""
+    robot = robots["nguyen"]
+    q0 = np.array([0.3, 0.4, -0.6, 0.05, 0.2])
+    res = so.solve_ik(robot, so.Target(robot.position(q0), yaw=robot.yaw(q0)), q0=q0)
+    assert res.success
+    np.testing.assert_allclose(res.q, q0, atol=1e-9)
+
+
+# ------------------------------------------------------------------ the papers' cases
+def test_zavar2024_paper_target_is_unreachable_by_0102_m(robots):
+    """zavar2024's target (-0.23, 0.20, -0.20) is out of reach: residual 0.102 m along z."""
+    robot = robots["zavar2024"]
+    for method in ("ipopt", "analytic"):
+        res = so.solve_ik(robot, [-0.23, 0.20, -0.20], method=method)
+        assert res.status == "unreachable" and not res.success
+        assert res.error == pytest.approx(0.102, abs=1e-3)
+        assert "along z" in res.message and "along z" in repr(res)
+        assert_invariants(robot, res)
+
+
+def test_zavar2024_reachable_variant_is_solved(robots):
+    """The same x, y at z = -0.07 m (inside the stroke) is solved by both exact methods."""
+    robot = robots["zavar2024"]
+    for method in ("ipopt", "analytic"):
+        res = so.solve_ik(robot, [-0.23, 0.20, -0.07], method=method)
+        assert res.status == "solved" and res.error <= 1e-9
+
+
+def test_peng2025_validation_pose_is_2mm_out_of_stroke(robots):
+    """peng2025 eq. 21: (400, -120, 170) mm, yaw 0 needs z0 = -2 mm: unreachable by 2 mm."""
+    robot = robots["peng2025"]
+    target = so.Target(np.array([400.0, -120.0, 170.0]) / 1000, yaw=0.0)
+    res = so.solve_ik(robot, target)
+    assert res.status == "unreachable"
+    assert res.error == pytest.approx(0.002, abs=1e-6)
+    assert so.ik_all(robot, target) == []
+    widened = robot.with_limits(z0=(-0.005, 0.040))
+    branches = so.ik_all(widened, target)
+    elbows = {round(float(b.q[2]), 9) for b in branches}
+    assert len(elbows) == 2, branches  # the paper's two solution sets (Figs. 9-10)
+    for b in branches:
+        assert b.q[0] == pytest.approx(-0.002, abs=1e-12)
+
+
+def _fang_paper_ik(px: float, py: float, L1: float = 0.2, L2: float = 0.2) -> tuple[float, float]:
+    """fang eq. 10 as printed: arccos forms for theta1 and theta2 (first branch)."""
+    r = math.hypot(px, py)
+    t1 = math.acos((r * r + L1 * L1 - L2 * L2) / (2 * L1 * r)) + math.acos(px / r)
+    t2 = math.acos((math.cos(t1) * px + math.sin(t1) * py - L1) / L2)
+    return t1, t2
+
+
+def test_fang_arccos_forms_fail_for_negative_y_where_atan2_is_right(robots):
+    """fang eq. 10 loses the sign of py (arccos): its answer misses; the atan2 closed form hits."""
+    robot = robots["fang"]
+    q_true = np.array([-0.9, 1.2, 0.01, 0.3])
+    p = robot.position(q_true)
+    assert p[1] < 0
+    t1, t2 = _fang_paper_ik(p[0], p[1])
+    paper = robot.position([t1, t2, q_true[2], 0.0])
+    assert np.linalg.norm(paper[:2] - p[:2]) > 0.05  # the paper's formula lands elsewhere
+    branches = so.ik_all(robot, p)
+    assert branches and all(b.error <= 1e-12 for b in branches)
+
+
+# ------------------------------------------------------------------ closed form
+@pytest.mark.parametrize("name", BUNDLED)
+def test_every_analytic_branch_maps_back(robots, name):
+    """Every closed-form branch of 1000 reachable targets is within limits and within 1e-12 m."""
+    robot = robots[name]
+    Q = random_q(robot, 1000, seed=11)
+    for q, p in zip(Q, robot.positions(Q), strict=True):
+        branches = so.ik_all(robot, so.Target(p, yaw=robot.yaw(q)), q0=q)
+        assert branches, f"no branch for a reachable target of {name}"
+        for b in branches:
+            assert b.success and b.error <= 1e-12 and robot.within_limits(b.q)
+        # nearest first: from q0 = the generating q, the first branch is q itself
+        np.testing.assert_allclose(branches[0].q, q, atol=1e-9)
+
+
+def test_analytic_holds_the_redundant_joint(robots):
+    """inverted5: with P1 held by fixed=, the closed form solves the rest exactly."""
+    robot = robots["inverted5"]
+    q = np.array([0.01, 0.7, 1.4, -0.2, 0.03])
+    p = robot.position(q)
+    res = so.solve_ik(robot, p, method="analytic", fixed={"P1": 0.025})
+    assert res.success and res.q[0] == 0.025 and res.q[4] == pytest.approx(0.015, abs=1e-12)
+    with pytest.raises(so.InputError, match="redundant joints"):
+        so.solve_ik(robot, p, method="analytic", fixed={"theta1": 0.1})
+
+
+def test_analytic_refuses_a_non_scara_chain(arm6):
+    """The closed form says plainly that a 6-joint arm is not SCARA-type."""
+    with pytest.raises(NotScaraError, match="SCARA-type"):
+        so.ik_all(arm6, [0.3, 0.1, 0.4])
+
+
+@pytest.mark.parametrize("name", FOUR_JOINT)
+def test_solve_batch_matches_ik_all(robots, name):
+    """The vectorised closed form returns valid branches that reach every target exactly."""
+    robot = robots[name]
+    Q = random_q(robot, 2000, seed=12)
+    P = robot.positions(Q)
+    yaws = np.array([robot.yaw(q) for q in Q])
+    sols, valid = solve_batch(robot, P, yaws)
+    assert sols.shape == (2000, 2, robot.nq) and valid.any(axis=1).all()
+    reach = robot.positions(sols[valid])
+    np.testing.assert_allclose(reach, np.repeat(P[:, None], 2, axis=1)[valid], atol=1e-12)
+    assert robot.within_limits(sols[valid]).all()
+
+
+def test_solve_batch_flags_unreachable_rows(robots):
+    """Rows out of reach are marked invalid, not returned as NaN."""
+    robot = robots["zavar2024"]
+    sols, valid = solve_batch(robot, [[-0.23, 0.20, -0.20], [-0.23, 0.20, -0.07], [1, 0, -0.07]])
+    assert valid.any(axis=1).tolist() == [False, True, False]
+    assert np.isfinite(sols).all()
+
+
+# ------------------------------------------------------------------ property-based
+@settings(max_examples=40, deadline=None)
+@given(st.sampled_from(BUNDLED), st.integers(0, 2**31 - 1))
+def test_fk_ik_fk_round_trip(name, seed):
+    """For any in-limit q, IPOPT finds a q' with fk(q') = fk(q) to 1e-9 m."""
+    robot = so.load_robot(name)
+    q = random_q(robot, 1, seed)[0]
+    res = so.solve_ik(robot, robot.position(q))
+    assert res.success
+    np.testing.assert_allclose(robot.position(res.q), robot.position(q), atol=1e-9)
+
+
+# ------------------------------------------------------------------ registry and bad input
+def test_registry_lists_and_refuses(robots):
+    """solvers() lists the exact methods; an unknown name lists the registered ones."""
+    assert {"ipopt", "analytic"} <= set(so.solvers())
+    with pytest.raises(so.UnknownSolverError, match="registered: .*ipopt"):
+        so.solve_ik(robots["zavar2024"], [0.2, 0.1, -0.06], method="newton")
+    with pytest.raises(so.SolverOptionError, match="restart.*accepted: .*restarts"):
+        so.solve_ik(robots["zavar2024"], [0.2, 0.1, -0.06], restart=3)
+
+
+def test_register_solver_plugs_in_and_refuses_duplicates(robots):
+    """A user's solver plugs into solve_ik; a second registration under a taken name fails."""
+    from scara_opt.ik import registry
+    from scara_opt.ik.base import Solver, SolverOutput
+
+    class Lazy(Solver):
+        name = "lazy"
+        defaults = {}
+
+        def _solve(self, robot, target, q0, rng, tol):
+            return SolverOutput(q=np.clip(np.zeros(robot.nq), robot.lower, robot.upper))
+
+    so.register_solver("lazy", Lazy)
+    try:
+        assert "lazy" in so.solvers()
+        res = so.solve_ik(robots["zavar2024"], [-0.23, 0.20, -0.07], method="lazy")
+        assert res.status == "max_iter"  # reachable, but this solver did not get there
+        with pytest.raises(so.InputError, match="already registered"):
+            so.register_solver("lazy", Lazy)
+    finally:
+        registry._REGISTRY.pop("lazy")
+
+
+@pytest.mark.parametrize("call, error, match", [
+    (lambda r: so.solve_ik(r, [0, np.nan, 0]), so.TargetError, "NaN"),
+    (lambda r: so.solve_ik(r, [0, 0]), so.TargetError, "shape"),
+    (lambda r: so.solve_ik(r, [0.2, 0, -0.06], q0=[0, 0, 0]), so.InputError, "shape"),
+    (lambda r: so.solve_ik(r, [0.2, 0, -0.06], q0=[3.4, 0, 0, 0]), so.JointLimitError,
+     "'theta1' = 3.4 rad is outside"),
+    (lambda r: so.solve_ik(r, [0.2, 0, -0.06], tol=-1), so.InputError, "tol"),
+    (lambda r: r.with_limits(d3=(0.04, 0.01)), so.JointLimitError, "lower < upper"),
+    (lambda r: r.with_limits(d7=(0.0, 0.01)), so.JointLimitError, "no joint named"),
+])
+def test_bad_input_raises_specific_errors(robots, call, error, match):
+    """NaN/inf targets, wrong shapes, q0 outside limits, bad tol, inverted overrides."""
+    with pytest.raises(error, match=match):
+        call(robots["zavar2024"])
+
+
+def test_yaw_for_a_robot_whose_tool_cannot_turn_is_refused(arm6):
+    """A yaw target on a 6-joint arm (no single tool axis) is a TargetError."""
+    with pytest.raises(so.TargetError, match="rotation="):
+        so.solve_ik(arm6, so.Target([0.3, 0.1, 0.4], yaw=0.2))
+
+
+def test_result_repr_is_one_line(robots):
+    """repr(IKResult) is one line leading with the status and residual."""
+    text = repr(so.solve_ik(robots["zavar2024"], [-0.23, 0.20, -0.07]))
+    assert "\n" not in text and text.startswith("IKResult(solved, error=")
