@@ -176,6 +176,7 @@ class Robot:
         import yourdfpy
 
         _check_xml(urdf_text, where)
+        self._init_args = (urdf_text, tip, name, where, source, notes, mesh_dir)
         try:
             urdf = yourdfpy.URDF.load(
                 io.BytesIO(urdf_text.encode()), build_scene_graph=False, load_meshes=False,
@@ -275,6 +276,15 @@ class Robot:
     def acceleration_limit(self) -> Array:
         """Joint acceleration limits (nq,) [rad/s² or m/s²]; ``inf`` where none is given."""
         return self._acceleration.copy()
+
+    def __reduce__(self) -> tuple:
+        """Pickle as the constructor's arguments plus the current limits (for process pools).
+
+        Unpickling in a worker process reuses one rebuilt robot per distinct robot, so its
+        cached NLPs and closed-form geometry are built once per process, not once per job.
+        """
+        limits = (tuple(self.lower), tuple(self.upper))
+        return (_rebuild_robot, (self._init_args, self.metadata, limits))
 
     def with_limits(self, **ranges: tuple[float, float]) -> Robot:
         """A copy with some joints' position limits replaced, by joint name [rad or m].
@@ -478,6 +488,24 @@ class Robot:
         e1 = ref - (ref @ n) * n
         e1 /= np.linalg.norm(e1)
         return e1, np.cross(n, e1)
+
+
+_REBUILT: dict[tuple, Robot] = {}
+
+
+def _rebuild_robot(init_args: tuple, metadata: dict, limits: tuple) -> Robot:
+    """Unpickle a :class:`Robot` (see :meth:`Robot.__reduce__`); one instance per process."""
+    key = (init_args, limits)
+    if key not in _REBUILT:
+        text, tip, name, where, source, notes, mesh_dir = init_args
+        robot = Robot(text, tip, name=name, where=where, source=source, notes=notes,
+                      mesh_dir=mesh_dir, metadata=metadata)
+        lower, upper = np.array(limits[0]), np.array(limits[1])
+        if not (np.array_equal(lower, robot.lower) and np.array_equal(upper, robot.upper)):
+            robot = robot.with_limits(**{n: (lo, hi) for n, lo, hi in
+                                         zip(robot.joint_names, lower, upper, strict=True)})
+        _REBUILT[key] = robot
+    return _REBUILT[key]
 
 
 def _combine(cols: list[Array], w: Array) -> Array | float:

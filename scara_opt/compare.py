@@ -1,0 +1,192 @@
+"""Fair comparison of IK methods: same robot, same targets, same seeds, one table.
+
+:func:`compare` runs every (method, population, seed, target) combination through the one
+registry and returns a pandas DataFrame, one row per solve. Population methods (the
+metaheuristics) are swept over ``populations`` and ``seeds``; exact methods (``ipopt``,
+``analytic``) run once per target as the reference. Any ``concurrent.futures.Executor``
+spreads the jobs (a process pool, or a ``dask.distributed`` client's ``get_executor()``);
+every job carries its own seed, so the numbers equal a serial run's (except ``time_s``).
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Iterable, Sequence
+from concurrent.futures import Executor, as_completed
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+import pandas as pd
+
+from scara_opt.errors import InputError
+from scara_opt.ik.registry import get_solver, solve_ik, solvers
+from scara_opt.ik.result import IKResult
+from scara_opt.robot import Robot
+from scara_opt.target import Target, as_target
+
+#: methods that take no population / iteration budget and need no seed sweep
+EXACT_METHODS = ("analytic", "ipopt")
+
+COLUMNS = ["method", "population", "budget_iterations", "seed", "target", "x", "y", "z",
+           "abs_err_x", "abs_err_y", "abs_err_z", "yaw_error", "error", "cost", "status",
+           "success", "time_s", "evaluations", "iterations", "history_len", "history"]
+
+
+@dataclass(frozen=True)
+class _Job:
+    index: int
+    method: str
+    population: int | None
+    iterations: int | None
+    seed: int | None
+    target_index: int
+    target: Target
+    options: tuple[tuple[str, Any], ...]
+
+
+def _run(robot: Robot, job: _Job, tol: float) -> tuple[int, IKResult]:
+    """One solve (module-level so that process pools can pickle it)."""
+    opts = dict(job.options)
+    if job.population is not None:
+        opts.update(population=job.population, iterations=job.iterations)
+    return job.index, solve_ik(robot, job.target, method=job.method, seed=job.seed, tol=tol,
+                               **opts)
+
+
+def _row(job: _Job, res: IKResult) -> dict[str, Any]:
+    err = np.abs(res.position_error)
+    return {
+        "method": job.method, "population": job.population, "budget_iterations": job.iterations,
+        "seed": job.seed, "target": job.target_index, "x": job.target.position[0],
+        "y": job.target.position[1], "z": job.target.position[2], "abs_err_x": err[0],
+        "abs_err_y": err[1], "abs_err_z": err[2], "yaw_error": res.yaw_error,
+        "error": res.error, "cost": res.cost, "status": res.status.value, "success": res.success,
+        "time_s": res.time_s, "evaluations": res.evaluations, "iterations": res.iterations,
+        "history_len": len(res.history), "history": res.history,
+    }
+
+
+def _jobs(targets: list[Target], methods: Sequence[str], populations: Sequence[int],
+          iterations: int, seeds: Sequence[int],
+          options: dict[str, dict[str, Any]]) -> list[_Job]:
+    jobs: list[_Job] = []
+    for method in methods:
+        opts = tuple(sorted(options.get(method, {}).items()))
+        exact = method in EXACT_METHODS
+        for pop in ([None] if exact else populations):
+            for seed in ([0] if exact else seeds):
+                for t_idx, target in enumerate(targets):
+                    jobs.append(_Job(len(jobs), method, pop, None if exact else iterations,
+                                     seed, t_idx, target, opts))
+    return jobs
+
+
+def compare(robot: Robot, targets: Iterable[Target | object], methods: Sequence[str] | str = "all",
+            populations: Sequence[int] = (20, 40, 60, 80, 100), iterations: int = 200,
+            seeds: Iterable[int] = range(10), executor: Executor | None = None,
+            progress: bool = True, tol: float = 1e-9,
+            options: dict[str, dict[str, Any]] | None = None,
+            reference: bool = True) -> pd.DataFrame:
+    """Run IK methods over targets, populations and seeds; one DataFrame row per solve.
+
+    Args:
+        robot: the robot.
+        targets: :class:`Target` objects or (3,) positions [m].
+        methods: registry names, or ``"all"`` for every registered solver.
+        populations: population sizes for the population methods.
+        iterations: iteration budget of the population methods.
+        seeds: seeds of the population methods (exact methods run once, seed 0).
+        executor: any ``concurrent.futures.Executor`` (``None``: run serially here).
+        progress: show a tqdm progress bar.
+        tol: residual [m, rad] counted as solved.
+        options: extra solver options by method name, e.g. ``{"ipopt": {"restarts": 20}}``.
+        reference: add the exact methods (``ipopt``, and ``analytic`` where it applies) as
+            reference rows even when not listed in ``methods``.
+
+    Returns:
+        DataFrame with columns :data:`COLUMNS`: per-axis absolute error [m], error, cost,
+        status, time [s], evaluations, iterations, history length and the history itself.
+
+    Raises:
+        InputError: no targets, empty populations or seeds, or a non-positive budget.
+        UnknownSolverError: a method name that is not registered.
+        SolverOptionError: an option a method does not accept.
+    """
+    target_list = [as_target(t) for t in targets]
+    if not target_list:
+        raise InputError("compare needs at least one target")
+    names = solvers() if methods == "all" else list(methods)
+    if reference:
+        names += [m for m in EXACT_METHODS if m not in names]
+    names = [m for m in names if m != "analytic" or _analytic_applies(robot)]
+    for m in names:
+        get_solver(m, **(options or {}).get(m, {}))  # fail fast on names and options
+    seed_list, pop_list = list(seeds), list(populations)
+    if any(m not in EXACT_METHODS for m in names) and (not seed_list or not pop_list):
+        raise InputError("compare needs at least one seed and one population size")
+    if iterations <= 0 or any(p <= 0 for p in pop_list):
+        raise InputError(f"iterations and populations must be positive; got {iterations}, "
+                         f"{pop_list}")
+    jobs = _jobs(target_list, names, pop_list, iterations, seed_list, options or {})
+    results: dict[int, IKResult] = {}
+    bar = _progress(len(jobs), progress)
+    if executor is None:
+        for job in jobs:
+            idx, res = _run(robot, job, tol)
+            results[idx] = res
+            bar.update()
+    else:
+        futures = [executor.submit(_run, robot, job, tol) for job in jobs]
+        for fut in as_completed(futures):
+            idx, res = fut.result()
+            results[idx] = res
+            bar.update()
+    bar.close()
+    return pd.DataFrame([_row(job, results[job.index]) for job in jobs], columns=COLUMNS)
+
+
+def _analytic_applies(robot: Robot) -> bool:
+    from scara_opt.ik.analytic import NotScaraError, scara_geometry
+
+    try:
+        scara_geometry(robot)
+    except NotScaraError:
+        return False
+    return True
+
+
+def _progress(total: int, enabled: bool) -> Any:
+    from tqdm.auto import tqdm
+
+    return tqdm(total=total, desc="IK solves", unit="solve", disable=not enabled or total < 2)
+
+
+def summarize(table: pd.DataFrame, tol: float = 1e-6) -> pd.DataFrame:
+    """Median per (method, population) of per-axis error, error, cost and time.
+
+    Adds ``within_tol``, the share of solves whose error is at most ``tol``: the papers'
+    Table 2 with the success rate the papers leave out.
+    """
+    g = table.assign(within_tol=table["error"] <= tol).groupby(
+        ["method", "population"], dropna=False, sort=False)
+    out = g.agg(abs_err_x=("abs_err_x", "median"), abs_err_y=("abs_err_y", "median"),
+                abs_err_z=("abs_err_z", "median"), error=("error", "median"),
+                cost=("cost", "median"), time_s=("time_s", "median"),
+                evaluations=("evaluations", "median"), within_tol=("within_tol", "mean"),
+                solves=("error", "size"))
+    return out.reset_index()
+
+
+def convergence(table: pd.DataFrame) -> dict[tuple[str, Any], np.ndarray]:
+    """Median best-cost history per (method, population), padded with each run's last value."""
+    curves = {}
+    for key, grp in table.groupby(["method", "population"], dropna=False, sort=False):
+        hists = [np.asarray(h, float) for h in grp["history"] if len(h)]
+        if not hists:
+            continue
+        n = max(len(h) for h in hists)
+        padded = np.array([np.pad(h, (0, n - len(h)), mode="edge") for h in hists])
+        curves[(key[0], None if (isinstance(key[1], float) and math.isnan(key[1]))
+                else key[1])] = np.median(padded, axis=0)
+    return curves

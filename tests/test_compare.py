@@ -1,0 +1,71 @@
+"""compare(): one table for every method, identical numbers serially, in a pool, on dask."""
+
+from __future__ import annotations
+
+from concurrent.futures import ProcessPoolExecutor
+
+import numpy as np
+import pytest
+
+import scara_opt as so
+from scara_opt.compare import COLUMNS, compare, convergence, summarize
+
+TARGETS = [[-0.23, 0.20, -0.07], [-0.23, 0.20, -0.20], [0.30, 0.10, -0.06]]
+SAME = [c for c in COLUMNS if c not in ("time_s", "history")]
+
+
+@pytest.fixture(scope="module")
+def serial(robots):
+    return compare(robots["zavar2024"], TARGETS, methods=["ipopt"], progress=False)
+
+
+def test_table_has_one_row_per_solve_with_reference_rows(serial):
+    """Exact methods give one row per target; the closed form comes along as reference."""
+    assert list(serial.columns) == COLUMNS
+    assert sorted(serial["method"].unique()) == ["analytic", "ipopt"]
+    assert len(serial) == 2 * len(TARGETS)
+    unreachable = serial[serial["target"] == 1]
+    assert (unreachable["status"] == "unreachable").all()
+    assert np.allclose(unreachable["abs_err_z"], 0.102, atol=1e-3)
+
+
+def test_process_pool_gives_the_serial_numbers(robots, serial):
+    """A process pool reproduces the serial table exactly (time aside)."""
+    with ProcessPoolExecutor(2) as pool:
+        par = compare(robots["zavar2024"], TARGETS, methods=["ipopt"], progress=False,
+                      executor=pool)
+    assert par[SAME].equals(serial[SAME])
+
+
+def test_dask_local_cluster_gives_the_serial_numbers(robots, serial):
+    """A dask.distributed LocalCluster's executor reproduces the serial table exactly."""
+    distributed = pytest.importorskip("distributed", reason="pip install 'scara-opt[dask]'")
+    with distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True,
+                                  dashboard_address=None) as cluster, \
+            distributed.Client(cluster) as client:
+        par = compare(robots["zavar2024"], TARGETS, methods=["ipopt"], progress=False,
+                      executor=client.get_executor())
+    assert par[SAME].equals(serial[SAME])
+
+
+def test_summary_and_convergence(serial):
+    """summarize gives medians and the share within tol; convergence one curve per method."""
+    summary = summarize(serial, tol=1e-6)
+    row = summary[summary["method"] == "ipopt"].iloc[0]
+    assert row["within_tol"] == pytest.approx(2 / 3) and row["solves"] == 3
+    curves = convergence(serial)
+    assert ("ipopt", None) in curves and np.all(np.diff(curves[("ipopt", None)]) <= 0)
+
+
+def test_compare_refuses_bad_input(robots):
+    """No targets, unknown methods, bad options or budgets raise specific errors."""
+    robot = robots["zavar2024"]
+    with pytest.raises(so.InputError, match="at least one target"):
+        compare(robot, [], progress=False)
+    with pytest.raises(so.UnknownSolverError):
+        compare(robot, TARGETS, methods=["nope"], progress=False)
+    with pytest.raises(so.SolverOptionError):
+        compare(robot, TARGETS, methods=["ipopt"], options={"ipopt": {"bogus": 1}},
+                progress=False)
+    with pytest.raises(so.InputError, match="positive"):
+        compare(robot, TARGETS, methods=["ipopt"], iterations=0, progress=False)
