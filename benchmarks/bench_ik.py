@@ -47,38 +47,44 @@ def row(label: str, t: np.ndarray, ok: float, base: float) -> str:
 def main() -> None:
     rng = np.random.default_rng(0)
     for name in ROBOTS:
-        robot = so.load_robot(name)
-        Q = rng.uniform(robot.lower, robot.upper, (N, robot.nq))
-        P = robot.positions(Q)
-        q_start = default_q0(robot)
-        so.solve_ik(robot, P[0])  # build and cache the NLP outside the timing
-        t_sp, res_sp = timed(lambda p: scipy_solve(robot, p, q_start), P)
-        ok_sp = np.mean([np.linalg.norm(robot.position(r.x) - p) <= 1e-9
-                         for r, p in zip(res_sp, P, strict=True)])
-        base = float(np.median(t_sp))
-        t_cold, res_cold = timed(lambda p: so.solve_ik(robot, p), P)
-        # warm: start from the solution of a neighbour 1 mm away (a path's previous point)
-        neigh = [so.solve_ik(robot, p + [0.001, 0, 0]).q for p in P]
-        t_warm, res_warm = timed(lambda k: so.solve_ik(robot, P[k], q0=neigh[k]), range(N))
-        t_an, res_an = timed(lambda p: so.solve_ik(robot, p, method="analytic"), P)
-        big = np.repeat(P, max(1, 1_000_000 // N), axis=0)
-        t0 = time.perf_counter()
-        _, valid = solve_batch(robot, big)
-        t_batch = time.perf_counter() - t0
-        print(f"{name}: {N} reachable targets (FK of random in-limit q), tol 1e-9 m")
-        print(row("scipy least_squares (base)", t_sp, ok_sp, base))
-        print(row("ipopt cold", t_cold, np.mean([r.success for r in res_cold]), base))
-        print(row("ipopt warm (neighbour q0)", t_warm, np.mean([r.success for r in res_warm]),
-                  base))
-        print(row("analytic single", t_an, np.mean([r.success for r in res_an]), base))
-        rate = len(big) / t_batch
-        print(f"  {'analytic batch':<30} {rate:,.0f} targets/s ({len(big):,} targets, "
-              f"{valid.any(axis=1).mean():.1%} with a branch)  x scipy per target "
-              f"{(t_batch / len(big)) / base:.2e}")
-        print(f"  goals: ipopt cold <= 2 ms: {np.median(t_cold) * 1e3:.2f} ms "
-              f"({'met' if np.median(t_cold) <= 2e-3 else 'NOT met'}); warm <= 1 ms: "
-              f"{np.median(t_warm) * 1e3:.2f} ms ({'met' if np.median(t_warm) <= 1e-3 else 'NOT met'})"
-              f"; batch >= 1e6/s: {'met' if rate >= 1e6 else 'NOT met'}")
+        bench_robot(name, rng)
+
+
+def bench_robot(name: str, rng: np.random.Generator) -> None:
+    """Time every route on one robot and print its rows."""
+    robot = so.load_robot(name)
+    Q = rng.uniform(robot.lower, robot.upper, (N, robot.nq))
+    P = robot.positions(Q)
+    q_start = default_q0(robot)
+    so.solve_ik(robot, P[0])  # build and cache the NLP outside the timing
+    t_sp, res_sp = timed(lambda p: scipy_solve(robot, p, q_start), P)
+    ok_sp = np.mean([np.linalg.norm(robot.position(r.x) - p) <= 1e-9
+                     for r, p in zip(res_sp, P, strict=True)])
+    base = float(np.median(t_sp))
+    t_cold, res_cold = timed(lambda p: so.solve_ik(robot, p), P)
+    # warm: start from the solution of a neighbour 1 mm away (a path's previous point)
+    neigh = [so.solve_ik(robot, p + [0.001, 0, 0]).q for p in P]
+    t_warm, res_warm = timed(lambda k: so.solve_ik(robot, P[k], q0=neigh[k]), range(N))
+    t_an, res_an = timed(lambda p: so.solve_ik(robot, p, method="analytic"), P)
+    big = np.repeat(P, max(1, 1_000_000 // N), axis=0)
+    t0 = time.perf_counter()
+    _, valid = solve_batch(robot, big)
+    t_batch = time.perf_counter() - t0
+    print(f"{name}: {N} reachable targets (FK of random in-limit q), tol 1e-9 m")
+    print(row("scipy least_squares (base)", t_sp, ok_sp, base))
+    print(row("ipopt cold", t_cold, np.mean([r.success for r in res_cold]), base))
+    print(row("ipopt warm (neighbour q0)", t_warm, np.mean([r.success for r in res_warm]),
+              base))
+    print(row("analytic single", t_an, np.mean([r.success for r in res_an]), base))
+    rate = len(big) / t_batch
+    print(f"  {'analytic batch':<30} {rate:,.0f} targets/s ({len(big):,} targets, "
+          f"{valid.any(axis=1).mean():.1%} with a branch)  x scipy per target "
+          f"{(t_batch / len(big)) / base:.2e}")
+    cold, warm = np.median(t_cold), np.median(t_warm)
+    print(f"  goals: ipopt cold <= 2 ms: {cold * 1e3:.2f} ms "
+          f"({'met' if cold <= 2e-3 else 'NOT met'}); warm <= 1 ms: {warm * 1e3:.2f} ms "
+          f"({'met' if warm <= 1e-3 else 'NOT met'}); batch >= 1e6/s: "
+          f"{'met' if rate >= 1e6 else 'NOT met'}")
 
 
 if __name__ == "__main__":
