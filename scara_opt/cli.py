@@ -1,11 +1,19 @@
-"""The ``scara-opt`` command line. Exit codes: 0 success, 2 bad usage or bad input."""
+"""The ``scara-opt`` command line. Exit codes: 0 success, 2 bad usage or bad input.
+
+Units are explicit at this edge: lengths in metres unless ``--mm``, joint angles in radians
+unless ``--deg``; ``--yaw`` is always in degrees.
+"""
 
 from __future__ import annotations
 
 import argparse
+import json
 import math
 import sys
 from collections.abc import Sequence
+from typing import Any
+
+import numpy as np
 
 from scara_opt.errors import ScaraOptError
 
@@ -14,6 +22,17 @@ def _fmt_limit(kind: str, lo: float, hi: float) -> str:
     if kind == "revolute":
         return f"[{math.degrees(lo):.1f}, {math.degrees(hi):.1f}] deg"
     return f"[{lo * 1000:.1f}, {hi * 1000:.1f}] mm"
+
+
+def _joint_scale(robot: Any, deg: bool, mm: bool) -> np.ndarray:
+    """Factor from SI joint values to the display units, per joint."""
+    rev = np.array([t == "revolute" for t in robot.joint_types])
+    return np.where(rev, 180 / math.pi if deg else 1.0, 1000.0 if mm else 1.0)
+
+
+def _units(robot: Any, deg: bool, mm: bool) -> list[str]:
+    return [("deg" if deg else "rad") if t == "revolute" else ("mm" if mm else "m")
+            for t in robot.joint_types]
 
 
 def cmd_robots(args: argparse.Namespace) -> int:
@@ -30,6 +49,82 @@ def cmd_robots(args: argparse.Namespace) -> int:
     return 0
 
 
+def cmd_fk(args: argparse.Namespace) -> int:
+    """Forward kinematics of one configuration."""
+    from scara_opt.robot import load_robot
+
+    robot = load_robot(args.robot)
+    q = robot.check_q(args.q) / _joint_scale(robot, args.deg, args.mm)
+    T = robot.fk(q)
+    L = 1000.0 if args.mm else 1.0
+    out: dict[str, Any] = {
+        "robot": robot.name, "q": q.tolist(), "q_units": _units(robot, False, False),
+        "position": (T[:3, 3] * L).tolist(), "position_unit": "mm" if args.mm else "m",
+        "rotation": T[:3, :3].tolist(), "within_limits": bool(robot.within_limits(q)),
+    }
+    if robot.yaw_axis is not None:
+        out["yaw_deg"] = math.degrees(robot.yaw(q))
+    if args.json:
+        print(json.dumps(out))
+        return 0
+    unit = out["position_unit"]
+    print(f"{robot.name}: tip at ({', '.join(f'{v:.6g}' for v in out['position'])}) {unit}"
+          + (f", yaw {out['yaw_deg']:.6g} deg" if "yaw_deg" in out else ""))
+    if not out["within_limits"]:
+        print("note: q is outside the joint limits")
+    return 0
+
+
+def _result_dict(robot: Any, res: Any, deg: bool, mm: bool) -> dict[str, Any]:
+    L = 1000.0 if mm else 1.0
+    return {
+        "robot": robot.name, "method": res.method, "status": res.status.value,
+        "success": res.success, "q": (res.q * _joint_scale(robot, deg, mm)).tolist(),
+        "q_units": _units(robot, deg, mm), "error": res.error,
+        "position_error": (res.position_error * L).tolist(),
+        "position_error_unit": "mm" if mm else "m",
+        "yaw_error_deg": None if res.yaw_error is None else math.degrees(res.yaw_error),
+        "iterations": res.iterations, "evaluations": res.evaluations, "time_s": res.time_s,
+        "message": res.message,
+    }
+
+
+def cmd_ik(args: argparse.Namespace) -> int:
+    """Inverse kinematics of one target with any registered method."""
+    import scara_opt as so
+
+    robot = so.load_robot(args.robot)
+    L = 1000.0 if args.mm else 1.0
+    target = so.Target(np.asarray(args.xyz, float) / L,
+                       yaw=None if args.yaw is None else math.radians(args.yaw))
+    if args.all:
+        results = so.ik_all(robot, target, tol=args.tol)
+    else:
+        results = [so.solve_ik(robot, target, method=args.method, seed=args.seed, tol=args.tol)]
+    rows = [_result_dict(robot, r, args.deg, args.mm) for r in results]
+    if args.json:
+        print(json.dumps(rows if args.all else rows[0]))
+        return 0
+    if not rows:
+        print(f"{robot.name}: no closed-form solution within the joint limits (unreachable)")
+    for row in rows:
+        q = ", ".join(f"{name}={v:.6g} {u}" for name, v, u in
+                      zip(robot.joint_names, row["q"], row["q_units"], strict=True))
+        print(f"{row['status']}: {q}  (error {row['error']:.3g}, {row['method']}, "
+              f"{row['time_s'] * 1e3:.2f} ms)")
+        if not row["success"]:
+            print(f"  {row['message']}")
+    return 0
+
+
+def cmd_solvers(args: argparse.Namespace) -> int:
+    """List the registered IK methods."""
+    import scara_opt as so
+
+    print("\n".join(so.solvers()))
+    return 0
+
+
 def build_parser() -> argparse.ArgumentParser:
     """The argument parser with every subcommand."""
     parser = argparse.ArgumentParser(
@@ -37,8 +132,35 @@ def build_parser() -> argparse.ArgumentParser:
         description="Kinematics, IK and trajectories of SCARA robots and serial URDF chains.",
     )
     sub = parser.add_subparsers(dest="command", required=True, metavar="COMMAND")
+
     p = sub.add_parser("robots", help="list the bundled robots with joints, limits and source")
     p.set_defaults(func=cmd_robots)
+
+    p = sub.add_parser("solvers", help="list the registered IK methods")
+    p.set_defaults(func=cmd_solvers)
+
+    units = argparse.ArgumentParser(add_help=False)
+    units.add_argument("--mm", action="store_true",
+                       help="lengths (positions, prismatic joints) in mm instead of m")
+    units.add_argument("--deg", action="store_true",
+                       help="revolute joint values in degrees instead of radians")
+    units.add_argument("--json", action="store_true", help="print JSON for scripts")
+
+    p = sub.add_parser("fk", parents=[units], help="forward kinematics of one configuration")
+    p.add_argument("robot", metavar="ROBOT", help="bundled robot name or path to .urdf/.toml")
+    p.add_argument("q", metavar="q", type=float, nargs="+", help="joint values, one per joint")
+    p.set_defaults(func=cmd_fk)
+
+    p = sub.add_parser("ik", parents=[units], help="inverse kinematics of one target")
+    p.add_argument("robot", metavar="ROBOT", help="bundled robot name or path to .urdf/.toml")
+    p.add_argument("--xyz", type=float, nargs=3, required=True, metavar=("X", "Y", "Z"),
+                   help="target position (m, or mm with --mm)")
+    p.add_argument("--yaw", type=float, metavar="DEG", help="tool angle [deg]")
+    p.add_argument("--method", default="ipopt", help="IK method (see `scara-opt solvers`)")
+    p.add_argument("--seed", type=int, default=0, help="random seed (default 0)")
+    p.add_argument("--tol", type=float, default=1e-9, help="residual counted as solved [m]")
+    p.add_argument("--all", action="store_true", help="every closed-form branch (SCARA only)")
+    p.set_defaults(func=cmd_ik)
     return parser
 
 
