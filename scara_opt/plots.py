@@ -1,0 +1,178 @@
+"""Figures: the arm as a stick figure, path animations, and the comparison plots of the papers.
+
+Every function draws with matplotlib's object API and saves to a file when given a path;
+nothing is shown on screen (use the Agg backend on machines without a display).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping, Sequence
+from pathlib import Path
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+
+if TYPE_CHECKING:
+    import pandas as pd
+    from matplotlib.axes import Axes
+    from matplotlib.figure import Figure
+
+    from scara_opt.robot import Robot
+
+
+def _figure(**kw: Any) -> Figure:
+    from matplotlib.figure import Figure
+
+    return Figure(**kw)
+
+
+def _save(fig: Figure, path: str | Path | None) -> Path | None:
+    if path is None:
+        return None
+    path = Path(path)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    fig.savefig(path, dpi=120, bbox_inches="tight")
+    return path
+
+
+def draw_robot(robot: Robot, q: object, ax: Axes | None = None, path: str | Path | None = None,
+               color: str = "C0", label: str | None = None) -> Axes:
+    """Draw the arm at ``q`` as a 3-D stick figure through every joint origin and the tip.
+
+    Args:
+        robot: the robot.
+        q: (nq,) joint values [rad or m].
+        ax: a 3-D axes to draw into; a new figure is made when ``None``.
+        path: save the figure here (PNG) when given.
+        color: line colour.
+        label: legend label.
+
+    Returns:
+        The axes drawn into.
+    """
+    pts = robot.joint_origins(np.atleast_2d(robot.check_q(q)))[0] * 1000.0
+    if ax is None:
+        fig = _figure(figsize=(6, 5))
+        ax = fig.add_subplot(projection="3d")
+    ax.plot(pts[:, 0], pts[:, 1], pts[:, 2], "-o", color=color, lw=3, ms=5, label=label)
+    ax.plot([pts[0, 0]], [pts[0, 1]], [pts[0, 2]], "ks", ms=9)
+    ax.plot([pts[-1, 0]], [pts[-1, 1]], [pts[-1, 2]], "*", color="C3", ms=12)
+    ax.set_xlabel("x [mm]")
+    ax.set_ylabel("y [mm]")
+    ax.set_zlabel("z [mm]")
+    ax.set_title(f"{robot.name}")
+    if label:
+        ax.legend()
+    _set_equal(ax)
+    _save(ax.figure, path)
+    return ax
+
+
+def _set_equal(ax: Axes) -> None:
+    """Equal scale on the three axes of a 3-D plot."""
+    lims = np.array([ax.get_xlim3d(), ax.get_ylim3d(), ax.get_zlim3d()])
+    center, half = lims.mean(axis=1), (lims[:, 1] - lims[:, 0]).max() / 2
+    ax.set_xlim3d(center[0] - half, center[0] + half)
+    ax.set_ylim3d(center[1] - half, center[1] + half)
+    ax.set_zlim3d(center[2] - half, center[2] + half)
+
+
+def animate(robot: Robot, joint_path: object, path_to_gif: str | Path, fps: int = 10,
+            targets: object | None = None) -> Path:
+    """Animate the arm along a joint path and save a GIF.
+
+    Args:
+        robot: the robot.
+        joint_path: a :class:`~scara_opt.trajectory.path.JointPath` or an (n, nq) array.
+        path_to_gif: output file (``.gif``).
+        fps: frames per second.
+        targets: optional (m, 3) Cartesian points [m] drawn as the path to follow.
+
+    Returns:
+        The path of the saved GIF.
+    """
+    from matplotlib.animation import FuncAnimation, PillowWriter
+
+    Q = np.asarray(getattr(joint_path, "q", joint_path), dtype=float)
+    pts = robot.joint_origins(robot.check_q_batch(Q)) * 1000.0
+    fig = _figure(figsize=(6, 5))
+    ax = fig.add_subplot(projection="3d")
+    lo, hi = pts.reshape(-1, 3).min(axis=0), pts.reshape(-1, 3).max(axis=0)
+    ax.set_xlim3d(lo[0], hi[0])
+    ax.set_ylim3d(lo[1], hi[1])
+    ax.set_zlim3d(lo[2], hi[2])
+    _set_equal(ax)
+    ax.set_xlabel("x [mm]")
+    ax.set_ylabel("y [mm]")
+    ax.set_zlabel("z [mm]")
+    if targets is not None:
+        T = np.asarray(targets, float) * 1000.0
+        ax.plot(T[:, 0], T[:, 1], T[:, 2], ":", color="0.5")
+    (arm,) = ax.plot([], [], [], "-o", lw=3, color="C0")
+    (trace,) = ax.plot([], [], [], "-", color="C3")
+
+    def frame(k: int) -> tuple:
+        arm.set_data_3d(pts[k, :, 0], pts[k, :, 1], pts[k, :, 2])
+        trace.set_data_3d(pts[: k + 1, -1, 0], pts[: k + 1, -1, 1], pts[: k + 1, -1, 2])
+        ax.set_title(f"{robot.name}: point {k + 1}/{len(pts)}")
+        return arm, trace
+
+    out = Path(path_to_gif)
+    out.parent.mkdir(parents=True, exist_ok=True)
+    FuncAnimation(fig, frame, frames=len(pts), blit=False).save(out, writer=PillowWriter(fps=fps))
+    return out
+
+
+def plot_convergence(curves: Mapping[tuple[str, Any], np.ndarray], path: str | Path | None = None,
+                     title: str = "best cost per iteration") -> Figure:
+    """One panel per method: median best-cost histories (zavar2024 Fig. 4), log scale."""
+    methods = sorted({m for m, _ in curves})
+    fig = _figure(figsize=(4 * min(3, len(methods)), 3.2 * ((len(methods) + 2) // 3)))
+    for i, method in enumerate(methods):
+        ax = fig.add_subplot((len(methods) + 2) // 3, min(3, len(methods)), i + 1)
+        for (m, pop), h in sorted(curves.items(), key=lambda kv: str(kv[0][1])):
+            if m == method:
+                ax.semilogy(np.arange(1, len(h) + 1), np.maximum(h, 1e-17),
+                            label=f"pop {pop}" if pop is not None else m)
+        ax.set_title(method.upper())
+        ax.set_xlabel("iteration")
+        ax.set_ylabel("cost [m]")
+        ax.legend(fontsize=7)
+    fig.suptitle(title)
+    fig.tight_layout()
+    _save(fig, path)
+    return fig
+
+
+def plot_time_vs_population(summary: pd.DataFrame, path: str | Path | None = None) -> Figure:
+    """Median time per solve against population size, one line per method (zavar2024 Fig. 5)."""
+    fig = _figure(figsize=(6, 4))
+    ax = fig.add_subplot()
+    pop = summary.dropna(subset=["population"])
+    for method, grp in pop.groupby("method", sort=True):
+        ax.plot(grp["population"], grp["time_s"] * 1e3, "-o", label=str(method).upper())
+    ax.set_xlabel("population")
+    ax.set_ylabel("median time per solve [ms]")
+    ax.set_yscale("log")
+    ax.legend()
+    fig.tight_layout()
+    _save(fig, path)
+    return fig
+
+
+def plot_boxes(table: pd.DataFrame, columns: Sequence[str], path: str | Path | None = None,
+               by: str = "method", log: bool = True) -> Figure:
+    """Box plots of ``columns`` grouped by ``by`` (zavar2024 Fig. 7: errors, cost, time)."""
+    fig = _figure(figsize=(3.6 * len(columns), 3.6))
+    groups = sorted(table[by].unique())
+    for i, col in enumerate(columns):
+        ax = fig.add_subplot(1, len(columns), i + 1)
+        data = [np.maximum(table.loc[table[by] == g, col].to_numpy(float), 1e-17) for g in groups]
+        ax.boxplot(data, tick_labels=[str(g).upper() for g in groups])
+        if log:
+            ax.set_yscale("log")
+        ax.set_title(col)
+        ax.tick_params(axis="x", labelrotation=45)
+    fig.tight_layout()
+    _save(fig, path)
+    return fig
