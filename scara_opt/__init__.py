@@ -21,12 +21,14 @@ from scara_opt.errors import (
 from scara_opt.ik import IKResult, Status, get_solver, ik_all, register_solver, solve_ik, solvers
 from scara_opt.robot import Robot, list_robots, load_robot
 from scara_opt.target import Target
+from scara_opt.workspace import Footprint, Workspace, workspace
 
 __version__ = "0.1.0"
 
 logging.getLogger(__name__).addHandler(logging.NullHandler())
 
 __all__ = [
+    "Footprint",
     "FrameNotFoundError",
     "IKResult",
     "Status",
@@ -36,6 +38,7 @@ __all__ = [
     "register_solver",
     "solve_ik",
     "solvers",
+    "workspace",
     "InputError",
     "JointLimitError",
     "Robot",
@@ -46,6 +49,7 @@ __all__ = [
     "TrajectoryError",
     "URDFError",
     "UnknownSolverError",
+    "Workspace",
     "__version__",
     "list_robots",
     "load_robot",

@@ -1,0 +1,651 @@
+r"""Workspace by Monte Carlo: reach, the base's exclusion zone, reachability queries, plots.
+
+:func:`workspace` draws ``n`` configurations uniformly within the joint limits from a seeded
+generator, evaluates the FK of all of them as one batch and returns a :class:`Workspace`
+(peng2025 Sec. 3, N = 60,000, Fig. 4; zavar2024 Fig. 3).
+
+**The plane.** "XY" means the plane of motion: the plane normal to the robot's
+:attr:`~scara_opt.Robot.yaw_axis` ``n`` (world z when the robot has none). When ``n`` is a
+world axis, the plane's coordinates ``(u, v)`` are the two other world axes in the order
+x, y, z (world x–y for a vertical SCARA; x–z for nguyen, whose arm turns about −y);
+otherwise an orthonormal pair normal to ``n``. Heights are measured along ``n``.
+
+**Base axis and radius.** The base axis is the line along ``n`` through the origin of the
+first revolute joint at the reference configuration (every joint at zero, or mid-range
+where zero is outside the limits; the world origin when no joint is revolute). The radius
+of a point is its distance from that line (peng2025: the shoulder axis J1, 120 mm from the
+base centre; zavar2024: the base axis at the origin).
+
+**Area.** The samples' ``(u, v)`` fall into an occupancy grid of square cells of side
+``cell`` [m]. A cell is on the edge of the region when one of its four neighbours is empty;
+the edge crosses such a cell, covering on average half of it, so the area is
+
+.. math:: A = h^2 \left(N_\text{interior} + \tfrac12 N_\text{edge}\right)
+
+which removes the first-order bias of plain cell counting (about
+:math:`\tfrac{2}{\pi} P h` for a region of perimeter :math:`P`). The automatic cell holds
+about :data:`SAMPLES_PER_CELL` samples on average, so empty cells inside the region are rare
+(joint-uniform samples are densest near the reach circles and sparsest where the arm's
+Jacobian determinant is largest).
+
+**Reachability.** :meth:`Workspace.contains` is exact for SCARA-type robots without a
+redundant joint (fang, peng2025, zavar2024): the closed form
+(:func:`scara_opt.ik.analytic.solve_batch`) gives both elbow branches and a point counts as
+reachable when one branch lies within the limits and, with a footprint, keeps its links
+clear of it. Otherwise (nguyen and inverted5, whose redundant joint the closed form holds
+fixed, and non-SCARA chains) it answers from the occupancy grid and the sampled height
+range: accurate to about one cell at the edge of the region, and, for a chain whose height
+depends on its planar position, an over-approximation (a box in height over the planar
+region).
+
+**Exclusion zone.** A robot file may declare the base footprint as a ``[footprint]`` table
+(see :class:`Footprint`): samples where a checked link segment, projected on the plane,
+passes through it are dropped (peng2025 Fig. 5–6).
+
+peng2025's file declares a circle of radius :math:`R = L_1 \sin 120° ≈ 190.53` mm about the
+shoulder axis J1 (at :math:`(L_0, 0) = (120, 0)` mm, so it also covers the base centre) and
+checks the segments from the elbow J2 on (link 2 and the tool). Once :math:`|θ_2| > 90°`
+the forearm passes at :math:`L_1 \sin|θ_2|` from the shoulder axis, whatever :math:`θ_1` is,
+so it clears the circle exactly when :math:`|θ_2| \le 120°`: the effective elbow limit the
+paper states, giving the calibrated workspace of its Fig. 6 (the area drops from about
+0.394 m² to 0.286 m²). The paper's text gives no dimensions for Fig. 5; the radius is
+chosen to reproduce that limit. Links 0 and 1 sit on the base and are not checked.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+from numpy.typing import NDArray
+
+from scara_opt.dh import LENGTH_UNITS
+from scara_opt.errors import InputError, URDFError
+from scara_opt.ik.analytic import NotScaraError, scara_geometry, solve_batch
+from scara_opt.ik.base import default_q0
+from scara_opt.robot import Array, Robot
+
+#: average samples per grid cell when the cell size is chosen automatically
+SAMPLES_PER_CELL = 10
+
+#: largest occupancy grid built [cells]; a smaller cell would need more memory than sensible
+MAX_CELLS = 20_000_000
+
+_AXIS_NAMES = "xyz"
+
+
+# ---------------------------------------------------------------------- the plane
+@dataclass(frozen=True, eq=False)
+class Plane:
+    """The plane of motion, its coordinates and the base axis (see the module docstring).
+
+    Attributes:
+        e1, e2: (3,) orthonormal world directions of the plane coordinates ``u``, ``v``.
+        n: (3,) unit normal (the yaw axis); heights are measured along it.
+        origin: (3,) a point of the base axis [m].
+        labels: names of ``u``, ``v`` and the height (e.g. ``("x", "y", "z")``).
+    """
+
+    e1: Array
+    e2: Array
+    n: Array
+    origin: Array
+    labels: tuple[str, str, str]
+
+    def coords(self, points: Array) -> Array:
+        """Plane coordinates (..., 2) [m] of world points (..., 3) [m]."""
+        return np.stack([points @ self.e1, points @ self.e2], axis=-1)
+
+    def height(self, points: Array) -> Array:
+        """Height (...,) [m] of world points (..., 3) along :attr:`n`."""
+        return points @ self.n
+
+    def radius(self, points: Array) -> Array:
+        """Distance (...,) [m] of world points (..., 3) from the base axis."""
+        return np.linalg.norm(self.coords(points - self.origin), axis=-1)
+
+
+def workspace_plane(robot: Robot) -> Plane:
+    """The :class:`Plane` of ``robot``: normal to its yaw axis, through its first revolute joint.
+
+    Args:
+        robot: any robot.
+
+    Returns:
+        The plane; world x–y with normal +z when the robot has no yaw axis.
+    """
+    n = robot.yaw_axis
+    n = np.array([0.0, 0.0, 1.0]) if n is None else np.asarray(n, float)
+    k = int(np.argmax(np.abs(n)))
+    if abs(n[k]) > 1.0 - 1e-9:  # a world axis: the two others, in the order x, y, z
+        n = np.sign(n[k]) * np.eye(3)[k]
+        i, j = (a for a in range(3) if a != k)
+        e1, e2 = np.eye(3)[i], np.eye(3)[j]
+        labels = (_AXIS_NAMES[i], _AXIS_NAMES[j], ("-" if n[k] < 0 else "") + _AXIS_NAMES[k])
+    else:
+        ref = np.eye(3)[0] if abs(n[0]) < 0.9 else np.eye(3)[1]
+        e1 = ref - (ref @ n) * n
+        e1 /= np.linalg.norm(e1)
+        e2 = np.cross(n, e1)
+        labels = ("u", "v", "h")
+    revolute = [idx for idx, kind in enumerate(robot.joint_types) if kind == "revolute"]
+    origin = np.zeros(3)
+    if revolute:
+        origin = robot.joint_origins(default_q0(robot)[None])[0, revolute[0]]
+    return Plane(e1=e1, e2=e2, n=n, origin=origin, labels=labels)
+
+
+# ---------------------------------------------------------------------- the footprint
+@dataclass(frozen=True, eq=False)
+class Footprint:
+    """An exclusion zone in the plane of motion (a circle or a polygon) that links must clear.
+
+    Declared in a robot file as a ``[footprint]`` table, lengths in the file's
+    ``length_unit``, coordinates ``(u, v)`` of the plane (world x, y for a vertical SCARA)::
+
+        [footprint]
+        shape = "circle"         # or "polygon" with vertices = [[u, v], ...]
+        center = [120, 0]
+        radius = 190.53
+        links_from = "theta2"    # check the segments from this joint's origin to the tip
+
+    The checked segments join consecutive points of :meth:`Robot.joint_origins
+    <scara_opt.Robot.joint_origins>` from joint ``links_from`` on (every joint when absent),
+    projected on the plane. A segment blocks when it passes through the zone's interior
+    (touching the boundary is allowed).
+
+    Attributes:
+        shape: ``"circle"`` or ``"polygon"``.
+        center: (2,) circle centre [m]; ``radius`` [m].
+        vertices: (k, 2) polygon vertices [m], in order (either sense).
+        links_from: name of the first joint whose outgoing segment is checked, or ``None``.
+    """
+
+    shape: str
+    center: Array | None = None
+    radius: float = 0.0
+    vertices: Array | None = None
+    links_from: str | None = None
+
+    def __post_init__(self) -> None:
+        if self.shape == "circle":
+            c = _finite(self.center, (2,), "footprint center")
+            r = _finite(self.radius, (), "footprint radius")
+            if not r > 0:
+                raise InputError(f"footprint radius must be a positive length [m]; got "
+                                 f"{self.radius!r}")
+            object.__setattr__(self, "center", c)
+            object.__setattr__(self, "radius", float(r))
+        elif self.shape == "polygon":
+            v = _finite(self.vertices, (None, 2), "footprint vertices")
+            if v.shape[0] < 3:
+                raise InputError(f"a footprint polygon needs at least 3 vertices [[u, v], ...]; "
+                                 f"got {v.shape[0]}")
+            object.__setattr__(self, "vertices", v)
+        else:
+            raise InputError(f"footprint shape must be 'circle' or 'polygon'; got {self.shape!r}")
+
+    @classmethod
+    def from_robot(cls, robot: Robot) -> Footprint | None:
+        """The footprint a robot file declares (its ``[footprint]`` table), or ``None``.
+
+        Raises:
+            URDFError: the table is malformed (the message names the entry and the rule).
+        """
+        table = robot.metadata.get("footprint")
+        if table is None:
+            return None
+        where = f"robot {robot.name!r}: [footprint]"
+        unit = LENGTH_UNITS.get(robot.metadata.get("length_unit", ""))
+        if not isinstance(table, dict) or unit is None:
+            raise URDFError(f"{where} must be a table in a robot file with a length_unit "
+                            f"({', '.join(LENGTH_UNITS)})")
+        unknown = set(table) - {"shape", "center", "radius", "vertices", "links_from"}
+        if unknown:
+            raise URDFError(f"{where} has unknown keys {sorted(unknown)}; accepted: shape, "
+                            "center, radius (circle), vertices (polygon), links_from")
+        try:
+            fp = cls(shape=table.get("shape", ""),
+                     center=None if "center" not in table else np.asarray(table["center"]) * unit,
+                     radius=float(table.get("radius", 0.0)) * unit,
+                     vertices=None if "vertices" not in table
+                     else np.asarray(table["vertices"]) * unit,
+                     links_from=table.get("links_from"))
+            fp.first_origin(robot)
+        except (InputError, TypeError, ValueError) as exc:
+            raise URDFError(f"{where}: {exc}; fix the robot file") from None
+        return fp
+
+    def first_origin(self, robot: Robot) -> int:
+        """Index into ``robot.joint_origins`` of the first checked point.
+
+        Raises:
+            InputError: ``links_from`` is not a joint of ``robot`` (lists the joints).
+        """
+        if self.links_from is None:
+            return 0
+        if self.links_from not in robot.joint_names:
+            raise InputError(f"footprint links_from = {self.links_from!r} is not a joint of "
+                             f"robot {robot.name!r}; joints: {robot.joint_names}")
+        return robot.joint_names.index(self.links_from)
+
+    def blocks(self, chain_uv: Array, first: int = 0) -> NDArray[np.bool_]:
+        """Which arms pass through the zone.
+
+        Args:
+            chain_uv: (n, k, 2) plane coordinates [m] of each arm's joint origins and tip.
+            first: index of the first checked point (see :meth:`first_origin`).
+
+        Returns:
+            (n,) True where a segment between consecutive checked points enters the zone.
+        """
+        pts = chain_uv[:, first:]
+        A, B = pts[:, :-1].reshape(-1, 2), pts[:, 1:].reshape(-1, 2)
+        if A.shape[0] == 0:  # a single point: the tip alone
+            A = B = pts.reshape(-1, 2)
+        if self.shape == "circle":
+            hit = _segment_distance(A, B, self.center) < self.radius
+        else:
+            hit = _segments_hit_polygon(A, B, self.vertices)
+        return hit.reshape(chain_uv.shape[0], -1).any(axis=1)
+
+    def outline(self) -> Array:
+        """Closed outline (m, 2) [m] of the zone, for plots."""
+        if self.shape == "circle":
+            t = np.linspace(0.0, 2 * np.pi, 181)
+            return self.center + self.radius * np.column_stack([np.cos(t), np.sin(t)])
+        return np.vstack([self.vertices, self.vertices[:1]])
+
+
+def _finite(value: object, shape: tuple[int | None, ...], what: str) -> Array:
+    try:
+        arr = np.asarray(value, dtype=float)
+    except (TypeError, ValueError):
+        arr = np.array(np.nan)
+    ok = arr.ndim == len(shape) and all(s is None or s == d
+                                        for s, d in zip(shape, arr.shape, strict=True))
+    if not ok or not np.isfinite(arr).all():
+        want = {(): "() (a number)", (2,): "(2,) [u, v]"}.get(shape, "(k, 2) [[u, v], ...]")
+        raise InputError(f"{what} must be finite numbers of shape {want} [m]; got {value!r}")
+    return arr
+
+
+def _segment_distance(A: Array, B: Array, c: Array) -> Array:
+    """Distance (s,) from point ``c`` (2,) to each segment A[i]–B[i] (s, 2)."""
+    AB, AC = B - A, c - A
+    L2 = np.einsum("ij,ij->i", AB, AB)
+    t = np.clip(np.einsum("ij,ij->i", AC, AB) / np.where(L2 > 0, L2, 1.0), 0.0, 1.0)
+    return np.linalg.norm(A + t[:, None] * AB - c, axis=1)
+
+
+def _cross(a: Array, b: Array) -> Array:
+    return a[..., 0] * b[..., 1] - a[..., 1] * b[..., 0]
+
+
+def _inside_polygon(P: Array, V: Array) -> NDArray[np.bool_]:
+    """Even-odd rule: which points P (s, 2) lie inside polygon V (k, 2)."""
+    W = np.roll(V, -1, axis=0)
+    y = P[:, 1:2]
+    spans = (V[:, 1] > y) != (W[:, 1] > y)  # (s, k): the edge crosses the horizontal line
+    dy = np.where(W[:, 1] != V[:, 1], W[:, 1] - V[:, 1], 1.0)
+    x_cross = V[:, 0] + (y - V[:, 1]) * (W[:, 0] - V[:, 0]) / dy
+    return (spans & (P[:, 0:1] < x_cross)).sum(axis=1) % 2 == 1
+
+
+def _segments_hit_polygon(A: Array, B: Array, V: Array) -> NDArray[np.bool_]:
+    """Which segments A[i]–B[i] (s, 2) enter polygon V (k, 2): an end inside or a crossing."""
+    C, D = V[None], np.roll(V, -1, axis=0)[None]
+    d = (B - A)[:, None]
+    o1, o2 = _cross(d, C - A[:, None]), _cross(d, D - A[:, None])
+    o3, o4 = _cross(D - C, A[:, None] - C), _cross(D - C, B[:, None] - C)
+    crossing = ((o1 * o2) < 0) & ((o3 * o4) < 0)
+    return _inside_polygon(A, V) | _inside_polygon(B, V) | crossing.any(axis=1)
+
+
+# ---------------------------------------------------------------------- the grid
+@dataclass(frozen=True, eq=False)
+class OccupancyGrid:
+    """Square cells of the plane that hold at least one sample.
+
+    An empty cell whose four neighbours hold samples is counted as occupied: a gap of one
+    cell is a sampling gap (joint-uniform samples are sparse in places), below the grid's
+    resolution.
+
+    Attributes:
+        origin: (2,) plane coordinates [m] of the lower corner of cell (0, 0).
+        cell: side of a cell [m].
+        occupied: (nu, nv) True where a sample fell (or a lone gap was filled).
+    """
+
+    origin: Array
+    cell: float
+    occupied: NDArray[np.bool_]
+
+    @classmethod
+    def from_points(cls, uv: Array, cell: float) -> OccupancyGrid:
+        """Grid of the points ``uv`` (m, 2) [m] with cells of side ``cell`` [m].
+
+        Raises:
+            InputError: the grid would exceed :data:`MAX_CELLS` cells.
+        """
+        lo = uv.min(axis=0)
+        shape = np.floor((uv.max(axis=0) - lo) / cell).astype(np.int64) + 1
+        if shape[0] * shape[1] > MAX_CELLS:
+            span = float(np.max(uv.max(axis=0) - lo))
+            raise InputError(
+                f"grid cell {cell:.3g} m is too small for a workspace {span:.3g} m across "
+                f"({shape[0]} x {shape[1]} cells > {MAX_CELLS}); pass a larger grid= or None")
+        idx = np.minimum(np.floor((uv - lo) / cell).astype(np.int64), shape - 1)
+        occupied = np.zeros(tuple(shape), dtype=bool)
+        occupied[idx[:, 0], idx[:, 1]] = True
+        # a lone empty cell amid occupied ones is a sampling gap, below the grid's resolution
+        occupied |= _surrounded(occupied)
+        return cls(origin=lo, cell=float(cell), occupied=occupied)
+
+    @property
+    def interior(self) -> NDArray[np.bool_]:
+        """(nu, nv) occupied cells whose four neighbours are occupied too."""
+        return self.occupied & _surrounded(self.occupied)
+
+    @property
+    def area(self) -> float:
+        """Area [m²]: interior cells in full, edge cells by half (see the module docstring)."""
+        inner = int(self.interior.sum())
+        edge = int(self.occupied.sum()) - inner
+        return self.cell**2 * (inner + 0.5 * edge)
+
+    def lookup(self, uv: Array) -> NDArray[np.bool_]:
+        """(m,) True where the points ``uv`` (m, 2) [m] fall into an occupied cell."""
+        idx = np.floor((uv - self.origin) / self.cell)
+        inside = np.all((idx >= 0) & (idx < self.occupied.shape), axis=1)
+        out = np.zeros(uv.shape[0], dtype=bool)
+        k = idx[inside].astype(np.int64)
+        out[inside] = self.occupied[k[:, 0], k[:, 1]]
+        return out
+
+
+def _surrounded(occupied: NDArray[np.bool_]) -> NDArray[np.bool_]:
+    """(nu, nv) True where all four neighbours of a cell are occupied."""
+    pad = np.pad(occupied, 1)
+    return pad[:-2, 1:-1] & pad[2:, 1:-1] & pad[1:-1, :-2] & pad[1:-1, 2:]
+
+
+def _auto_cell(uv: Array) -> float:
+    """Cell side [m] holding about :data:`SAMPLES_PER_CELL` samples (two passes)."""
+    m = uv.shape[0]
+    span = np.maximum(uv.max(axis=0) - uv.min(axis=0), 0.0)
+    if span.min() <= 1e-12:  # the projection is a point or a segment: no area to resolve
+        return max(float(span.max()), 1e-6) / 100.0
+    coarse = math.sqrt(SAMPLES_PER_CELL * float(span.prod()) / m)  # the box's area: coarser
+    rough = OccupancyGrid.from_points(uv, coarse).area
+    return min(coarse, math.sqrt(SAMPLES_PER_CELL * rough / m))
+
+
+# ---------------------------------------------------------------------- the result
+@dataclass(frozen=True, eq=False)
+class Workspace:
+    """A Monte Carlo workspace (see :func:`workspace` and the module docstring).
+
+    Every range is measured over the kept samples (slightly inside the true extremes).
+
+    Attributes:
+        robot: the robot sampled.
+        points: (m, 3) tip positions [m] of the kept samples (m <= n_samples).
+        q: (m, nq) their configurations [rad or m].
+        n_samples: number of configurations drawn.
+        seed: the seed they were drawn with.
+        plane: the plane of motion and the base axis (:class:`Plane`).
+        footprint: the exclusion zone applied, or ``None``.
+        grid: the occupancy grid of the plane (:class:`OccupancyGrid`).
+        bounds: (2, 3) lower and upper corner of the bounding box [m].
+        z_range: (min, max) world z [m].
+        height_range: (min, max) height along the plane normal [m] (= ``z_range`` for a
+            SCARA with an upward axis).
+        radial_range: (min, max) distance from the base axis [m].
+        xy_area: area of the projection on the plane [m²] (from ``grid``).
+        contains_method: ``"closed_form"`` or ``"grid"``: how :meth:`contains` decides.
+    """
+
+    robot: Robot
+    points: Array
+    q: Array
+    n_samples: int
+    seed: object
+    plane: Plane
+    footprint: Footprint | None
+    grid: OccupancyGrid
+    bounds: Array
+    z_range: tuple[float, float]
+    height_range: tuple[float, float]
+    radial_range: tuple[float, float]
+    xy_area: float
+    contains_method: str
+
+    @property
+    def n_dropped(self) -> int:
+        """Samples dropped because a link passed through the footprint."""
+        return self.n_samples - self.points.shape[0]
+
+    @property
+    def cell(self) -> float:
+        """Side of a grid cell [m]."""
+        return self.grid.cell
+
+    def __repr__(self) -> str:
+        lo, hi = self.radial_range
+        return (f"Workspace({self.robot.name!r}, samples={self.points.shape[0]}/"
+                f"{self.n_samples}, xy_area={self.xy_area:.5g} m², radius=[{lo:.4g}, "
+                f"{hi:.4g}] m, contains={self.contains_method})")
+
+    def contains(self, points: object) -> NDArray[np.bool_]:
+        """Whether the robot reaches each point (see the module docstring for the method).
+
+        Args:
+            points: (m, 3) world positions [m].
+
+        Returns:
+            (m,) bool.
+
+        Raises:
+            InputError: not an (m, 3) array, or non-finite entries (the rows are named).
+        """
+        P = _check_points(points)
+        if self.contains_method == "closed_form":
+            return _closed_form_contains(self.robot, P, self.plane, self.footprint)
+        h = self.plane.height(P)
+        lo, hi = self.height_range
+        return (h >= lo) & (h <= hi) & self.grid.lookup(self.plane.coords(P))
+
+    def plot_xy(self, path: str | Path, title: str | None = None) -> Path:
+        """Save the projection on the plane as a PNG (zavar2024 Fig. 3a, peng2025 Fig. 3/6).
+
+        Draws the samples, the occupied grid cells (light), the footprint (dashed) and the
+        base axis (+). Axes in metres.
+
+        Args:
+            path: ``.png`` file to write; its folder must exist.
+            title: figure title; default names the robot, sample count and area.
+
+        Returns:
+            The path written.
+
+        Raises:
+            InputError: not a ``.png`` path, or its folder does not exist.
+        """
+        fig, out = _figure(path)
+        ax = fig.add_subplot()
+        g, (lu, lv, _) = self.grid, self.plane.labels
+        corner = g.origin + g.cell * np.array(g.occupied.shape)
+        ax.imshow(g.occupied.T, origin="lower", cmap="Greys", vmin=0, vmax=4, aspect="equal",
+                  extent=(g.origin[0], corner[0], g.origin[1], corner[1]), interpolation="none")
+        uv = self.plane.coords(self.points)
+        ax.scatter(uv[:, 0], uv[:, 1], s=0.2, c="tab:blue", alpha=0.5, linewidths=0,
+                   rasterized=True)
+        ax.plot([], [], ".", color="tab:blue", label=f"{uv.shape[0]} samples")
+        ax.plot([], [], "s", color="lightgrey", label=f"grid, {g.cell * 1e3:.3g} mm cells")
+        if self.footprint is not None:
+            ring = self.footprint.outline()
+            ax.plot(ring[:, 0], ring[:, 1], "r--", lw=1.2, label="base footprint")
+        base = self.plane.coords(self.plane.origin)
+        ax.plot(base[0], base[1], "k+", ms=10, label="base axis")
+        ax.set_xlabel(f"{lu} [m]")
+        ax.set_ylabel(f"{lv} [m]")
+        ax.set_aspect("equal")
+        ax.legend(loc="upper right", fontsize=8)
+        ax.set_title(title or f"{self.robot.name}: workspace, {lu}{lv} projection, "
+                     f"area {self.xy_area:.4f} m²")
+        fig.savefig(out, dpi=150)
+        return out
+
+    def plot_3d(self, path: str | Path, title: str | None = None) -> Path:
+        """Save the sample cloud in 3D as a PNG (zavar2024 Fig. 3b, peng2025 Fig. 4).
+
+        Args:
+            path: ``.png`` file to write; its folder must exist.
+            title: figure title; default names the robot and the sample count.
+
+        Returns:
+            The path written.
+
+        Raises:
+            InputError: not a ``.png`` path, or its folder does not exist.
+        """
+        from matplotlib.ticker import MaxNLocator
+
+        fig, out = _figure(path)
+        ax = fig.add_subplot(projection="3d")
+        P = self.points
+        cloud = ax.scatter(P[:, 0], P[:, 1], P[:, 2], s=0.2, c=P[:, 2], cmap="viridis",
+                           linewidths=0, rasterized=True)
+        fig.colorbar(cloud, ax=ax, shrink=0.6, label="z [m]")
+        span = np.maximum(np.ptp(P, axis=0), 1e-9)
+        span[2] = max(span[2], 0.25 * span[:2].max())  # true x:y; a flat slab stays readable
+        ax.set_box_aspect(tuple(span))
+        ax.zaxis.set_major_locator(MaxNLocator(4))
+        ax.set_xlabel("x [m]")
+        ax.set_ylabel("y [m]")
+        ax.set_zlabel("z [m]")
+        ax.set_title(title or f"{self.robot.name}: Monte Carlo workspace, "
+                     f"{P.shape[0]} samples")
+        fig.savefig(out, dpi=150)
+        return out
+
+
+def _figure(path: str | Path) -> tuple[Any, Path]:
+    """A new Agg-backed matplotlib Figure (no pyplot, no global state) and the checked path."""
+    out = Path(path)
+    if out.suffix.lower() != ".png":
+        raise InputError(f"plots are saved as PNG: pass a path ending in .png; got {str(out)!r}")
+    if not out.parent.is_dir():
+        raise InputError(f"folder {str(out.parent)!r} does not exist; create it first")
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+    from matplotlib.figure import Figure
+
+    fig = Figure(figsize=(6.4, 5.6), layout="constrained")
+    FigureCanvasAgg(fig)
+    return fig, out
+
+
+def _check_points(points: object) -> Array:
+    try:
+        P = np.asarray(points, dtype=float)
+    except (TypeError, ValueError):
+        raise InputError(f"points must be a numeric (m, 3) array [m]; got {points!r}") from None
+    if P.ndim != 2 or P.shape[1] != 3:
+        raise InputError(f"points must have shape (m, 3), one world position [m] per row "
+                         f"(a single point as [[x, y, z]]); got shape {P.shape}")
+    bad = ~np.isfinite(P).all(axis=1)
+    if bad.any():
+        raise InputError(f"points has NaN or inf in rows {np.flatnonzero(bad)[:10].tolist()}; "
+                         "pass finite positions")
+    return P
+
+
+def _closed_form(robot: Robot) -> bool:
+    """Whether the closed form decides reachability of the whole robot (no redundant joint)."""
+    try:
+        return not scara_geometry(robot).redundant
+    except NotScaraError:
+        return False
+
+
+def _closed_form_contains(robot: Robot, P: Array, plane: Plane,
+                          footprint: Footprint | None) -> NDArray[np.bool_]:
+    if P.shape[0] == 0:
+        return np.zeros(0, dtype=bool)
+    Q, valid = solve_batch(robot, P)
+    if footprint is not None and valid.any():
+        rows, branch = np.nonzero(valid)
+        chain = plane.coords(robot.joint_origins(Q[rows, branch]))
+        valid[rows, branch] = ~footprint.blocks(chain, footprint.first_origin(robot))
+    return valid.any(axis=1)
+
+
+# ---------------------------------------------------------------------- the entry point
+def _check_args(robot: object, n: object, grid: object, footprint: object) -> None:
+    if not isinstance(robot, Robot):
+        raise InputError(f"robot must be a scara_opt.Robot (e.g. load_robot('zavar2024')); "
+                         f"got {type(robot).__name__}")
+    if isinstance(n, bool) or not isinstance(n, (int, np.integer)) or n <= 0:
+        raise InputError(f"n (number of samples) must be a positive integer, e.g. 60_000; "
+                         f"got {n!r}")
+    if grid is not None and (isinstance(grid, bool) or not isinstance(grid, (int, float))
+                             or not math.isfinite(grid) or grid <= 0):
+        raise InputError(f"grid (cell size) must be a positive length [m] or None (automatic); "
+                         f"got {grid!r}")
+    if not isinstance(footprint, (bool, Footprint)) and footprint is not None:
+        raise InputError(f"footprint must be True (the robot file's), False/None, or a "
+                         f"Footprint; got {footprint!r}")
+
+
+def workspace(robot: Robot, n: int = 60_000, seed: int | np.random.Generator | None = 0,
+              grid: float | None = None, footprint: bool | Footprint | None = True) -> Workspace:
+    """Monte Carlo workspace: ``n`` joint samples, uniform within the limits, FK as one batch.
+
+    Args:
+        robot: the robot.
+        n: number of configurations to draw (peng2025 uses 60,000).
+        seed: seed (or generator) of the samples: same seed, same points.
+        grid: side of the occupancy-grid cells [m]; ``None`` picks it so a cell holds about
+            :data:`SAMPLES_PER_CELL` samples on average.
+        footprint: ``True`` applies the exclusion zone of the robot file (if it declares
+            one), ``False``/``None`` none, or pass a :class:`Footprint`.
+
+    Returns:
+        The :class:`Workspace`.
+
+    Raises:
+        InputError: ``n`` <= 0 or not an integer, a bad ``grid`` or ``footprint``, or a
+            footprint that blocks every sample.
+        URDFError: a malformed ``[footprint]`` table in the robot file.
+    """
+    _check_args(robot, n, grid, footprint)
+    rng = seed if isinstance(seed, np.random.Generator) else np.random.default_rng(seed)
+    Q = rng.uniform(robot.lower, robot.upper, (int(n), robot.nq))
+    plane = workspace_plane(robot)
+    zone = Footprint.from_robot(robot) if footprint is True else (footprint or None)
+    if zone is None:
+        P = robot.positions(Q)
+    else:
+        chain = robot.joint_origins(Q)
+        keep = ~zone.blocks(plane.coords(chain), zone.first_origin(robot))
+        if not keep.any():
+            raise InputError(f"the footprint blocks all {n} samples of robot {robot.name!r}; "
+                             "check its center/vertices, radius and links_from")
+        Q, P = Q[keep], chain[keep, -1]
+    uv = plane.coords(P)
+    cell = _auto_cell(uv) if grid is None else float(grid)
+    occupancy = OccupancyGrid.from_points(uv, cell)
+    flat = float(np.ptp(uv, axis=0).min()) <= 1e-12  # a point or a segment: no area
+    h, r = plane.height(P), plane.radius(P)
+    return Workspace(
+        robot=robot, points=P, q=Q, n_samples=int(n), seed=seed, plane=plane, footprint=zone,
+        grid=occupancy, bounds=np.stack([P.min(axis=0), P.max(axis=0)]),
+        z_range=(float(P[:, 2].min()), float(P[:, 2].max())),
+        height_range=(float(h.min()), float(h.max())),
+        radial_range=(float(r.min()), float(r.max())), xy_area=0.0 if flat else occupancy.area,
+        contains_method="closed_form" if _closed_form(robot) else "grid",
+    )
