@@ -16,6 +16,7 @@ from typing import Any
 import numpy as np
 
 from scara_opt.errors import ScaraOptError
+from scara_opt.reports import PAPERS
 
 
 def _fmt_limit(kind: str, lo: float, hi: float) -> str:
@@ -117,6 +118,97 @@ def cmd_ik(args: argparse.Namespace) -> int:
     return 0
 
 
+def _int_list(text: str) -> list[int]:
+    try:
+        values = [int(v) for v in text.split(",") if v.strip()]
+    except ValueError:
+        raise argparse.ArgumentTypeError(
+            f"expected comma-separated integers, got {text!r}") from None
+    if not values or any(v <= 0 for v in values):
+        raise argparse.ArgumentTypeError(f"expected positive integers, got {text!r}")
+    return values
+
+
+def _executor(args: argparse.Namespace) -> Any:
+    """A process pool for --workers N, a dask client's executor for --dask ADDRESS, or None."""
+    if args.dask:
+        try:
+            from distributed import Client
+        except ImportError:
+            raise ScaraOptError(
+                "--dask needs dask.distributed: pip install 'scara-opt[dask]'") from None
+        return Client(args.dask).get_executor()
+    if args.workers and args.workers > 1:
+        from concurrent.futures import ProcessPoolExecutor
+
+        return ProcessPoolExecutor(args.workers)
+    return None
+
+
+def cmd_compare(args: argparse.Namespace) -> int:
+    """Compare IK methods on one target: CSV table, summary and figures."""
+    from pathlib import Path
+
+    import scara_opt as so
+    from scara_opt.compare import compare, convergence, summarize
+    from scara_opt.plots import plot_boxes, plot_convergence, plot_time_vs_population
+
+    robot = so.load_robot(args.robot)
+    L = 1000.0 if args.mm else 1.0
+    methods = so.solvers() if args.methods == "all" else args.methods.split(",")
+    executor = _executor(args)
+    try:
+        table = compare(robot, [np.asarray(args.target, float) / L], methods=methods,
+                        populations=args.populations, iterations=args.iterations,
+                        seeds=range(args.seeds), executor=executor, progress=True,
+                        tol=args.tol)
+    finally:
+        if executor is not None:
+            executor.shutdown()
+    out = Path(args.out)
+    out.mkdir(parents=True, exist_ok=True)
+    table.drop(columns=["history"]).to_csv(out / "runs.csv", index=False)
+    summary = summarize(table, tol=args.tol)
+    summary.to_csv(out / "summary.csv", index=False)
+    plot_convergence(convergence(table), out / "convergence.png")
+    plot_time_vs_population(summary, out / "time_vs_population.png")
+    plot_boxes(table, ["error", "time_s"], out / "error_time_boxes.png")
+    print(summary.to_string(index=False))
+    print(f"wrote {out / 'runs.csv'}, {out / 'summary.csv'} and 3 figures in {out}")
+    return 0
+
+
+def cmd_workspace(args: argparse.Namespace) -> int:
+    """Monte Carlo workspace: areas, ranges and the XY/3-D figures."""
+    from pathlib import Path
+
+    import scara_opt as so
+
+    robot = so.load_robot(args.robot)
+    ws = so.workspace(robot, n=args.n, seed=args.seed, footprint=not args.no_footprint)
+    out = Path(args.out)
+    out.mkdir(parents=True, exist_ok=True)
+    paths = [ws.plot_xy(out / f"{robot.name}_workspace_xy.png"),
+             ws.plot_3d(out / f"{robot.name}_workspace_3d.png")]
+    print(repr(ws))
+    print(f"XY area: {ws.xy_area:.6f} m^2")
+    print("wrote " + ", ".join(str(p) for p in paths))
+    return 0
+
+
+def cmd_reproduce(args: argparse.Namespace) -> int:
+    """Reproduce one paper or all: tables, figures and summary.md."""
+    from scara_opt.reports import reproduce
+
+    reports = reproduce(args.paper, args.out, quick=args.quick)
+    for rep in reports:
+        verdicts = [f.verdict for f in rep.findings]
+        counts = ", ".join(f"{verdicts.count(v)} {v}" for v in dict.fromkeys(verdicts))
+        print(f"{rep.paper}: {counts} ({rep.time_s:.1f} s)")
+    print(f"wrote {args.out}/summary.md")
+    return 0
+
+
 def cmd_solvers(args: argparse.Namespace) -> int:
     """List the registered IK methods."""
     import scara_opt as so
@@ -161,6 +253,38 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--tol", type=float, default=1e-9, help="residual counted as solved [m]")
     p.add_argument("--all", action="store_true", help="every closed-form branch (SCARA only)")
     p.set_defaults(func=cmd_ik)
+
+    p = sub.add_parser("compare", help="compare IK methods on a target (table + figures)")
+    p.add_argument("robot", metavar="ROBOT", help="bundled robot name or path to .urdf/.toml")
+    p.add_argument("--target", type=float, nargs=3, required=True, metavar=("X", "Y", "Z"),
+                   help="target position (m, or mm with --mm)")
+    p.add_argument("--mm", action="store_true", help="target in mm")
+    p.add_argument("--methods", default="all", help="comma-separated names, or all")
+    p.add_argument("--populations", type=_int_list, default=[20, 40, 60, 80, 100],
+                   help="comma-separated population sizes (default 20,40,60,80,100)")
+    p.add_argument("--iterations", type=int, default=200, help="iterations (default 200)")
+    p.add_argument("--seeds", type=int, default=10, help="number of seeds 0..N-1 (default 10)")
+    p.add_argument("--tol", type=float, default=1e-9, help="residual counted as solved [m]")
+    p.add_argument("--out", required=True, help="output folder")
+    group = p.add_mutually_exclusive_group()
+    group.add_argument("--workers", type=int, default=1, help="local worker processes")
+    group.add_argument("--dask", metavar="ADDRESS", help="dask scheduler address")
+    p.set_defaults(func=cmd_compare)
+
+    p = sub.add_parser("workspace", help="Monte Carlo workspace with figures")
+    p.add_argument("robot", metavar="ROBOT", help="bundled robot name or path to .urdf/.toml")
+    p.add_argument("-n", type=int, default=60_000, help="samples (default 60000)")
+    p.add_argument("--seed", type=int, default=0, help="random seed (default 0)")
+    p.add_argument("--no-footprint", action="store_true", help="ignore the base exclusion zone")
+    p.add_argument("--out", required=True, help="output folder")
+    p.set_defaults(func=cmd_workspace)
+
+    p = sub.add_parser("reproduce", help="reproduce a paper's tables and figures, or all")
+    p.add_argument("paper", metavar="PAPER", choices=[*PAPERS, "all"],
+                   help=f"one of {', '.join(PAPERS)}, or all")
+    p.add_argument("--out", required=True, help="output folder (summary.md, CSV, PNG)")
+    p.add_argument("--quick", action="store_true", help="reduced sweeps for a first look")
+    p.set_defaults(func=cmd_reproduce)
     return parser
 
 
