@@ -6,6 +6,7 @@ generated from the papers' DH tables (:func:`load_robot`, :func:`list_robots`).
 
 import logging
 
+from scara_opt import paths
 from scara_opt.errors import (
     FrameNotFoundError,
     InputError,
@@ -21,6 +22,13 @@ from scara_opt.errors import (
 from scara_opt.ik import IKResult, Status, get_solver, ik_all, register_solver, solve_ik, solvers
 from scara_opt.robot import Robot, list_robots, load_robot
 from scara_opt.target import Target
+from scara_opt.trajectory import (
+    JointPath,
+    Trajectory,
+    ik_path,
+    time_parameterize,
+    timing_methods,
+)
 from scara_opt.workspace import Footprint, Workspace, workspace
 
 __version__ = "0.1.0"
@@ -28,29 +36,35 @@ __version__ = "0.1.0"
 logging.getLogger(__name__).addHandler(logging.NullHandler())
 
 __all__ = [
+    "__version__",
     "Footprint",
     "FrameNotFoundError",
-    "IKResult",
-    "Status",
-    "Target",
     "get_solver",
     "ik_all",
-    "register_solver",
-    "solve_ik",
-    "solvers",
-    "workspace",
+    "ik_path",
+    "IKResult",
     "InputError",
     "JointLimitError",
+    "JointPath",
+    "list_robots",
+    "load_robot",
+    "paths",
+    "register_solver",
     "Robot",
     "RobotNotFoundError",
     "ScaraOptError",
+    "solve_ik",
     "SolverOptionError",
+    "solvers",
+    "Status",
+    "Target",
     "TargetError",
+    "time_parameterize",
+    "timing_methods",
+    "Trajectory",
     "TrajectoryError",
-    "URDFError",
     "UnknownSolverError",
+    "URDFError",
     "Workspace",
-    "__version__",
-    "list_robots",
-    "load_robot",
+    "workspace",
 ]

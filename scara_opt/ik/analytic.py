@@ -311,10 +311,13 @@ def ik_all(robot: Robot, target: Target | object, q0: object | None = None, tol:
 
 
 def analytic_reachable(robot: Robot, target: Target, tol: float = 1e-9) -> bool | None:
-    """Whether the closed form reaches ``target``; ``None`` where it does not apply."""
+    """Whether the closed form reaches ``target``; ``None`` where it cannot decide.
+
+    It cannot decide for non-SCARA chains, rotation targets, and redundant robots (the
+    closed form holds their redundant joints at one value; another value may reach).
+    """
     try:
-        scara_geometry(robot)
-        if target.kind == "rotation":
+        if scara_geometry(robot).redundant or target.kind == "rotation":
             return None
         return bool(ik_all(robot, target, tol=tol))
     except NotScaraError:

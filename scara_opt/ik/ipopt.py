@@ -33,6 +33,7 @@ from typing import Any
 import casadi as ca
 import numpy as np
 import pinocchio as pin
+from numpy.typing import NDArray
 
 from scara_opt.ik.base import Solver, SolverOutput, default_q0
 from scara_opt.ik.registry import register_solver
@@ -181,6 +182,22 @@ def polish(robot: Robot, target: Target, q: Array, q_ref: Array,
         q, r, J, err = cand, r_c, J_c, err_c
         if moved < 1e-13:
             break
+    return _gauss_newton(robot, target, q, free, r, J, err)
+
+
+def _gauss_newton(robot: Robot, target: Target, q: Array, free: NDArray[np.bool_], r: Array,
+                  J: Array, err: float, steps: int = 5) -> tuple[Array, float]:
+    """Pure minimum-norm Gauss–Newton steps (no slide) while the residual keeps falling."""
+    for _ in range(steps):
+        if err == 0.0 or not free.any():
+            break
+        cand = q.copy()
+        cand[free] -= np.linalg.lstsq(J[:, free], r, rcond=1e-10)[0]
+        cand = np.clip(cand, robot.lower, robot.upper)
+        r_c, J_c, err_c = _residual_and_jacobian(robot, target, cand)
+        if not err_c < err:
+            break
+        q, r, J, err = cand, r_c, J_c, err_c
     return q, err
 
 

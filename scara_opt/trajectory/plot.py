@@ -16,12 +16,18 @@ if TYPE_CHECKING:
 _ROWS = (("q", "", None), ("qd", "/s", "vmax"), ("qdd", "/s²", "amax"))
 
 
-def _new_figure(nrows: int, ncols: int) -> Figure:
-    """A figure on the Agg canvas (no pyplot state, no display needed)."""
+def new_figure(nrows: int, ncols: int, size: tuple[float, float] = (3.2, 2.4)) -> Figure:
+    """A figure on the Agg canvas (no pyplot state, no display needed).
+
+    Args:
+        nrows: rows of subplots it will hold.
+        ncols: columns of subplots it will hold.
+        size: (width, height) of one subplot [inch].
+    """
     from matplotlib.backends.backend_agg import FigureCanvasAgg
     from matplotlib.figure import Figure
 
-    fig = Figure(figsize=(3.2 * ncols, 2.4 * nrows), layout="constrained")
+    fig = Figure(figsize=(size[0] * ncols, size[1] * nrows), layout="constrained")
     FigureCanvasAgg(fig)
     return fig
 
@@ -48,12 +54,12 @@ def plot_trajectories(trajectories: Sequence[Trajectory], path: str | Path,
     lim = first.limits
     labels = list(labels) if labels is not None else [tr.method for tr in trajectories]
     step = dt or max(tr.duration for tr in trajectories) / 500
-    fig = _new_figure(3, first.nq)
+    fig = new_figure(3, first.nq)
     axes = fig.subplots(3, first.nq, squeeze=False, sharex=True)
     for tr, label in zip(trajectories, labels, strict=True):
         t = tr.times(step)
         values = tr.sample(t)
-        for r, (_, _, _) in enumerate(_ROWS):
+        for r in range(len(_ROWS)):
             for k in range(tr.nq):
                 axes[r, k].plot(t, values[r][:, k], label=f"{label} ({tr.duration:.3f} s)")
     for k, name in enumerate(lim.joint_names):

@@ -35,18 +35,24 @@ def _end_values(pp: PPoly) -> Array:
     return np.concatenate([pp.c[-1], right])
 
 
-def sup_abs(pp: PPoly) -> float:
-    """Largest ``|f(t)|`` of a 1-D piecewise polynomial over its whole domain (exact).
+def extrema(pp: PPoly) -> tuple[float, float]:
+    """Smallest and largest value of a 1-D piecewise polynomial over its domain (exact).
 
     Candidates are the ends of every piece and the real roots of ``f'`` inside the pieces.
     """
-    vals = np.abs(_end_values(pp))
+    vals = _end_values(pp)
     if pp.c.shape[0] > 2:
         roots = pp.derivative().roots(discontinuity=False, extrapolate=False)
         roots = roots[np.isfinite(roots)]
         if roots.size:
-            vals = np.concatenate([vals, np.abs(pp(roots))])
-    return float(vals.max())
+            vals = np.concatenate([vals, pp(roots)])
+    return float(vals.min()), float(vals.max())
+
+
+def sup_abs(pp: PPoly) -> float:
+    """Largest ``|f(t)|`` of a 1-D piecewise polynomial over its whole domain (exact)."""
+    lo, hi = extrema(pp)
+    return max(abs(lo), abs(hi))
 
 
 def stretch(pp: PPoly, factor: float) -> PPoly:
@@ -114,9 +120,11 @@ class Trajectory:
             raise InputError(f"t must be a time or an array of times [s]; got {t!r}") from None
         T = self.duration
         slack = _T_SLACK * max(T, 1.0)
-        if ts.size and (not np.isfinite(ts).all() or ts.min() < -slack or ts.max() > T + slack):
+        if not np.isfinite(ts).all():
+            raise InputError("times must be finite numbers [s]; got NaN or inf")
+        if ts.size and (ts.min() < -slack or ts.max() > T + slack):
             raise InputError(f"times must lie within [0, {T:.6g}] s (the duration); got values "
-                             f"in [{np.nanmin(ts):.6g}, {np.nanmax(ts):.6g}] s")
+                             f"in [{ts.min():.6g}, {ts.max():.6g}] s")
         return np.clip(ts, 0.0, T)
 
     def evaluate(self, t: object, order: int = 0) -> Array:
@@ -171,6 +179,14 @@ class Trajectory:
         return {name: np.array([sup_abs(self._derivative(k, order)) for k in range(self.nq)])
                 for name, order in orders.items()}
 
+    def position_range(self) -> tuple[Array, Array]:
+        """Smallest and largest value of each joint over the trajectory, exact, (nq,) each.
+
+        Between waypoints a spline can overshoot them; compare with the joint limits.
+        """
+        lo, hi = zip(*(extrema(p) for p in self.pieces), strict=True)
+        return np.array(lo), np.array(hi)
+
     def check_limits(self) -> dict[str, Array]:
         """Largest ``|qd| / vmax`` and ``|qdd| / amax`` per joint (and jerk for ruckig).
 
@@ -181,8 +197,9 @@ class Trajectory:
             ``{"velocity": (nq,), "acceleration": (nq,)}``, plus ``"jerk"`` when the
             trajectory was timed with a jerk limit.
         """
-        lim = {"velocity": self.limits.vmax, "acceleration": self.limits.amax,
-               "jerk": self.limits.jmax}
+        lim = {"velocity": self.limits.vmax, "acceleration": self.limits.amax}
+        if self.limits.jmax is not None:
+            lim["jerk"] = self.limits.jmax
         return {name: peak / lim[name] for name, peak in self.peaks().items()}
 
     def to_csv(self, path: str | Path, dt: float = 0.01) -> Path:

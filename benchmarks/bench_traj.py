@@ -1,0 +1,96 @@
+"""Trajectory timing: toppra and ruckig compute times, and durations against the shortest quintic.
+
+Prints, in one run:
+
+* toppra's compute time for a 100-waypoint path (zavar2024, an arc of the reachable circle
+  on one elbow branch) — goal (issue 5): <= 50 ms;
+* ruckig's compute time per trajectory (fang's two moves, point to point) and per
+  segment of the 100-waypoint path;
+* the durations of toppra and ruckig divided by the shortest quintic's (the baseline,
+  computed in the same run under the same limits) on fang's moves (Tables 2-3), the
+  zavar2024 circle of ten points (with its elbow flip) and the 100-waypoint arc.
+
+All limits are the robots' own (assumed in robots/*.toml); ruckig's jerk = 10/s x amax.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+
+import numpy as np
+
+import scara_opt as so
+from scara_opt import paths
+from scara_opt.trajectory import ik_path, resolve_limits, time_parameterize
+from scara_opt.trajectory.ruckig_backend import ruckig_segment
+
+REPEATS = 7
+N_WAYPOINTS = 100
+DEG, MM = math.pi / 180, 1e-3
+FANG_MOVES = {  # Tables 2 and 3, (deg, deg, mm, deg)
+    "fang Table 2": ((0.0, 0.0, 0.0, -15.0), (-64.4042, 128.8085, 15.1500, -61.4099)),
+    "fang Table 3": ((64.4042, 128.8085, 15.15, 61.4099), (-52.6250, -106.8207, 0.03, -52.7509)),
+}
+FANG_UNITS = np.array([DEG, DEG, MM, DEG])
+
+
+def best_ms(fn, *args, **kwargs) -> float:
+    """Best of REPEATS wall-clock times [ms] (shared machines: take the least disturbed)."""
+    times = []
+    for _ in range(REPEATS):
+        t = time.perf_counter()
+        fn(*args, **kwargs)
+        times.append(time.perf_counter() - t)
+    return min(times) * 1e3
+
+
+def cases() -> dict[str, tuple[so.Robot, object]]:
+    """The joint paths to time, by name: (robot, JointPath or (n, nq) array)."""
+    fang = so.load_robot("fang")
+    zavar = so.load_robot("zavar2024")
+    out: dict[str, tuple[so.Robot, object]] = {
+        name: (fang, np.array([a, b]) * FANG_UNITS) for name, (a, b) in FANG_MOVES.items()}
+    out["zavar2024 circle, 10 pts"] = (zavar, ik_path(zavar, paths.zavar2024_circle(True)))
+    arc = paths.circle((0.0, 0.0), 0.30, -0.07, N_WAYPOINTS, start=math.radians(151),
+                       sweep=-math.radians(210))
+    out[f"zavar2024 arc, {N_WAYPOINTS} pts"] = (zavar, ik_path(zavar, arc))
+    return out
+
+
+def main() -> None:
+    table = cases()
+    # warm-up: imports of toppra and ruckig, casadi caches
+    for robot, path in table.values():
+        for method in ("toppra", "ruckig"):
+            time_parameterize(path, robot, method=method, allow_jumps=True)
+
+    robot, arc = table[f"zavar2024 arc, {N_WAYPOINTS} pts"]
+    t_toppra = best_ms(time_parameterize, arc, robot, method="toppra")
+    t_ruckig_arc = best_ms(time_parameterize, arc, robot, method="ruckig")
+    print(f"toppra, {N_WAYPOINTS}-waypoint path: {t_toppra:.1f} ms (goal <= 50 ms: "
+          f"{'met' if t_toppra <= 50 else 'NOT met'})")
+    print(f"ruckig, {N_WAYPOINTS}-waypoint path ({N_WAYPOINTS - 1} rest-to-rest segments): "
+          f"{t_ruckig_arc:.1f} ms, {t_ruckig_arc / (N_WAYPOINTS - 1):.3f} ms per segment")
+    for name in FANG_MOVES:
+        robot, Q = table[name]
+        full = best_ms(time_parameterize, Q, robot, method="ruckig")
+        limits = resolve_limits(robot, robot.nq, need_jerk=True)
+        raw = best_ms(ruckig_segment, Q[0], Q[1], limits)
+        print(f"ruckig, {name} (one trajectory): {full:.3f} ms through time_parameterize, "
+              f"{raw:.3f} ms for Ruckig's calculation and the conversion to polynomials")
+
+    print(f"\n{'path':<26}{'quintic [s]':>12}{'toppra [s]':>12}{'ruckig [s]':>12}"
+          f"{'toppra/quintic':>16}{'ruckig/quintic':>16}")
+    for name, (robot, path) in table.items():
+        d = {m: time_parameterize(path, robot, method=m, allow_jumps=True).duration
+             for m in ("quintic", "toppra", "ruckig")}
+        print(f"{name:<26}{d['quintic']:>12.4f}{d['toppra']:>12.4f}{d['ruckig']:>12.4f}"
+              f"{d['toppra'] / d['quintic']:>16.3f}{d['ruckig'] / d['quintic']:>16.3f}")
+    print("(quintic and ruckig stop at every waypoint, toppra moves through them; on short "
+          "segments ruckig's jerk limit makes it slower than the quintic, whose jerk is not "
+          "limited)")
+
+
+if __name__ == "__main__":
+    main()

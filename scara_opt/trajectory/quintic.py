@@ -1,0 +1,93 @@
+r"""Quintic rest-to-rest interpolation (fang Tables 2–3; the Robotics Toolbox's ``jtraj``).
+
+Each segment from :math:`q_a` to :math:`q_b` over :math:`T` is
+
+.. math:: q(t) = q_a + (q_b - q_a)\, s(τ), \quad s(τ) = 10τ^3 - 15τ^4 + 6τ^5, \quad τ = t/T,
+
+with zero velocity and acceleration at both ends. Its peaks are
+:math:`\max|\dot q| = \tfrac{15}{8}|Δq|/T` (at τ = 1/2) and
+:math:`\max|\ddot q| = \tfrac{10}{\sqrt 3}|Δq|/T^2` (at τ = 1/2 ∓ √3/6), so the shortest
+duration within the limits is, over the joints,
+
+.. math:: T_{min} = \max_j \max\left(\frac{15 |Δq_j|}{8 v_j},
+          \sqrt{\frac{10 |Δq_j|}{\sqrt 3\, a_j}}\right).
+
+Through more than two waypoints the robot stops at each (a chain of segments).
+"""
+
+from __future__ import annotations
+
+import logging
+import math
+
+import numpy as np
+from numpy.typing import NDArray
+from scipy.interpolate import PPoly
+
+from scara_opt.trajectory.limits import Limits
+from scara_opt.trajectory.registry import register_timing
+from scara_opt.trajectory.trajectory import Trajectory, concatenate
+
+log = logging.getLogger(__name__)
+
+Array = NDArray[np.float64]
+
+#: peak of s'(τ) and of |s''(τ)| of the quintic blend
+PEAK_VELOCITY = 15.0 / 8.0
+PEAK_ACCELERATION = 10.0 / math.sqrt(3.0)
+
+
+def quintic_blend(tau: object) -> Array:
+    """The blend s(τ) = 10τ³ − 15τ⁴ + 6τ⁵ at ``tau`` in [0, 1] (fang's Tables 2–3 use τ = k/35)."""
+    t = np.asarray(tau, dtype=float)
+    return t**3 * (10.0 + t * (-15.0 + 6.0 * t))
+
+
+def shortest_duration(delta: object, vmax: Array, amax: Array) -> float:
+    """Shortest quintic duration [s] of a joint move ``delta`` (nq,) within ``vmax``, ``amax``."""
+    d = np.abs(np.asarray(delta, dtype=float))
+    return float(np.max(np.maximum(PEAK_VELOCITY * d / vmax,
+                                   np.sqrt(PEAK_ACCELERATION * d / amax))))
+
+
+def quintic_segment(qa: Array, qb: Array, duration: float) -> list[PPoly]:
+    """One PPoly per joint of the quintic from ``qa`` to ``qb`` (nq,) over ``duration`` [s]."""
+    T = float(duration)
+    out = []
+    for a, b in zip(qa, qb, strict=True):
+        D = b - a
+        c = np.array([6 * D / T**5, -15 * D / T**4, 10 * D / T**3, 0.0, 0.0, a])
+        out.append(PPoly(c[:, None], np.array([0.0, T]), extrapolate=False))
+    return out
+
+
+@register_timing("quintic", takes_duration=True)
+def quintic_trajectory(Q: Array, limits: Limits, duration: float | None = None) -> Trajectory:
+    """Rest-to-rest quintic through the waypoints ``Q`` (n, nq) [rad or m].
+
+    Args:
+        Q: waypoints, validated by :func:`~scara_opt.trajectory.time_parameterize`.
+        limits: joint limits.
+        duration: total duration [s]; the segments share it in proportion to their own
+            shortest durations. ``None``: every segment as short as the limits allow.
+            A duration shorter than that breaks the limits (logged as a warning, and
+            visible in :meth:`~scara_opt.trajectory.Trajectory.check_limits`).
+
+    Returns:
+        Trajectory: stops (zero velocity and acceleration) at every waypoint.
+    """
+    shortest = np.array([shortest_duration(b - a, limits.vmax, limits.amax)
+                         for a, b in zip(Q[:-1], Q[1:], strict=True)])
+    if duration is None:
+        durations = shortest
+    else:
+        durations = shortest * (duration / shortest.sum())
+        if duration < shortest.sum() * (1 - 1e-12):
+            log.warning("quintic duration %.6g s is below the shortest within the limits "
+                        "(%.6g s): the limits are exceeded", duration, shortest.sum())
+    segments = [quintic_segment(a, b, T) for a, b, T in zip(Q[:-1], Q[1:], durations,
+                                                             strict=True)]
+    pieces = tuple(concatenate([seg[k] for seg in segments]) for k in range(Q.shape[1]))
+    times = np.concatenate([[0.0], np.cumsum(durations)])
+    note = "shortest within the limits" if duration is None else f"fixed duration {duration} s"
+    return Trajectory(pieces, limits, "quintic", Q.copy(), times, notes=note)

@@ -1,0 +1,159 @@
+"""One registry of timing methods: ``time_parameterize(path, robot, method=...)`` looks them up.
+
+Same pattern as the IK registry (:mod:`scara_opt.ik.registry`): a decorator that refuses
+duplicate names, a listing, and :class:`~scara_opt.errors.UnknownSolverError` for an unknown
+name. Backends import their heavy library (toppra, ruckig) inside the call, not here.
+"""
+
+from __future__ import annotations
+
+import logging
+import math
+import time
+from collections.abc import Callable
+from dataclasses import dataclass, field, replace
+from typing import Any
+
+from scara_opt.errors import InputError, SolverOptionError, UnknownSolverError
+from scara_opt.robot import Robot
+from scara_opt.trajectory.limits import Limits, resolve_limits
+from scara_opt.trajectory.trajectory import Trajectory
+from scara_opt.trajectory.waypoints import prepare_waypoints
+
+log = logging.getLogger(__name__)
+
+#: a backend: ``(Q (n, nq), limits, duration or None, **options) -> Trajectory``
+Backend = Callable[..., Trajectory]
+
+
+@dataclass(frozen=True)
+class TimingMethod:
+    """A registered timing method.
+
+    Attributes:
+        name: registry key.
+        backend: the function doing the work.
+        options: every accepted option with its default.
+        uses_jerk: whether it honours ``jmax``.
+        takes_duration: whether it accepts a fixed ``duration``.
+    """
+
+    name: str
+    backend: Backend
+    options: dict[str, Any] = field(default_factory=dict)
+    uses_jerk: bool = False
+    takes_duration: bool = False
+
+
+_REGISTRY: dict[str, TimingMethod] = {}
+
+
+def register_timing(name: str, *, options: dict[str, Any] | None = None,
+                    uses_jerk: bool = False, takes_duration: bool = False,
+                    replace: bool = False) -> Callable[[Backend], Backend]:
+    """Decorator registering a timing backend under ``name``.
+
+    Raises:
+        InputError: the name is not a short lowercase tag, or is taken (unless ``replace``).
+    """
+    if not name or name != name.lower() or not name.replace("_", "").isalnum():
+        raise InputError(f"timing method name must be a short lowercase tag; got {name!r}")
+
+    def add(fn: Backend) -> Backend:
+        if name in _REGISTRY and not replace:
+            raise InputError(f"a timing method named {name!r} is already registered; pick "
+                             "another name or pass replace=True")
+        _REGISTRY[name] = TimingMethod(name, fn, dict(options or {}), uses_jerk, takes_duration)
+        return fn
+
+    return add
+
+
+def timing_methods() -> list[str]:
+    """Names of the registered timing methods, sorted."""
+    _load_builtin()
+    return sorted(_REGISTRY)
+
+
+def _load_builtin() -> None:
+    from scara_opt.trajectory import quintic, ruckig_backend, toppra_backend  # noqa: F401
+
+
+def get_timing(method: str) -> TimingMethod:
+    """The :class:`TimingMethod` registered as ``method``.
+
+    Raises:
+        UnknownSolverError: not registered (the message lists the names).
+    """
+    _load_builtin()
+    if method not in _REGISTRY:
+        raise UnknownSolverError(method, _REGISTRY, kind="time-parameterisation method")
+    return _REGISTRY[method]
+
+
+def _check_duration(duration: object, entry: TimingMethod) -> float | None:
+    if duration is None:
+        return None
+    if not entry.takes_duration:
+        raise InputError(f"method {entry.name!r} computes the shortest duration within the "
+                         "limits and takes no duration=; use method='quintic' for a fixed "
+                         "duration")
+    if not (isinstance(duration, (int, float)) and math.isfinite(duration) and duration > 0):
+        raise InputError(f"duration must be a positive number [s] or None; got {duration!r}")
+    return float(duration)
+
+
+def time_parameterize(path: object, robot: Robot | None = None, method: str = "toppra",
+                      vmax: object | None = None, amax: object | None = None,
+                      jmax: object | None = None, duration: float | None = None, *,
+                      allow_jumps: bool = False, drop_duplicates: bool = False,
+                      **options: Any) -> Trajectory:
+    """Time a joint path within joint velocity/acceleration (and jerk) limits.
+
+    Args:
+        path: a :class:`~scara_opt.trajectory.path.JointPath` or an (n, nq) array of joint
+            waypoints [rad or m], n >= 2.
+        robot: the robot; its limits are the defaults and its position limits are checked.
+            May be ``None`` when ``vmax`` and ``amax`` are given.
+        method: a name from :func:`timing_methods`: ``"toppra"`` (time-optimal through the
+            waypoints), ``"ruckig"`` (jerk-limited, stops at each waypoint), ``"quintic"``
+            (rest-to-rest quintic per segment).
+        vmax: velocity limits [rad/s or m/s], scalar or (nq,); default the robot's.
+        amax: acceleration limits [rad/s² or m/s²], scalar or (nq,); default the robot's.
+        jmax: jerk limits [rad/s³ or m/s³] for jerk-limited methods; default
+            ``JERK_PER_ACCELERATION × amax`` (10/s × amax).
+        duration: fixed total duration [s] (``"quintic"`` only); ``None`` = the shortest
+            within the limits.
+        allow_jumps: time a JointPath even if it reports joint jumps (logged as a warning).
+        drop_duplicates: remove consecutive duplicate waypoints (logged) instead of refusing.
+        **options: method-specific options (an unknown one raises SolverOptionError).
+
+    Returns:
+        Trajectory: rest to rest, through every waypoint.
+
+    Raises:
+        UnknownSolverError: unknown ``method``.
+        SolverOptionError: an option the method does not accept.
+        InputError: malformed path, limits or duration; ``jmax`` for a method without jerk.
+        JointLimitError: a zero/negative/infinite limit, or a waypoint outside the joint limits.
+        TrajectoryError: fewer than two waypoints, consecutive duplicates, a JointPath with
+            unreachable points or jumps, or a backend failure.
+    """
+    entry = get_timing(method)
+    unknown = set(options) - set(entry.options)
+    if unknown:
+        raise SolverOptionError(method, unknown, entry.options)
+    if jmax is not None and not entry.uses_jerk:
+        raise InputError(f"method {method!r} does not limit jerk; drop jmax= or use "
+                         "method='ruckig'")
+    fixed = _check_duration(duration, entry)
+    Q = prepare_waypoints(path, robot, allow_jumps=allow_jumps, drop_duplicates=drop_duplicates)
+    limits: Limits = resolve_limits(robot, Q.shape[1], vmax, amax, jmax, entry.uses_jerk)
+    start = time.perf_counter()
+    traj = entry.backend(Q, limits, fixed, **{**entry.options, **options})
+    elapsed = time.perf_counter() - start
+    log.debug("%s: %d waypoints timed to %.4f s in %.2f ms", method, len(Q), traj.duration,
+              elapsed * 1e3)
+    return replace(traj, compute_time_s=elapsed)
+
+

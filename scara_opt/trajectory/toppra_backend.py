@@ -1,0 +1,197 @@
+r"""Time-optimal timing through waypoints with TOPP-RA (toppra): joint velocity and acceleration.
+
+The geometric path is toppra's cubic :class:`~toppra.SplineInterpolator` through the
+waypoints, parameterised by the normalised chord length :math:`s_i = \sum \|Δq / v_{max}\|`
+(so the spline bends where the joints move, not where they rest). TOPP-RA (toppra's
+``TOPPRA`` with the ``seidel`` solver, interpolation discretisation of the acceleration
+constraint) computes the fastest rest-to-rest path velocity :math:`\dot s` on a grid that
+contains every waypoint and ``grid_per_segment`` points per segment (at least ``min_grid``
+intervals in all). Between grid points the path acceleration is constant, as in toppra's
+``ParametrizeConstAccel``; :func:`timed_pieces` writes that result exactly as degree-6
+polynomials in time (toppra's other output, a cubic spline re-fitted through the timed grid,
+overshoots the acceleration limit by several percent at every switch of the bang-bang profile).
+
+Safety margin. TOPP-RA enforces the limits at the grid points only; between them the joint
+velocity :math:`q'(s)\dot s` and acceleration :math:`q'(s)u + q''(s)\dot s^2` can exceed them
+slightly. So toppra gets the limits scaled by ``1 - margin`` (default ``margin = 0.005``,
+0.5 %), and the exact peaks of the result are measured
+(:meth:`~scara_opt.trajectory.Trajectory.check_limits`). While a ratio is still above 1 the
+grid is doubled (at most ``max_refine`` times, default 3); whatever excess remains is removed
+by stretching time uniformly by the smallest factor that brings every ratio to <= 1
+(velocity scales with 1/factor, acceleration with 1/factor²). The grid used and any stretch
+are recorded in :attr:`~scara_opt.trajectory.Trajectory.notes`. So every ratio of the
+returned trajectory is <= 1 (to round-off), at any sampling.
+"""
+
+from __future__ import annotations
+
+import logging
+import math
+from typing import Any
+
+import numpy as np
+from numpy.typing import NDArray
+from scipy.interpolate import CubicSpline, PPoly
+
+from scara_opt.errors import InputError, TrajectoryError
+from scara_opt.trajectory.limits import Limits
+from scara_opt.trajectory.registry import register_timing
+from scara_opt.trajectory.trajectory import Trajectory, stretch
+
+log = logging.getLogger(__name__)
+
+Array = NDArray[np.float64]
+
+#: the spline may leave the joint position limits by this much (round-off) [rad or m]
+POSITION_SLACK = 1e-9
+
+OPTIONS = {"margin": 0.005, "grid_per_segment": 4, "min_grid": 100, "max_refine": 3}
+
+
+def chord_parameter(Q: Array, vmax: Array) -> Array:
+    """Path parameters (n,) in [0, 1]: cumulative ``‖Δq / vmax‖``, normalised."""
+    steps = np.linalg.norm(np.diff(Q, axis=0) / vmax, axis=1)
+    s = np.concatenate([[0.0], np.cumsum(steps)])
+    return s / s[-1]
+
+
+def _multiply(A: list[Array], B: list[Array]) -> list[Array]:
+    """Product of two polynomials given as increasing-power coefficient lists of (N,) arrays."""
+    out = [np.zeros_like(A[0]) for _ in range(len(A) + len(B) - 1)]
+    for i, a in enumerate(A):
+        for j, b in enumerate(B):
+            out[i + j] = out[i + j] + a * b
+    return out
+
+
+def timed_pieces(spline: CubicSpline, grid: Array, sd: Array) -> tuple[Array, Array]:
+    r"""The exact time parameterisation toppra computed, as degree-6 pieces in time.
+
+    On grid interval ``i`` TOPP-RA's path acceleration is constant (toppra's
+    ``ParametrizeConstAccel``): :math:`s(τ) = s_i + \dot s_i τ + \tfrac12 u_i τ^2` over
+    :math:`Δt_i = 2 Δs_i / (\dot s_i + \dot s_{i+1})`. Composing the path's cubic piece
+    with this quadratic gives a degree-6 polynomial in τ, computed here for all intervals
+    at once.
+
+    Returns:
+        ``(t, c)``: breakpoints (N+1,) [s] and coefficients (7, N, nq), highest power first.
+    """
+    sd = np.maximum(sd, 0.0)
+    ds = np.diff(grid)
+    dt = 2.0 * ds / (sd[:-1] + sd[1:])
+    u = (sd[1:] ** 2 - sd[:-1] ** 2) / (2.0 * ds)
+    knots = spline.x
+    k = np.clip(np.searchsorted(knots, grid[:-1], side="right") - 1, 0, len(knots) - 2)
+    w = [grid[:-1] - knots[k], sd[:-1], 0.5 * u]
+    powers = [[np.ones_like(dt)], w]
+    powers += [_multiply(powers[-1], w), _multiply(_multiply(powers[-1], w), w)]
+    pc = spline.c[:, k, :]  # (4, N, nq), highest power first
+    coeffs = np.zeros((7, len(dt), pc.shape[2]))
+    for m, poly in enumerate(powers):  # pc[3 - m] multiplies w^m
+        for deg, term in enumerate(poly):
+            coeffs[6 - deg] += pc[3 - m] * term[:, None]
+    return np.concatenate([[0.0], np.cumsum(dt)]), coeffs
+
+
+@register_timing("toppra", options=OPTIONS)
+def toppra_trajectory(Q: Array, limits: Limits, duration: float | None = None, *,
+                      margin: float = 0.005, grid_per_segment: int = 4,
+                      min_grid: int = 100, max_refine: int = 3) -> Trajectory:
+    """Time-optimal rest-to-rest trajectory through ``Q`` (n, nq) with TOPP-RA.
+
+    Args:
+        Q: waypoints [rad or m], validated by :func:`~scara_opt.trajectory.time_parameterize`.
+        limits: joint velocity and acceleration limits.
+        duration: must be ``None`` (the registry refuses a fixed duration for toppra).
+        margin: fraction by which toppra's limits are tightened (see the module docstring).
+        grid_per_segment: TOPP-RA grid intervals per waypoint segment (first attempt).
+        min_grid: least number of grid intervals in all.
+        max_refine: how many times the grid may be doubled while the result still
+            exceeds a limit (see the module docstring).
+
+    Raises:
+        TrajectoryError: toppra could not parameterise the path (its return code is given).
+        InputError: a margin outside [0, 0.5).
+    """
+    import toppra
+
+    if not (isinstance(margin, (int, float)) and 0 <= margin < 0.5):
+        raise InputError(f"margin must be a fraction in [0, 0.5); got {margin!r}")
+    s = chord_parameter(Q, limits.vmax)
+    path = toppra.SplineInterpolator(s, Q)
+    per_segment = max(int(grid_per_segment), math.ceil(min_grid / (len(Q) - 1)), 1)
+    for attempt in range(int(max_refine) + 1):
+        pieces, times = _solve(path, s, per_segment, limits, 1.0 - float(margin))
+        factor = _overshoot(Trajectory(pieces, limits, "toppra", Q, times))
+        if factor == 1.0 or attempt == max_refine:
+            break
+        per_segment *= 2
+        log.debug("toppra: overshoot x %.4f beyond the margin; grid refined to %d per segment",
+                  factor, per_segment)
+    _check_positions(Trajectory(pieces, limits, "toppra", Q, times))
+    note = f"toppra, limits x (1 - {margin:g}), {per_segment} grid intervals per segment"
+    if factor > 1.0:
+        pieces = tuple(stretch(p, factor) for p in pieces)
+        times = times * factor
+        note += f"; discretisation overshoot removed by stretching time x {factor:.6f}"
+        log.info("toppra: discretisation overshoot, time stretched by %.6f", factor)
+    return Trajectory(pieces, limits, "toppra", Q.copy(), times, notes=note)
+
+
+def _solve(path: Any, s: Array, per_segment: int, limits: Limits,
+           scale: float) -> tuple[tuple[PPoly, ...], Array]:
+    """One TOPP-RA solve on a grid of ``per_segment`` intervals per waypoint segment.
+
+    Returns:
+        One PPoly per joint and the waypoint times (n,) [s].
+    """
+    import toppra.algorithm as algo
+    import toppra.constraint as constraint
+
+    interpolation = constraint.DiscretizationType.Interpolation
+    cons = [constraint.JointVelocityConstraint(limits.vmax * scale),
+            constraint.JointAccelerationConstraint(limits.amax * scale,
+                                                   discretization_scheme=interpolation)]
+    frac = np.arange(per_segment) / per_segment
+    grid = np.append((s[:-1, None] + np.diff(s)[:, None] * frac).ravel(), s[-1])
+    instance = algo.TOPPRA(cons, path, gridpoints=grid, solver_wrapper="seidel")
+    instance.compute_parameterization(0.0, 0.0)
+    data = instance.problem_data
+    if data.return_code != algo.ParameterizationReturnCode.Ok or data.sd_vec is None:
+        raise TrajectoryError(
+            f"toppra could not parameterise the path ({data.return_code}); check the "
+            "waypoints (nearly duplicate ones make the spline degenerate) or try "
+            "method='ruckig'")
+    t, coeffs = timed_pieces(path.cspl, grid, np.asarray(data.sd_vec))
+    pieces = tuple(PPoly(coeffs[:, :, k], t, extrapolate=False) for k in range(coeffs.shape[2]))
+    return pieces, t[::per_segment].copy()
+
+
+def _check_positions(traj: Trajectory) -> None:
+    """Refuse a spline that leaves the joint position limits between the waypoints.
+
+    Raises:
+        TrajectoryError: naming the joint, how far and between which waypoints.
+    """
+    lim = traj.limits
+    lo, hi = traj.position_range()
+    excess = np.maximum(lim.lower - lo, hi - lim.upper)
+    if (excess > POSITION_SLACK).any():
+        k = int(np.argmax(excess))
+        t = traj.times(traj.duration / 2000)
+        q = traj.evaluate(t)[:, k]
+        worst = t[int(np.argmax(np.maximum(lim.lower[k] - q, q - lim.upper[k])))]
+        i = int(np.searchsorted(traj.waypoint_times, worst, side="right")) - 1
+        raise TrajectoryError(
+            f"toppra's spline through the waypoints leaves the limits of joint "
+            f"{lim.joint_names[k]!r}, [{lim.lower[k]:.6g}, {lim.upper[k]:.6g}] {lim.unit(k)} by "
+            f"{excess[k]:.3g} {lim.unit(k)} between waypoints {i} and {i + 1}: add waypoints "
+            "there (sample the path more finely), or use method='ruckig' or 'quintic', "
+            "which stop at every waypoint and never overshoot")
+
+
+def _overshoot(traj: Trajectory) -> float:
+    """Smallest time-stretch factor (>= 1) that brings every limit ratio to <= 1."""
+    ratios = traj.check_limits()
+    factor = max(float(ratios["velocity"].max()), math.sqrt(float(ratios["acceleration"].max())))
+    return factor * (1.0 + 1e-12) if factor > 1.0 else 1.0

@@ -1,0 +1,98 @@
+"""The waypoints a timing method may use: checked once, with a message that says what to do."""
+
+from __future__ import annotations
+
+import logging
+
+import numpy as np
+from numpy.typing import NDArray
+
+from scara_opt.errors import InputError, JointLimitError, TrajectoryError
+from scara_opt.robot import Robot
+
+log = logging.getLogger(__name__)
+
+Array = NDArray[np.float64]
+
+#: consecutive waypoints closer than this in every joint are duplicates [rad or m]
+DUPLICATE_TOL = 1e-9
+#: waypoints may leave the joint limits by this much through round-off [rad or m]
+LIMIT_SLACK = 1e-9
+
+
+def prepare_waypoints(path: object, robot: Robot | None, *, allow_jumps: bool = False,
+                      drop_duplicates: bool = False) -> Array:
+    """The (n, nq) waypoint array of a JointPath or array, validated.
+
+    Args:
+        path: a :class:`~scara_opt.trajectory.path.JointPath` or an (n, nq) array [rad or m].
+        robot: checks the joint count and position limits (``None``: not checked).
+        allow_jumps: accept a JointPath that reports jumps (logged as a warning).
+        drop_duplicates: remove consecutive duplicate waypoints (logged) instead of refusing.
+
+    Raises:
+        TrajectoryError: unsolved points or jumps in a JointPath; fewer than two waypoints;
+            consecutive duplicates (unless ``drop_duplicates``).
+        InputError: not a numeric (n, nq) array, NaN/inf, or a joint count unlike the robot's.
+        JointLimitError: a waypoint outside the robot's joint limits.
+    """
+    from scara_opt.trajectory.path import JointPath
+
+    if isinstance(path, JointPath):
+        path.raise_if_invalid(allow_jumps=allow_jumps)
+        if path.jumps:
+            log.warning("timing a joint path with %d jump(s) (allow_jumps=True): %s",
+                        len(path.jumps), "; ".join(str(j) for j in path.jumps))
+        Q = np.array(path.q, dtype=float)
+    else:
+        try:
+            Q = np.array(path, dtype=float)
+        except (TypeError, ValueError):
+            raise InputError("path must be a JointPath or a numeric (n, nq) array of joint "
+                             "waypoints [rad or m]") from None
+    if Q.ndim != 2 or Q.shape[1] < 1:
+        raise InputError(f"path must have shape (n, nq), one row per waypoint; got shape "
+                         f"{Q.shape}")
+    if not np.isfinite(Q).all():
+        rows = np.flatnonzero(~np.isfinite(Q).all(axis=1))
+        raise InputError(f"waypoints {rows[:10].tolist()} have NaN or inf values; pass finite "
+                         "joint values")
+    if robot is not None and Q.shape[1] != robot.nq:
+        raise InputError(f"the path has {Q.shape[1]} joints but robot {robot.name!r} has "
+                         f"{robot.nq} ({robot.joint_names}); pass shape (n, {robot.nq})")
+    if Q.shape[0] < 2:
+        raise TrajectoryError(f"a trajectory needs at least two waypoints; got {Q.shape[0]}: "
+                              "add the start (or goal) configuration")
+    if robot is not None:
+        _check_position_limits(Q, robot)
+    return _without_duplicates(Q, drop_duplicates)
+
+
+def _check_position_limits(Q: Array, robot: Robot) -> None:
+    over = (Q < robot.lower - LIMIT_SLACK) | (Q > robot.upper + LIMIT_SLACK)
+    if over.any():
+        i, k = (int(v) for v in np.argwhere(over)[0])
+        name = robot.joint_names[k]
+        unit = "rad" if robot.joint_types[k] == "revolute" else "m"
+        raise JointLimitError(
+            f"waypoint {i}: joint {name!r} = {Q[i, k]:.6g} {unit} is outside "
+            f"[{robot.lower[k]:.6g}, {robot.upper[k]:.6g}] {unit} ({int(over.sum())} value(s) "
+            "out of limits in all); pass waypoints within the joint limits", joint=name)
+
+
+def _without_duplicates(Q: Array, drop: bool) -> Array:
+    same = np.flatnonzero(np.abs(np.diff(Q, axis=0)).max(axis=1) <= DUPLICATE_TOL) + 1
+    if not same.size:
+        return Q
+    if not drop:
+        raise TrajectoryError(
+            f"waypoints {[(int(i) - 1, int(i)) for i in same[:10]]} are consecutive "
+            f"duplicates (equal within {DUPLICATE_TOL:g}); a zero-length segment cannot be "
+            "timed: remove them or pass drop_duplicates=True")
+    keep = np.ones(len(Q), dtype=bool)
+    keep[same] = False
+    log.info("dropped %d consecutive duplicate waypoint(s): %s", same.size, same.tolist())
+    if keep.sum() < 2:
+        raise TrajectoryError("after dropping duplicates fewer than two distinct waypoints are "
+                              "left: the path does not move")
+    return Q[keep]

@@ -1,0 +1,417 @@
+"""Joint paths and their timing: fang's tables, the backends against their libraries, limits."""
+
+from __future__ import annotations
+
+import logging
+import math
+import tomllib
+from pathlib import Path
+
+import numpy as np
+import pytest
+from hypothesis import HealthCheck, assume, given, settings
+from hypothesis import strategies as st
+
+import scara_opt as so
+from scara_opt import paths
+from scara_opt.errors import (
+    InputError,
+    JointLimitError,
+    SolverOptionError,
+    TrajectoryError,
+    UnknownSolverError,
+)
+from scara_opt.trajectory import (
+    JointPath,
+    Trajectory,
+    ik_path,
+    quintic_blend,
+    register_timing,
+    resolve_limits,
+    ruckig_point_to_point,
+    shortest_duration,
+    time_parameterize,
+    timing_methods,
+)
+from scara_opt.trajectory.ruckig_backend import ruckig_segment
+from scara_opt.trajectory.toppra_backend import chord_parameter, timed_pieces
+
+REFERENCE = tomllib.loads((Path(__file__).parent / "reference" / "fang.toml").read_text())
+#: paper units (deg, deg, mm, deg) -> SI
+TO_SI = np.array([math.pi / 180, math.pi / 180, 1e-3, math.pi / 180])
+METHODS = ("toppra", "ruckig", "quintic")
+RATIO_TOL = 1e-6
+
+
+def fang_move(table: dict) -> np.ndarray:
+    return np.array([table["start"], table["end"]]) * TO_SI
+
+
+def worst_ratio(traj: Trajectory) -> float:
+    return max(float(r.max()) for r in traj.check_limits().values())
+
+
+@pytest.fixture(scope="module")
+def fang(robots) -> so.Robot:
+    return robots["fang"]
+
+
+@pytest.fixture(scope="module")
+def zavar(robots) -> so.Robot:
+    return robots["zavar2024"]
+
+
+@pytest.fixture(scope="module")
+def circle_path(zavar) -> JointPath:
+    return ik_path(zavar, paths.zavar2024_circle(reachable=True))
+
+
+# ---------------------------------------------------------------- fang, Tables 2 and 3
+@pytest.mark.parametrize("table", REFERENCE["tables"], ids=lambda t: f"table{t['table']}")
+def test_quintic_reproduces_fang_tables(fang, table):
+    """Every printed row of Tables 2-3 within the tolerance, at tau = k/35, in deg and mm."""
+    n = REFERENCE["samples"]
+    rows = np.array(table["rows"])
+    for duration in (1.0, None):  # positions at tau = k/35 do not depend on the duration
+        traj = time_parameterize(fang_move(table), fang, method="quintic", duration=duration)
+        ours = traj.sample(traj.duration * np.arange(n) / (n - 1))[0] / TO_SI
+        assert np.abs(ours[:len(rows)] - rows).max() <= REFERENCE["tolerance"]
+        assert np.allclose(ours[-1], table["end"], atol=1e-12)
+    start, end = np.array(table["start"]), np.array(table["end"])
+    blend = quintic_blend(np.arange(len(rows)) / (n - 1))[:, None]
+    assert np.abs(start + (end - start) * blend - rows).max() <= REFERENCE["tolerance"]
+
+
+@pytest.mark.parametrize("table", REFERENCE["tables"], ids=lambda t: f"table{t['table']}")
+def test_toppra_and_ruckig_beat_the_shortest_quintic_on_fang(fang, table):
+    """Both are shorter than the shortest quintic under the same limits, and within them."""
+    Q = fang_move(table)
+    d = {m: time_parameterize(Q, fang, method=m) for m in METHODS}
+    assert math.isclose(d["quintic"].duration,
+                        shortest_duration(Q[1] - Q[0], fang.velocity_limit,
+                                          fang.acceleration_limit))
+    assert d["toppra"].duration < d["ruckig"].duration < d["quintic"].duration
+    for traj in d.values():
+        assert worst_ratio(traj) <= 1 + RATIO_TOL
+    assert max(float(r.max()) for r in d["quintic"].check_limits().values()) > 1 - 1e-9
+
+
+def test_toppra_on_a_straight_move_is_bang_coast_bang(fang):
+    """A two-waypoint move is a line: T = D/v + v/a of the slowest joint, limits x (1 - margin)."""
+    Q = fang_move(REFERENCE["tables"][0])
+    traj = time_parameterize(Q, fang, method="toppra")
+    k = int(np.argmax(np.abs(Q[1] - Q[0]) / fang.velocity_limit))
+    v, a = 0.995 * fang.velocity_limit[k], 0.995 * fang.acceleration_limit[k]
+    D = abs(Q[1, k] - Q[0, k])
+    assert math.isclose(traj.duration, D / v + v / a, rel_tol=1e-3)
+
+
+# ---------------------------------------------------------------- backends vs libraries
+def test_toppra_pieces_equal_toppras_const_accel_output(zavar, circle_path):
+    """The degree-6 pieces reproduce toppra's own ParametrizeConstAccel to round-off."""
+    import toppra
+    import toppra.algorithm as algo
+    import toppra.constraint as constraint
+
+    Q = circle_path.q
+    s = chord_parameter(Q, zavar.velocity_limit)
+    path = toppra.SplineInterpolator(s, Q)
+    grid = np.linspace(0, 1, 201)
+    grid = np.unique(np.concatenate([grid, s]))
+    inst = algo.TOPPRA([constraint.JointVelocityConstraint(zavar.velocity_limit),
+                        constraint.JointAccelerationConstraint(zavar.acceleration_limit)],
+                       path, gridpoints=grid, solver_wrapper="seidel")
+    inst.compute_parameterization(0, 0)
+    sd = inst.problem_data.sd_vec
+    t, c = timed_pieces(path.cspl, grid, sd)
+    ref = toppra.ParametrizeConstAccel(path, grid, sd)
+    ts = np.random.default_rng(0).uniform(0, t[-1], 300)
+    from scipy.interpolate import PPoly
+
+    for order in (0, 1, 2):
+        ours = np.stack([PPoly(c[:, :, k], t).derivative(order)(ts) if order else
+                         PPoly(c[:, :, k], t)(ts) for k in range(Q.shape[1])], axis=1)
+        assert np.allclose(ours, ref(ts, order), atol=1e-9, rtol=1e-9)
+    assert math.isclose(t[-1], ref.duration, rel_tol=1e-12)
+
+
+def test_ruckig_pieces_equal_ruckigs_own_trajectory(fang):
+    """The constant-jerk pieces read from Ruckig's profiles match Trajectory.at_time."""
+    import ruckig
+
+    Q = fang_move(REFERENCE["tables"][1])
+    limits = resolve_limits(fang, 4, need_jerk=True)
+    pieces, T = ruckig_segment(Q[0], Q[1], limits)
+    otg, inp, out = ruckig.Ruckig(4), ruckig.InputParameter(4), ruckig.Trajectory(4)
+    inp.current_position, inp.target_position = list(Q[0]), list(Q[1])
+    inp.max_velocity, inp.max_acceleration = list(limits.vmax), list(limits.amax)
+    inp.max_jerk = list(limits.jmax)
+    otg.calculate(inp, out)
+    assert math.isclose(T, out.duration)
+    for t in np.linspace(0, T, 97):
+        p, v, a = out.at_time(t)
+        for k, pp in enumerate(pieces):
+            assert np.allclose([pp(t), pp.derivative()(t), pp.derivative(2)(t)],
+                               [p[k], v[k], a[k]], atol=1e-9)
+
+
+def test_ruckig_point_to_point_respects_jerk(fang):
+    """The helper times one move within velocity, acceleration and jerk limits."""
+    Q = fang_move(REFERENCE["tables"][0])
+    traj = ruckig_point_to_point(Q[0], Q[1], fang, jmax=50.0)
+    ratios = traj.check_limits()
+    assert set(ratios) == {"velocity", "acceleration", "jerk"}
+    assert np.isclose(ratios["jerk"].max(), 1.0) and worst_ratio(traj) <= 1 + RATIO_TOL
+    assert np.allclose(traj.limits.jmax, 50.0)
+
+
+# ---------------------------------------------------------------- the Trajectory object
+def test_trajectory_sampling_grid_csv_and_plot(fang, tmp_path):
+    """Scalar and array sampling, a dt grid ending at the duration, CSV and PNG files."""
+    traj = time_parameterize(fang_move(REFERENCE["tables"][1]), fang, method="ruckig")
+    q, qd, qdd = traj.sample(0.3)
+    assert q.shape == qd.shape == qdd.shape == (4,)
+    Q, QD, QDD = traj.sample([0.0, traj.duration])
+    assert Q.shape == (2, 4) and np.allclose(QD, 0, atol=1e-12) and np.allclose(QDD, 0, atol=1e-9)
+    t = traj.times(0.1)
+    assert t[0] == 0 and t[-1] == traj.duration and np.all(np.diff(t) <= 0.1 + 1e-12)
+    assert traj.positions(0.1).shape == (len(t), 4)
+    csv = traj.to_csv(tmp_path / "traj.csv", dt=0.05)
+    header = csv.read_text().splitlines()[0].split(",")
+    assert header[:4] == ["t_s", "theta1_rad", "theta1_rad_per_s", "theta1_rad_per_s2"]
+    assert "d3_m" in header
+    assert np.loadtxt(csv, delimiter=",", skiprows=1).shape == (len(traj.times(0.05)), 13)
+    png = traj.plot(tmp_path / "traj.png")
+    assert png.read_bytes()[:4] == b"\x89PNG"
+    assert "ruckig" in repr(traj)
+
+
+def test_check_limits_is_exact(zavar, circle_path):
+    """Dense samples never exceed check_limits' ratios and come within 1e-3 of them."""
+    traj = time_parameterize(circle_path, zavar, method="toppra", allow_jumps=True)
+    t = np.linspace(0, traj.duration, 40001)
+    _, qd, qdd = traj.sample(t)
+    exact = traj.check_limits()
+    for name, values in (("velocity", qd / traj.limits.vmax), ("acceleration",
+                                                                 qdd / traj.limits.amax)):
+        sampled = np.abs(values).max(axis=0)
+        assert np.all(sampled <= exact[name] + 1e-12)
+        assert np.all(sampled >= exact[name] - 1e-3)
+
+
+@pytest.mark.parametrize("t", [-0.1, 1e9, math.nan, "x"])
+def test_sampling_outside_the_trajectory_is_refused(fang, t):
+    """Times outside [0, duration] or not numbers: InputError."""
+    traj = time_parameterize(fang_move(REFERENCE["tables"][0]), fang, method="quintic")
+    with pytest.raises(InputError):
+        traj.sample(t)
+
+
+@pytest.mark.parametrize("dt", [0, -0.1, math.inf])
+def test_bad_grid_step_is_refused(fang, dt):
+    """A grid step that is not a positive finite number: InputError."""
+    traj = time_parameterize(fang_move(REFERENCE["tables"][0]), fang, method="quintic")
+    with pytest.raises(InputError, match="dt"):
+        traj.times(dt)
+
+
+# ---------------------------------------------------------------- properties
+@st.composite
+def waypoint_sets(draw) -> tuple[np.ndarray, float]:
+    """2-5 fang waypoints within 90 % of the joint ranges, and a scale for the limits."""
+    n = draw(st.integers(2, 5))
+    u = np.array(draw(st.lists(st.lists(st.floats(0.05, 0.95), min_size=4, max_size=4),
+                               min_size=n, max_size=n)))
+    scale = draw(st.floats(0.2, 5.0))
+    return u, scale
+
+
+@pytest.mark.parametrize("method", METHODS)
+@settings(max_examples=40, deadline=None, suppress_health_check=[HealthCheck.too_slow,
+                                                                 HealthCheck.function_scoped_fixture])
+@given(case=waypoint_sets())
+def test_timing_properties_on_random_waypoints(fang, method, case):
+    """No NaN, positive duration, through every waypoint, rest at the ends, ratios <= 1 + 1e-6.
+
+    The robot's position limits are left out (robot=None): a spline through arbitrary
+    waypoints may leave them, which toppra refuses (tested below); the stopping methods
+    never leave the box of their waypoints.
+    """
+    u, scale = case
+    Q = fang.lower + u * (fang.upper - fang.lower)
+    assume(np.all(np.abs(np.diff(Q, axis=0)).max(axis=1) > 1e-3))
+    traj = time_parameterize(Q, None, method=method, vmax=scale * fang.velocity_limit,
+                             amax=scale**2 * fang.acceleration_limit)
+    assert traj.duration > 0 and np.isfinite(traj.duration)
+    q, qd, qdd = traj.sample(np.linspace(0, traj.duration, 501))
+    assert np.isfinite(q).all() and np.isfinite(qd).all() and np.isfinite(qdd).all()
+    assert np.allclose(traj.evaluate(traj.waypoint_times), Q, atol=1e-9)
+    assert np.allclose(qd[[0, -1]], 0, atol=1e-9)
+    assert worst_ratio(traj) <= 1 + RATIO_TOL
+    if method != "toppra":
+        lo, hi = traj.position_range()
+        assert np.all(lo >= Q.min(axis=0) - 1e-9) and np.all(hi <= Q.max(axis=0) + 1e-9)
+
+
+def test_toppra_refuses_a_spline_that_leaves_the_joint_limits(zavar):
+    """Waypoints at the limit on both sides of a turn: the spline overshoots, toppra refuses."""
+    Q = np.zeros((4, 4))
+    Q[:, 0], Q[:, 1], Q[:, 2] = [1.5, 2.09, 2.09, 1.5], [0.0, 0.3, 0.6, 0.9], 0.02
+    with pytest.raises(TrajectoryError, match="theta1.*between waypoints 1 and 2.*ruckig"):
+        time_parameterize(Q, zavar, method="toppra")
+    traj = time_parameterize(Q, zavar, method="ruckig")
+    assert traj.position_range()[1][0] <= 2.09 + 1e-12
+
+
+# ---------------------------------------------------------------- ik_path
+def test_ik_path_reports_the_elbow_flip_on_the_reachable_circle(zavar, circle_path):
+    """All ten points solved; the one jump is the elbow flip between points 7 and 8."""
+    jp = circle_path
+    assert jp.solved.all() and jp.error.max() < 1e-12 and not jp.ok
+    assert [j.index for j in jp.jumps] == [8]
+    jump = jp.jumps[0]
+    assert jump.joints == ("theta2",)
+    assert np.sign(jp.q[7, 1]) != np.sign(jp.q[8, 1]) and abs(jump.delta[1]) > math.radians(160)
+    assert "jumps at steps 8" in jp.summary() and str(jump).startswith("step 7→8")
+    analytic = ik_path(zavar, paths.zavar2024_circle(reachable=True), method="analytic")
+    assert [j.index for j in analytic.jumps] == [8]
+    assert np.allclose(analytic.q, jp.q, atol=1e-9)
+
+
+def test_ik_path_reports_the_papers_circle_unreachable(zavar):
+    """Each Table 3 point is out of reach by 4 cm: status unreachable, residual reported."""
+    jp = ik_path(zavar, paths.zavar2024_circle())
+    assert len(jp) == 10 and jp.unsolved == list(range(10))
+    assert all(s == "unreachable" for s in jp.status)
+    assert np.allclose(jp.error, 0.04, atol=1e-3)
+    with pytest.raises(TrajectoryError, match="not reached"):
+        jp.raise_if_invalid()
+    with pytest.raises(TrajectoryError, match="not reached"):
+        time_parameterize(jp, zavar)
+    with pytest.raises(TrajectoryError, match="at least two"):
+        time_parameterize(jp.subset(jp.solved), zavar)
+
+
+def test_jumps_must_be_allowed_explicitly(zavar, circle_path, caplog):
+    """A path with a jump is refused unless allow_jumps=True, which logs a warning."""
+    with pytest.raises(TrajectoryError, match="allow_jumps"):
+        time_parameterize(circle_path, zavar, method="toppra")
+    with caplog.at_level(logging.WARNING, logger="scara_opt"):
+        traj = time_parameterize(circle_path, zavar, method="ruckig", allow_jumps=True)
+    assert "jump" in caplog.text and worst_ratio(traj) <= 1 + RATIO_TOL
+    part = circle_path.subset(slice(0, 8))
+    assert part.ok and len(part) == 8
+    assert time_parameterize(part, zavar).duration > 0
+
+
+def test_ik_path_keeps_the_wrist_continuous_across_pi(fang):
+    """Yaw targets crossing ±π: the wrist moves by the small angle, not by 2π."""
+    yaws = [3.0, 3.1, -3.1, -3.0]
+    ts = [so.Target((0.25, 0.05 * k, -0.02), yaw=a) for k, a in enumerate(yaws)]
+    for method in ("ipopt", "analytic"):
+        jp = ik_path(fang, ts, method=method, q_start=[0.0, 1.0, 0.0, 1.0])
+        assert jp.ok, jp.problems()
+        wrist_yaw = jp.q[:, 0] + jp.q[:, 1] + jp.q[:, 3]
+        assert np.abs(np.diff(wrist_yaw)).max() < 0.2
+
+
+def test_ik_path_on_the_nguyen_contour_is_continuous(robots):
+    """The redundant rail robot follows the closed contour with no jump, tool angle included."""
+    robot = robots["nguyen"]
+    jp = ik_path(robot, paths.nguyen_contour(120), q_start=(0.3, 0.0, 1.5, 0.05, 0.0))
+    assert jp.ok, jp.problems()[:3]
+    assert np.abs(jp.position_error).max() < 1e-9 and np.abs(jp.angle_error).max() < 1e-9
+    assert np.abs(np.diff(jp.q, axis=0)).max(axis=0)[0] < 0.06  # the rail moves smoothly
+    traj = time_parameterize(jp, robot, method="toppra")
+    assert worst_ratio(traj) <= 1 + RATIO_TOL
+
+
+@pytest.mark.parametrize("threshold", [-1.0, 0.0, math.nan, [1.0, 2.0], "x"])
+def test_bad_jump_threshold_is_refused(zavar, threshold):
+    """A threshold that is not positive (per joint): InputError."""
+    with pytest.raises(InputError, match="jump_threshold"):
+        ik_path(zavar, paths.zavar2024_circle(reachable=True)[:2], jump_threshold=threshold)
+
+
+def test_ik_path_rejects_empty_targets_and_unknown_methods(zavar):
+    """No targets: InputError; an unknown IK method: UnknownSolverError."""
+    with pytest.raises(InputError):
+        ik_path(zavar, [])
+    with pytest.raises(UnknownSolverError):
+        ik_path(zavar, paths.zavar2024_circle(), method="nope")
+
+
+# ---------------------------------------------------------------- bad input
+def test_unknown_method_and_option(fang):
+    """Unknown timing method lists the registered ones; unknown option lists the accepted."""
+    Q = fang_move(REFERENCE["tables"][0])
+    assert timing_methods() == ["quintic", "ruckig", "toppra"]
+    with pytest.raises(UnknownSolverError, match="time-parameterisation method.*quintic"):
+        time_parameterize(Q, fang, method="trapezoid")
+    with pytest.raises(SolverOptionError, match="margin"):
+        time_parameterize(Q, fang, method="toppra", margn=0.01)
+    with pytest.raises(InputError, match="margin"):
+        time_parameterize(Q, fang, method="toppra", margin=0.7)
+    with pytest.raises(InputError, match="already registered"):
+        register_timing("toppra")(lambda *a: None)
+
+
+@pytest.mark.parametrize("kwargs, error, match", [
+    ({"vmax": 0.0}, JointLimitError, "theta1"),
+    ({"vmax": [1, 1, -1, 1]}, JointLimitError, "d3"),
+    ({"amax": math.inf}, JointLimitError, "finite"),
+    ({"vmax": [1, math.nan, 1, 1]}, InputError, "NaN"),
+    ({"amax": [1.0, 2.0]}, InputError, "shape"),
+    ({"vmax": "fast"}, InputError, "vmax"),
+    ({"method": "ruckig", "jmax": [1, 1, 0, 1]}, JointLimitError, "jmax"),
+    ({"method": "toppra", "jmax": 10.0}, InputError, "jerk"),
+    ({"method": "toppra", "duration": 2.0}, InputError, "quintic"),
+    ({"method": "quintic", "duration": -1.0}, InputError, "duration"),
+])
+def test_bad_limits_and_options(fang, kwargs, error, match):
+    """Zero, negative, infinite, NaN or misshaped limits; options a method does not take."""
+    Q = fang_move(REFERENCE["tables"][0])
+    with pytest.raises(error, match=match):
+        time_parameterize(Q, fang, **{"method": "toppra", **kwargs})
+
+
+@pytest.mark.parametrize("path, error, match", [
+    (np.zeros((1, 4)), TrajectoryError, "at least two"),
+    (np.zeros((3, 3)), InputError, "joints"),
+    (np.zeros(4), InputError, "shape"),
+    ([[0, 0, 0, 0], [0, 0, math.nan, 0]], InputError, "NaN"),
+    ([[0, 0, 0, 0], [3.0, 0, 0, 0]], JointLimitError, "theta1"),
+    ([[0, 0, 0, 0], [0.1, 0, 0, 0], [0.1, 0, 0, 0]], TrajectoryError, "duplicate"),
+    ("abc", InputError, "JointPath"),
+])
+def test_bad_paths(fang, path, error, match):
+    """Fewer than two points, wrong shapes, NaN, out of limits, consecutive duplicates."""
+    with pytest.raises(error, match=match):
+        time_parameterize(path, fang, method="toppra")
+
+
+def test_drop_duplicates_removes_them_and_says_so(fang, caplog):
+    """drop_duplicates=True removes the repeated waypoint and logs it."""
+    Q = [[0, 0, 0, 0], [0.1, 0, 0, 0], [0.1, 0, 0, 0], [0.2, 0.1, 0, 0]]
+    with caplog.at_level(logging.INFO, logger="scara_opt"):
+        traj = time_parameterize(Q, fang, method="toppra", drop_duplicates=True)
+    assert len(traj.waypoints) == 3 and "duplicate" in caplog.text
+    with pytest.raises(TrajectoryError, match="fewer than two"):
+        time_parameterize([[0.1, 0, 0, 0]] * 3, fang, drop_duplicates=True)
+
+
+def test_limits_without_a_robot():
+    """Without a robot vmax and amax are required; with them any joint count works."""
+    Q = [[0.0, 0.0], [1.0, -2.0]]
+    with pytest.raises(InputError, match="vmax"):
+        time_parameterize(Q, None, method="quintic")
+    traj = time_parameterize(Q, None, method="quintic", vmax=1.0, amax=2.0)
+    assert traj.limits.joint_names == ("joint0", "joint1") and worst_ratio(traj) <= 1 + 1e-9
+
+
+def test_too_short_fixed_quintic_duration_is_logged(fang, caplog):
+    """A fixed duration below the shortest breaks the limits: allowed, logged, visible."""
+    Q = fang_move(REFERENCE["tables"][0])
+    with caplog.at_level(logging.WARNING, logger="scara_opt"):
+        traj = time_parameterize(Q, fang, method="quintic", duration=0.5)
+    assert "below the shortest" in caplog.text and worst_ratio(traj) > 1
