@@ -2,8 +2,6 @@
 
 from __future__ import annotations
 
-import math
-
 import numpy as np
 import pytest
 from hypothesis import given, settings
@@ -12,6 +10,7 @@ from hypothesis import strategies as st
 import scara_opt as so
 from scara_opt.ik.analytic import NotScaraError, solve_batch
 from scara_opt.ik.ipopt import cached_nlp
+from scara_opt.reports.fang import paper_ik
 from tests.conftest import BUNDLED, random_q
 
 FOUR_JOINT = ["fang", "peng2025", "zavar2024"]
@@ -147,23 +146,19 @@ def test_peng2025_validation_pose_is_2mm_out_of_stroke(robots):
         assert b.q[0] == pytest.approx(-0.002, abs=1e-12)
 
 
-def _fang_paper_ik(px: float, py: float, L1: float = 0.2, L2: float = 0.2) -> tuple[float, float]:
-    """fang eq. 10 as printed: arccos forms for theta1 and theta2 (first branch)."""
-    r = math.hypot(px, py)
-    t1 = math.acos((r * r + L1 * L1 - L2 * L2) / (2 * L1 * r)) + math.acos(px / r)
-    t2 = math.acos((math.cos(t1) * px + math.sin(t1) * py - L1) / L2)
-    return t1, t2
-
-
 def test_fang_arccos_forms_fail_for_negative_y_where_atan2_is_right(robots):
     """fang eq. 10 loses the sign of py (arccos): its answer misses; the atan2 closed form hits."""
     robot = robots["fang"]
     q_true = np.array([-0.9, 1.2, 0.01, 0.3])
     p = robot.position(q_true)
     assert p[1] < 0
-    t1, t2 = _fang_paper_ik(p[0], p[1])
+    t1, t2 = paper_ik(p[0], p[1])
     paper = robot.position([t1, t2, q_true[2], 0.0])
     assert np.linalg.norm(paper[:2] - p[:2]) > 0.05  # the paper's formula lands elsewhere
+    q_up = np.array([0.9, -1.2, 0.01, 0.3])  # the mirror image, py > 0: there eq. 10 works
+    p_up = robot.position(q_up)
+    t1, t2 = paper_ik(p_up[0], p_up[1])
+    np.testing.assert_allclose(robot.position([t1, t2, q_up[2], 0.0]), p_up, atol=1e-12)
     branches = so.ik_all(robot, p)
     assert branches and all(b.error <= 1e-12 for b in branches)
 

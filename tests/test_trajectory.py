@@ -4,8 +4,6 @@ from __future__ import annotations
 
 import logging
 import math
-import tomllib
-from pathlib import Path
 
 import numpy as np
 import pytest
@@ -21,6 +19,7 @@ from scara_opt.errors import (
     TrajectoryError,
     UnknownSolverError,
 )
+from scara_opt.reports import reference_data
 from scara_opt.trajectory import (
     JointPath,
     Trajectory,
@@ -36,7 +35,7 @@ from scara_opt.trajectory import (
 from scara_opt.trajectory.ruckig_backend import ruckig_segment
 from scara_opt.trajectory.toppra_backend import chord_parameter, timed_pieces
 
-REFERENCE = tomllib.loads((Path(__file__).parent / "reference" / "fang.toml").read_text())
+REFERENCE = reference_data("fang")  # the paper's printed rows, shipped with the reports
 #: paper units (deg, deg, mm, deg) -> SI
 TO_SI = np.array([math.pi / 180, math.pi / 180, 1e-3, math.pi / 180])
 METHODS = ("toppra", "ruckig", "quintic")

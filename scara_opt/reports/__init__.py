@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import importlib
 import time
+import tomllib
 from collections.abc import Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -73,6 +74,11 @@ class PaperReport:
             lines += ["", "Figures: " + ", ".join(f"[{p.name}]({p.name})" for p in self.figures)]
         lines += ["", f"(computed in {self.time_s:.1f} s)", ""]
         return "\n".join(lines)
+
+
+def reference_data(paper: str) -> dict:
+    """The paper's printed numbers (``reports/reference/<paper>.toml``), units, tolerance."""
+    return tomllib.loads((Path(__file__).parent / "reference" / f"{paper}.toml").read_text())
 
 
 def run_paper(paper: str, out: str | Path, quick: bool = False) -> PaperReport:

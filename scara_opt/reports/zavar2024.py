@@ -82,7 +82,7 @@ def _paper_target(robot: so.Robot, rep: PaperReport) -> None:
     res = so.solve_ik(robot, PAPER_TARGET)
     rep.findings.append(Finding(
         "fixed target (-0.23, 0.20, -0.20) m, Table 2", "errors ~1e-17 m, cost ~1e-33",
-        f"{res.status.value}: residual {res.error:.4f} m ({res.message.split('(')[1].split(')')[0]})",
+        f"{res.status.value}: residual {res.error:.4f} m (dz = {res.position_error[2]:+.4f} m)",
         "paper inconsistent",
         "z = -0.20 m is below the reachable range [-0.098, -0.05] m of Table 1; the table is "
         "rerun on (-0.23, 0.20, -0.07) m"))

@@ -1,0 +1,118 @@
+"""fang: the quintic joint trajectories of Tables 2 and 3, then time-optimal and jerk-limited.
+
+Paper: ``shared/seeds/004_bf70fd1cc4e521c8.txt``, Sec. 4. The tables are the Robotics
+Toolbox's ``jtraj``: a quintic with zero velocity and acceleration at both ends, 36 samples at
+τ = k/35 (angles in degrees, labelled "rad"; joint 3 in mm). The same two moves are then timed
+within the robot's (assumed) joint limits three ways: the shortest quintic, TOPP-RA and Ruckig.
+The paper's closed-form IK (eq. 10, arccos forms) is checked where it breaks (py < 0).
+"""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+
+import scara_opt as so
+from scara_opt.reports import Finding, PaperReport, reference_data
+from scara_opt.trajectory.plot import plot_trajectories
+
+METHODS = ("quintic", "toppra", "ruckig")
+#: paper units (deg, deg, mm, deg) -> SI (rad, rad, m, rad)
+TO_SI = np.array([math.pi / 180, math.pi / 180, 1e-3, math.pi / 180])
+
+
+def table_check(robot: so.Robot) -> pd.DataFrame:
+    """Our quintic at τ = k/35 against every row the paper prints, per table."""
+    ref = reference_data("fang")
+    tau = np.arange(ref["samples"]) / (ref["samples"] - 1)
+    rows = []
+    for table in ref["tables"]:
+        Q = np.array([table["start"], table["end"]]) * TO_SI
+        ours = so.time_parameterize(Q, robot, method="quintic", duration=1.0).sample(tau)[0]
+        ours = ours / TO_SI
+        printed = np.array(table["rows"])
+        for k, row in enumerate(printed):
+            rows.append({"table": table["table"], "row": k + 1, "tau": f"{k}/35",
+                         **{f"paper_j{j + 1}": row[j] for j in range(4)},
+                         **{f"ours_j{j + 1}": ours[k, j] for j in range(4)},
+                         "max_abs_diff": float(np.abs(ours[k] - row).max())})
+    return pd.DataFrame(rows)
+
+
+def timing(robot: so.Robot, out: Path) -> tuple[pd.DataFrame, list[Path]]:
+    """Durations of the two moves by the shortest quintic, toppra and ruckig, and figures."""
+    rows, figures = [], []
+    for table in reference_data("fang")["tables"]:
+        Q = np.array([table["start"], table["end"]]) * TO_SI
+        trajs = [so.time_parameterize(Q, robot, method=m) for m in METHODS]
+        d = [tr.duration for tr in trajs]
+        worst = max(float(r.max()) for tr in trajs for r in tr.check_limits().values())
+        rows.append({"move": f"Table {table['table']}", "quintic_s": d[0], "toppra_s": d[1],
+                     "ruckig_s": d[2], "toppra/quintic": d[1] / d[0],
+                     "ruckig/quintic": d[2] / d[0], "largest_limit_ratio": worst})
+        figures.append(plot_trajectories(
+            trajs, out / f"fang_table{table['table']}_move.png",
+            labels=["shortest quintic", "toppra", "ruckig"],
+            title=f"fang Table {table['table']} move: shortest quintic vs TOPP-RA vs Ruckig"))
+    return pd.DataFrame(rows), figures
+
+
+def paper_ik(px: float, py: float, L1: float = 0.2, L2: float = 0.2) -> tuple[float, float]:
+    """fang eq. 10 read charitably: θ1 by its arccos forms, θ2 = ±arccos(...) [rad].
+
+    Printed, θ2 = arccos(...) >= 0 always; here the sign that fits θ1 best is taken, so the
+    only error left is the one ROBOTS.md names: arccos(px / r) cannot be negative, so every
+    target with py < 0 is mirrored.
+    """
+    r = math.hypot(px, py)
+    t1 = math.acos((r * r + L1 * L1 - L2 * L2) / (2 * L1 * r)) + math.acos(px / r)
+    t2 = math.acos(max(-1.0, min(1.0, (math.cos(t1) * px + math.sin(t1) * py - L1) / L2)))
+
+    def miss(t: float) -> float:
+        return math.hypot(L1 * math.cos(t1) + L2 * math.cos(t1 + t) - px,
+                          L1 * math.sin(t1) + L2 * math.sin(t1 + t) - py)
+
+    return t1, min((t2, -t2), key=miss)
+
+
+def run(out: Path, quick: bool = False) -> PaperReport:
+    """Tables 2-3 check, timing comparison, eq. 10 check."""
+    robot = so.load_robot("fang")
+    rep = PaperReport("fang", "Adept-like 4-DoF SCARA: closed form and quintic trajectories")
+    check = table_check(robot)
+    rep.add_table("tables2_3_check", check, out)
+    tol = reference_data("fang")["tolerance"]
+    for table, grp in check.groupby("table"):
+        dev = grp["max_abs_diff"].max()
+        rep.findings.append(Finding(
+            f"Table {table}: {len(grp)} printed rows (deg, mm)", "jtraj quintic, 4 decimals",
+            f"largest deviation {dev:.1e}", "matched" if dev <= tol else "differs",
+            f"tolerance {tol:g} (the paper's rounding)"))
+    times, figures = timing(robot, out)
+    rep.add_table("timing", times, out)
+    rep.figures += figures
+    for _, row in times.iterrows():
+        rep.findings.append(Finding(
+            f"{row['move']} move, timed within the limits", "quintic of the paper's duration",
+            f"toppra {row['toppra_s']:.3f} s, ruckig {row['ruckig_s']:.3f} s vs shortest quintic "
+            f"{row['quintic_s']:.3f} s ({row['toppra/quintic']:.2f}x, "
+            f"{row['ruckig/quintic']:.2f}x)",
+            "differs", "beyond the paper: time-optimal and jerk-limited timings are shorter"))
+    q = np.array([-0.9, 1.2, 0.01, 0.3])
+    p = robot.position(q)
+    t1, t2 = paper_ik(p[0], p[1])
+    miss = float(np.linalg.norm(robot.position([t1, t2, q[2], 0.0])[:2] - p[:2]))
+    ours = so.ik_all(robot, p)
+    rep.findings.append(Finding(
+        f"eq. 10 closed form at ({p[0]:.3f}, {p[1]:.3f}) m (py < 0)", "arccos forms",
+        f"eq. 10 misses by {miss * 1000:.1f} mm; atan2 forms: {len(ours)} branches, error "
+        f"{max(b.error for b in ours):.1e} m", "paper inconsistent",
+        "arccos(px/r) and arccos(...) lose the sign for py < 0 / negative angles"))
+    rep.notes.append("Table 3 starts at (+64.4042, 128.8085, 15.15, +61.4099), not at the end "
+                     "of Table 2 (-64.4042, ..., -61.4099): kept as printed.")
+    rep.notes.append("Velocity and acceleration limits are assumptions (robots/fang.toml); "
+                     "ruckig's jerk limit is 10/s x amax.")
+    return rep
