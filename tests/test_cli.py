@@ -1,16 +1,19 @@
-"""The scara-opt command line, driven as a user would."""
+"""The scara-opt command line, driven as a user would (subprocess)."""
 
 from __future__ import annotations
 
+import json
 import subprocess
 import sys
+
+import pytest
 
 from tests.conftest import BUNDLED
 
 
-def run(*args: str) -> subprocess.CompletedProcess:
+def run(*args: str, timeout: float = 300) -> subprocess.CompletedProcess:
     return subprocess.run([sys.executable, "-m", "scara_opt.cli", *args],
-                          capture_output=True, text=True, timeout=120)
+                          capture_output=True, text=True, timeout=timeout)
 
 
 def test_robots_lists_every_bundled_robot_with_limits_and_source():
@@ -22,7 +25,88 @@ def test_robots_lists_every_bundled_robot_with_limits_and_source():
     assert "[-120.0, 120.0] deg" in out.stdout and "seeds/" in out.stdout
 
 
+@pytest.mark.parametrize("command", ["robots", "solvers", "fk", "ik", "compare", "workspace",
+                                     "reproduce"])
+def test_help_everywhere(command):
+    """Every subcommand answers --help with exit code 0."""
+    out = run(command, "--help")
+    assert out.returncode == 0 and "usage: scara-opt" in out.stdout
+
+
+def test_fk_text_and_json():
+    """fk prints the tip in the asked units; --json has a stable schema."""
+    out = run("fk", "zavar2024", "30", "45", "20", "10", "--deg", "--mm")
+    assert out.returncode == 0 and "tip at (224.969, 293.185, -70) mm, yaw 85 deg" in out.stdout
+    data = json.loads(run("fk", "zavar2024", "0", "0", "0.01", "0", "--json").stdout)
+    assert set(data) >= {"robot", "q", "q_units", "position", "position_unit", "rotation",
+                         "within_limits", "yaw_deg"}
+    assert data["position"] == pytest.approx([0.4, 0.0, -0.06])
+
+
+IK_KEYS = {"robot", "method", "status", "success", "q", "q_units", "error", "position_error",
+           "position_error_unit", "yaw_error_deg", "iterations", "evaluations", "time_s",
+           "message"}
+
+
+def test_ik_json_schema_and_unreachable_verdict():
+    """ik --json reports the status honestly: zavar2024's paper target is unreachable."""
+    data = json.loads(run("ik", "zavar2024", "--xyz", "-0.23", "0.20", "-0.20", "--json").stdout)
+    assert set(data) == IK_KEYS
+    assert data["status"] == "unreachable" and data["error"] == pytest.approx(0.102, abs=1e-3)
+    ok = json.loads(run("ik", "zavar2024", "--xyz", "-230", "200", "-70", "--mm", "--deg",
+                        "--method", "analytic", "--json").stdout)
+    assert ok["success"] and ok["q_units"] == ["deg", "deg", "mm", "deg"]
+
+
+def test_ik_all_lists_the_branches():
+    """ik --all --json lists every closed-form branch (peng2025 with yaw: elbow x wrist turns)."""
+    rows = json.loads(run("ik", "peng2025", "--xyz", "400", "-120", "180", "--yaw", "0", "--mm",
+                          "--all", "--json").stdout)
+    assert len(rows) >= 2 and all(r["success"] for r in rows)
+    assert all(set(r) == IK_KEYS for r in rows)
+
+
+@pytest.mark.parametrize("args, message", [
+    (("ik", "zavar2024", "--xyz", "0", "0", "nan"), "NaN or inf"),
+    (("ik", "zavar2024", "--xyz", "0.2", "0.1", "-0.06", "--method", "bogus"),
+     "unknown IK method 'bogus'; registered:"),
+    (("fk", "zavar2024", "1", "2"), "must have shape (4,)"),
+    (("fk", "no_such_robot", "1"), "no bundled robot named 'no_such_robot'"),
+    (("ik", "zavar2024", "--xyz", "0.2", "0.1", "-0.06", "--yaw", "nan"), "yaw must be finite"),
+    (("workspace", "zavar2024", "-n", "0", "--out", "/tmp/scara_opt_ws"), "n"),
+])
+def test_bad_input_is_one_line_and_exit_2(args, message):
+    """Bad input: exit code 2, a one-line error on stderr, no traceback."""
+    out = run(*args)
+    assert out.returncode == 2, out
+    assert message in out.stderr and "Traceback" not in out.stderr
+    assert len(out.stderr.strip().splitlines()) == 1
+
+
 def test_bad_usage_exits_2():
-    """An unknown subcommand is a usage error: exit code 2, message on stderr."""
+    """An unknown subcommand or paper is a usage error: exit code 2, message on stderr."""
     out = run("no-such-command")
     assert out.returncode == 2 and "invalid choice" in out.stderr
+    out = run("reproduce", "nobody2020", "--out", "/tmp/x")
+    assert out.returncode == 2 and "invalid choice" in out.stderr
+
+
+def test_compare_writes_the_table_and_figures(tmp_path):
+    """compare writes runs.csv, summary.csv and three figures."""
+    out = run("compare", "zavar2024", "--target", "-0.23", "0.20", "-0.07", "--methods", "ipopt",
+              "--seeds", "1", "--out", str(tmp_path))
+    assert out.returncode == 0, out.stderr
+    for name in ("runs.csv", "summary.csv", "convergence.png", "time_vs_population.png",
+                 "error_time_boxes.png"):
+        assert (tmp_path / name).is_file(), name
+
+
+def test_workspace_and_reproduce(tmp_path):
+    """workspace writes its figures; reproduce writes summary.md with the paper's findings."""
+    out = run("workspace", "zavar2024", "-n", "5000", "--out", str(tmp_path))
+    assert out.returncode == 0, out.stderr
+    assert (tmp_path / "zavar2024_workspace_xy.png").is_file()
+    out = run("reproduce", "inverted5", "--quick", "--out", str(tmp_path))
+    assert out.returncode == 0, out.stderr
+    summary = (tmp_path / "summary.md").read_text()
+    assert "## inverted5" in summary and "matched" in summary
