@@ -6,7 +6,7 @@ generated from the papers' DH tables (:func:`load_robot`, :func:`list_robots`).
 
 import logging
 
-from scara_opt import paths
+from scara_opt import metaheuristics, paths  # noqa: F401  (metaheuristics register themselves)
 from scara_opt.errors import (
     FrameNotFoundError,
     InputError,

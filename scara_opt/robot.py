@@ -1,9 +1,27 @@
-"""The :class:`Robot`: a serial URDF chain loaded into Pinocchio, with FK and Jacobians.
+"""The :class:`Robot`: the serial chain from a URDF's root to a tip, loaded into Pinocchio.
 
 Pinocchio is the numeric source of truth (:meth:`Robot.fk`, :meth:`Robot.jacobian`).
 For batches, :meth:`Robot.fk_batch` walks the same model tree with numpy, and
 :attr:`Robot.symbolic_fk` builds the casadi expression from it; both are tested
 against Pinocchio.
+
+Real-world URDFs load without edits:
+
+* **Trees.** Only the joints on the path from the root link to the tip are kept; every
+  other movable joint (gripper fingers, a second arm, …) is locked at its *reference*
+  with ``pinocchio.buildReducedModel``. The reference is zero, or the middle of the
+  joint's range when zero is outside it; a locked mimic joint follows its leader's
+  reference (``multiplier * reference + offset``). :attr:`Robot.locked` lists them.
+* **Continuous joints** are one angle each in ``q`` (Pinocchio's cos/sin pair never
+  shows): they are loaded as revolute joints with limits ``±inf``. Samplers that need a
+  finite box use :attr:`Robot.sampling_lower` / :attr:`Robot.sampling_upper` (``±π``).
+* **Mimic joints** follow their leader, ``q_mimic = multiplier * q_leader + offset``. Off
+  the path they are locked with the rest; on the path (leader on the path too) they are
+  not a coordinate of ``q``: Pinocchio's mimic joints carry the relation through FK and
+  the Jacobian (chain rule), and :attr:`Robot.chain` records it for the numpy and casadi
+  walks.
+* **Meshes** are never loaded (kinematics do not need them); files that cannot be found
+  are reported in one ``logging`` warning, never an exception.
 """
 
 from __future__ import annotations
@@ -17,7 +35,7 @@ import xml.etree.ElementTree as ET
 from dataclasses import dataclass
 from functools import cached_property
 from pathlib import Path
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 import pinocchio as pin
@@ -42,6 +60,9 @@ log = logging.getLogger(__name__)
 Array = NDArray[np.float64]
 
 _AXES = {"X": (1.0, 0.0, 0.0), "Y": (0.0, 1.0, 0.0), "Z": (0.0, 0.0, 1.0)}
+_MOVABLE = ("revolute", "continuous", "prismatic")
+#: URDF limits written for continuous joints before Pinocchio parses them (then set to ±inf)
+_UNBOUNDED = 1e300
 
 
 @dataclass(frozen=True)
@@ -50,15 +71,23 @@ class ChainJoint:
 
     Attributes:
         name: joint name.
-        kind: ``"revolute"`` or ``"prismatic"``.
+        kind: ``"revolute"`` or ``"prismatic"`` (continuous joints are revolute).
         axis: unit axis (3,) in the joint frame.
         placement: 4×4 placement of the joint frame in the parent joint's frame [m].
+        index: the entry of ``q`` that drives the joint.
+        mimic: whether the joint follows ``q[index]`` (a mimic joint, not a coordinate).
+        scaling: joint value = ``scaling * q[index] + offset`` (1 and 0 unless ``mimic``).
+        offset: see ``scaling`` [rad or m].
     """
 
     name: str
     kind: str
     axis: Array
     placement: Array
+    index: int
+    mimic: bool = False
+    scaling: float = 1.0
+    offset: float = 0.0
 
 
 def _joint_kind(jmodel: pin.JointModel) -> tuple[str, Array]:
@@ -83,31 +112,65 @@ def _check_xml(text: str, where: str) -> None:
         raise URDFError(f"{where}: the root element is <{root.tag}>, a URDF needs <robot>")
 
 
-def _tree(urdf, where: str) -> tuple[dict[str, object], str]:
-    """Joints by child link, and the root link; checks the joint types."""
-    by_child: dict[str, object] = {}
+# ---------------------------------------------------------------------- the URDF tree
+def _load_urdf(text: str, mesh_dir: str | None, where: str) -> Any:
+    """Parse with yourdfpy (no meshes loaded), turning its bare exceptions into URDFError."""
+    import yourdfpy
+
+    try:
+        return yourdfpy.URDF.load(
+            io.BytesIO(text.encode()), build_scene_graph=False, load_meshes=False,
+            build_collision_scene_graph=False, load_collision_meshes=False,
+            mesh_dir=mesh_dir or "",
+        )
+    except Exception as exc:  # yourdfpy raises bare KeyError/ValueError on bad structure
+        raise URDFError(f"{where} is not a valid URDF: {type(exc).__name__}: {exc}") from None
+
+
+def _check_limits(j: Any, where: str) -> None:
+    """A revolute or prismatic joint needs finite ``lower < upper`` (continuous: none)."""
+    if j.type == "continuous":
+        return
+    lim = j.limit
+    if lim is None or lim.lower is None or lim.upper is None:
+        raise URDFError(f"{where}: joint {j.name!r} has no <limit lower= upper=>; add its range "
+                        "(or make it type continuous if it turns without limits)")
+    if not (math.isfinite(lim.lower) and math.isfinite(lim.upper)):
+        raise JointLimitError(f"{where}: joint {j.name!r} has non-finite limits", j.name)
+    if not lim.lower < lim.upper:
+        raise JointLimitError(
+            f"{where}: joint {j.name!r} has lower limit {lim.lower} >= upper limit "
+            f"{lim.upper}; swap them or fix the URDF",
+            j.name,
+        )
+
+
+def _check_mimic(j: Any, joints: dict[str, Any], where: str) -> None:
+    """A mimic joint must follow an existing movable joint that is not itself a mimic."""
+    leader = joints.get(j.mimic.joint)
+    if leader is None or leader.type not in _MOVABLE:
+        raise URDFError(f"{where}: mimic joint {j.name!r} follows {j.mimic.joint!r}, which is "
+                        "not a movable joint of the URDF; fix its <mimic joint=>")
+    if leader.mimic is not None:
+        raise URDFError(f"{where}: mimic joint {j.name!r} follows {leader.name!r}, itself a "
+                        f"mimic joint; make it follow {leader.mimic.joint!r} directly")
+
+
+def _tree(urdf: Any, where: str) -> tuple[dict[str, Any], str]:
+    """Joints by child link, and the root link; checks joint types, limits and mimics."""
+    joints = {j.name: j for j in urdf.robot.joints}
+    by_child: dict[str, Any] = {}
     for j in urdf.robot.joints:
-        if j.type not in ("revolute", "prismatic", "fixed"):
+        if j.type not in (*_MOVABLE, "fixed"):
             raise URDFError(
-                f"{where}: joint {j.name!r} is {j.type!r}; only revolute, prismatic and fixed "
-                "joints are supported (give a continuous joint limits and type revolute)"
+                f"{where}: joint {j.name!r} is {j.type!r}; only revolute, continuous, "
+                "prismatic and fixed joints are supported (model a floating base or a planar "
+                "joint as fixed, or as a chain of prismatic and revolute joints)"
             )
-        if j.mimic is not None:
-            raise URDFError(f"{where}: joint {j.name!r} is a mimic joint, which is not supported")
         if j.type != "fixed":
-            lim = j.limit
-            if lim is None or lim.lower is None or lim.upper is None:
-                raise URDFError(
-                    f"{where}: joint {j.name!r} has no <limit lower= upper=>; add its range"
-                )
-            if not (math.isfinite(lim.lower) and math.isfinite(lim.upper)):
-                raise JointLimitError(f"{where}: joint {j.name!r} has non-finite limits", j.name)
-            if not lim.lower < lim.upper:
-                raise JointLimitError(
-                    f"{where}: joint {j.name!r} has lower limit {lim.lower} >= upper limit "
-                    f"{lim.upper}; swap them or fix the URDF",
-                    j.name,
-                )
+            _check_limits(j, where)
+        if j.mimic is not None and j.type != "fixed":
+            _check_mimic(j, joints, where)
         by_child[j.child] = j
     roots = [lk.name for lk in urdf.robot.links if lk.name not in by_child]
     if len(roots) != 1:
@@ -115,35 +178,162 @@ def _tree(urdf, where: str) -> tuple[dict[str, object], str]:
     return by_child, roots[0]
 
 
-def _chain_to_tip(urdf, tip: str | None, where: str) -> str:
-    """Check that the URDF is one serial chain from the root to ``tip``; return ``tip``."""
-    by_child, root = _tree(urdf, where)
-    links = [lk.name for lk in urdf.robot.links]
-    parents = {j.parent for j in urdf.robot.joints}
-    leaves = [name for name in links if name not in parents]
-    if tip is None:
-        if len(leaves) != 1:
-            raise URDFError(
-                f"{where}: the URDF branches into several end links {leaves}; a serial chain "
-                "is needed: remove the branches or pass tip= (still every joint must lie on "
-                "the path to it)"
-            )
-        tip = leaves[0]
-    if tip not in links:
-        raise FrameNotFoundError(tip, links)
-    on_path, link = set(), tip
+def _path(by_child: dict[str, Any], root: str, link: str) -> list[Any]:
+    """The URDF joints from ``root`` down to ``link``, in order."""
+    out = []
     while link != root:
-        j = by_child[link]
-        on_path.add(j.name)
-        link = j.parent
-    off = [j.name for j in urdf.robot.joints if j.name not in on_path and j.type != "fixed"]
-    if off:
-        raise URDFError(
-            f"{where}: movable joints {off} are not on the path from {root!r} to the tip "
-            f"{tip!r}: the URDF branches or continues past the tip; only a serial chain ending "
-            "at the tip is supported: remove those joints or pick another tip"
-        )
-    return tip
+        out.append(by_child[link])
+        link = out[-1].parent
+    return out[::-1]
+
+
+def _dof(path: list[Any]) -> int:
+    """Joint coordinates along a path: its movable joints that are not mimic joints."""
+    return sum(j.type in _MOVABLE and j.mimic is None for j in path)
+
+
+def _pick_tip(urdf: Any, by_child: dict[str, Any], root: str, tip: str | None,
+              where: str) -> str:
+    """``tip`` checked, or, for ``None``, the end link of the longest chain (logged)."""
+    links = [lk.name for lk in urdf.robot.links]
+    if tip is not None:
+        if tip not in links:
+            raise FrameNotFoundError(tip, links)
+        return tip
+    parents = {j.parent for j in urdf.robot.joints}
+    ends = [name for name in links if name not in parents]
+    paths = {name: _path(by_child, root, name) for name in ends}
+    best = max(ends, key=lambda name: (_dof(paths[name]), len(paths[name])))
+    if len(ends) > 1:
+        log.warning("%s: tip=None picks %r, the end of the longest chain (%d joint coordinates) "
+                    "among the end links %s; pass tip= to choose another", where, best,
+                    _dof(paths[best]), ends)
+    return best
+
+
+def _reference(j: Any, joints: dict[str, Any]) -> float:
+    """Where a locked joint is held [rad or m]: zero, or mid-range when zero is outside.
+
+    A mimic joint follows its leader's reference: ``multiplier * reference + offset``.
+    """
+    if j.mimic is not None:
+        m = j.mimic
+        scale = 1.0 if m.multiplier is None else m.multiplier
+        return scale * _reference(joints[m.joint], joints) + (m.offset or 0.0)
+    if j.type == "continuous" or j.limit.lower <= 0.0 <= j.limit.upper:
+        return 0.0
+    return 0.5 * (j.limit.lower + j.limit.upper)
+
+
+def _split(urdf: Any, path: list[Any]) -> tuple[list[Any], dict[str, float]]:
+    """The movable joints kept (on the path, leader kept too) and the locked ones' references."""
+    on_path = {j.name for j in path}
+    joints = {j.name: j for j in urdf.robot.joints}
+    kept = [j for j in path if j.type in _MOVABLE
+            and (j.mimic is None or j.mimic.joint in on_path)]
+    kept_names = {j.name for j in kept}
+    locked = {j.name: _reference(j, joints) for j in urdf.robot.joints
+              if j.type in _MOVABLE and j.name not in kept_names}
+    return kept, locked
+
+
+def _pinocchio_text(text: str, drop_mimic: set[str]) -> str:
+    """The URDF as Pinocchio gets it: continuous joints as revolute, some ``<mimic>`` dropped.
+
+    A continuous joint becomes a revolute joint with limits ``±_UNBOUNDED`` (its effort
+    and velocity limits kept), so ``q`` holds its angle, not Pinocchio's (cos, sin) pair.
+    Locked mimic joints lose their ``<mimic>`` (they are held at their reference anyway),
+    which frees Pinocchio from its rule that a leader precede its mimic joints.
+    """
+    root = ET.fromstring(text)
+    joints = [j for j in root.iter("joint") if j.get("type") == "continuous"
+              or (j.get("name") in drop_mimic and j.find("mimic") is not None)]
+    if not joints:
+        return text
+    for joint in joints:
+        if joint.get("type") == "continuous":
+            joint.set("type", "revolute")
+            limit = joint.find("limit")
+            if limit is None:
+                limit = ET.SubElement(joint, "limit", effort="0", velocity="0")
+            limit.set("lower", repr(-_UNBOUNDED))
+            limit.set("upper", repr(_UNBOUNDED))
+        mimic = joint.find("mimic")
+        if mimic is not None and joint.get("name") in drop_mimic:
+            joint.remove(mimic)
+    return ET.tostring(root, encoding="unicode")
+
+
+def _build_model(text: str, urdf: Any, path: list[Any],
+                 where: str) -> tuple[pin.Model, dict[str, float]]:
+    """The Pinocchio model of the path's joints, the others locked; and the locked values."""
+    kept, locked = _split(urdf, path)
+    on_path_mimic = any(j.mimic is not None for j in kept)
+    xml = _pinocchio_text(text, drop_mimic=set(locked))
+    try:  # the mimic flag only when needed: Pinocchio < 3.4 lacks it
+        full = pin.buildModelFromXML(xml, True) if on_path_mimic else pin.buildModelFromXML(xml)
+    except TypeError:
+        raise URDFError(f"{where}: mimic joints on the path to {path[-1].child!r} need "
+                        f"Pinocchio >= 3.4 (installed: {pin.__version__}); pip install -U pin"
+                        ) from None
+    except (RuntimeError, ValueError) as exc:
+        raise URDFError(f"Pinocchio could not build {where}: {exc}") from None
+    if not locked:
+        return full, locked
+    q_ref = pin.neutral(full)
+    for name, value in locked.items():
+        q_ref[full.joints[full.getJointId(name)].idx_q] = value
+    ids = [full.getJointId(name) for name in locked]
+    return pin.buildReducedModel(full, ids, q_ref), locked
+
+
+def _unbound_continuous(model: pin.Model, urdf: Any) -> None:
+    """Set the position limits of the (former) continuous joints to ``±inf``."""
+    lower, upper = model.lowerPositionLimit.copy(), model.upperPositionLimit.copy()
+    for j in urdf.robot.joints:
+        if j.type == "continuous" and model.existJointName(j.name):
+            jm = model.joints[model.getJointId(j.name)]
+            if jm.nq == 1:
+                lower[jm.idx_q], upper[jm.idx_q] = -np.inf, np.inf
+    model.lowerPositionLimit, model.upperPositionLimit = lower, upper
+
+
+def _chain_joint(model: pin.Model, k: int, urdf_joints: dict[str, Any]) -> ChainJoint:
+    """The :class:`ChainJoint` of joint ``k`` of the model (a mimic one read via the URDF)."""
+    jm, name = model.joints[k], model.names[k]
+    placement = model.jointPlacements[k].homogeneous.copy()
+    if jm.shortname() != "JointModelMimic":
+        return ChainJoint(name, *_joint_kind(jm), placement, index=jm.idx_q)
+    uj = urdf_joints[name]
+    axis = np.asarray(uj.axis if uj.axis is not None else _AXES["X"], float)
+    kind = "prismatic" if uj.type == "prismatic" else "revolute"
+    mimic = jm.extract()
+    return ChainJoint(name, kind, axis / np.linalg.norm(axis), placement, index=jm.idx_q,
+                      mimic=True, scaling=float(mimic.scaling), offset=float(mimic.offset))
+
+
+# ---------------------------------------------------------------------- meshes
+def _mesh_found(fname: str, folder: str) -> bool:
+    """Whether yourdfpy's ``filename_handler_magic`` would resolve ``fname`` (without its log)."""
+    import yourdfpy
+
+    depth = len(Path(folder).parts) if folder else 0
+    candidates = [yourdfpy.filename_handler_relative(fname, folder),
+                  yourdfpy.filename_handler_ignore_directive(fname)]
+    candidates += [yourdfpy.filename_handler_relative_to_urdf_file_recursive(fname, folder, k)
+                   for k in range(depth)]
+    return any(Path(c).is_file() for c in candidates)
+
+
+def _warn_missing_meshes(urdf: Any, folder: str, where: str) -> None:
+    """One ``logging`` warning naming the mesh files that cannot be found, if any."""
+    names = [g.geometry.mesh.filename for link in urdf.robot.links
+             for g in (*link.visuals, *link.collisions)
+             if g.geometry is not None and g.geometry.mesh is not None]
+    missing = sorted({f for f in names if not _mesh_found(f, folder)})
+    if missing:
+        log.warning("%s: %d mesh file(s) cannot be found (e.g. %r); they are skipped: "
+                    "kinematics do not use meshes", where, len(missing), missing[0])
 
 
 def _accelerations(text: str) -> dict[str, float]:
@@ -157,13 +347,21 @@ def _accelerations(text: str) -> dict[str, float]:
 
 
 class Robot:
-    """A serial chain of revolute/prismatic joints (fixed joints in between) and a tip frame.
+    """The serial chain of revolute/prismatic joints from a URDF's root link to a tip frame.
+
+    Joints off that chain are locked (see the module docstring for the rules on trees,
+    continuous and mimic joints). ``q`` always has one value per joint of
+    :attr:`joint_names`: an angle [rad] for revolute and continuous joints, a length [m]
+    for prismatic ones.
 
     Attributes:
         name: robot name (the URDF's, or the bundled robot's).
-        model: the Pinocchio model; ``data`` its workspace.
+        model: the (reduced) Pinocchio model, ``model.nq == nq``; ``data`` its workspace.
         tip: name of the tip frame whose pose :meth:`fk` returns.
-        chain: the movable joints in order, read from the Pinocchio model.
+        chain: the movable joints of the model in order: one per coordinate of ``q``, plus
+            any mimic joint on the path (which reads ``q[index]``, see :class:`ChainJoint`).
+        locked: ``{joint name: value}`` of the joints off the path, held at their
+            reference [rad or m]: zero, or mid-range when zero is outside the range.
         tip_placement: 4×4 placement of the tip in the last joint's frame [m].
         source: where the robot comes from (paper, file path).
         metadata: extra data of a robot file (for bundled robots: the whole parsed TOML,
@@ -173,41 +371,35 @@ class Robot:
     def __init__(self, urdf_text: str, tip: str | None = None, *, name: str | None = None,
                  where: str = "URDF", source: str = "", notes: str = "",
                  mesh_dir: str | None = None, metadata: dict | None = None) -> None:
-        import yourdfpy
-
         _check_xml(urdf_text, where)
-        self._init_args = (urdf_text, tip, name, where, source, notes, mesh_dir)
-        try:
-            urdf = yourdfpy.URDF.load(
-                io.BytesIO(urdf_text.encode()), build_scene_graph=False, load_meshes=False,
-                build_collision_scene_graph=False, load_collision_meshes=False,
-                mesh_dir=mesh_dir or "",
-            )
-        except Exception as exc:  # yourdfpy raises bare KeyError/ValueError on bad structure
-            raise URDFError(f"{where} is not a valid URDF: {type(exc).__name__}: {exc}") from None
-        self.tip = _chain_to_tip(urdf, tip, where)
-        try:
-            self.model: pin.Model = pin.buildModelFromXML(urdf_text)
-        except (RuntimeError, ValueError) as exc:
-            raise URDFError(f"Pinocchio could not build {where}: {exc}") from None
+        urdf = _load_urdf(urdf_text, mesh_dir, where)
+        by_child, root = _tree(urdf, where)
+        self.tip = _pick_tip(urdf, by_child, root, tip, where)
+        self._init_args = (urdf_text, self.tip, name, where, source, notes, mesh_dir)
+        _warn_missing_meshes(urdf, mesh_dir or "", where)
+        self.model, self.locked = _build_model(urdf_text, urdf, _path(by_child, root, self.tip),
+                                               where)
+        _unbound_continuous(self.model, urdf)
         self.data: pin.Data = self.model.createData()
         self.name = name or urdf.robot.name
         self.source = source or where
         self.notes = notes
         self.metadata: dict = dict(metadata or {})
-        if not self.model.existFrame(self.tip):
-            raise FrameNotFoundError(self.tip, [f.name for f in self.model.frames])
-        self.tip_id = self.model.getFrameId(self.tip)
+        joints = {j.name: j for j in urdf.robot.joints}
         self.chain: tuple[ChainJoint, ...] = tuple(
-            ChainJoint(self.model.names[j], *_joint_kind(self.model.joints[j]),
-                       self.model.jointPlacements[j].homogeneous.copy())
-            for j in range(1, self.model.njoints)
-        )
+            _chain_joint(self.model, k, joints) for k in range(1, self.model.njoints))
         if not self.chain:
-            raise URDFError(f"{where} has no movable joint; IK and trajectories need at least one")
+            raise URDFError(f"{where} has no movable joint between its root {root!r} and the tip "
+                            f"{self.tip!r}; IK and trajectories need at least one: pick another "
+                            "tip=")
+        self.tip_id = self.model.getFrameId(self.tip)
         self.tip_placement: Array = self.model.frames[self.tip_id].placement.homogeneous.copy()
+        self._set_rate_limits(urdf_text, where)
+
+    def _set_rate_limits(self, urdf_text: str, where: str) -> None:
+        """Velocity limits from the model, accelerations from the scara_opt URDF extension."""
         acc = _accelerations(urdf_text)
-        self._acceleration = np.array([acc.get(j.name, np.inf) for j in self.chain])
+        self._acceleration = np.array([acc.get(name, np.inf) for name in self.joint_names])
         vel = np.array(self.model.velocityLimit, float)
         if np.any(vel <= 0):
             log.warning("%s: joints with velocity limit <= 0 are treated as unlimited", where)
@@ -217,14 +409,25 @@ class Robot:
     # ------------------------------------------------------------------ constructors
     @classmethod
     def from_urdf(cls, path: str | Path, tip: str | None = None) -> Robot:
-        """Load a URDF file.
+        """Load a URDF file: the chain from its root link to ``tip``, other joints locked.
+
+        Every movable joint off the path to ``tip`` is locked at zero, or at the middle of
+        its range when zero is outside it (a mimic joint at its leader's reference times
+        the multiplier plus the offset); :attr:`locked` lists them. A Panda with its
+        fingers gives a 7-joint arm to ``tip="panda_hand_tcp"``. Continuous joints are one
+        angle each with limits ``±inf``; mimic joints on the path follow their leader.
+        Mesh files that cannot be found are skipped with one ``logging`` warning.
 
         Args:
             path: path to a ``.urdf`` file.
-            tip: name of the tip link or frame; ``None`` takes the chain's last link.
+            tip: name of the tip link. ``None`` takes the end link of the longest chain
+                (most joint coordinates, then most joints, then the first in the file) and,
+                when the URDF has several end links, logs a warning naming the one taken.
 
         Raises:
-            URDFError: missing file, malformed XML, not a serial chain, unsupported joint.
+            URDFError: missing file, malformed XML, several root links, an unsupported
+                joint type (floating, planar), a mimic joint that does not follow a movable
+                joint, or no movable joint on the path to the tip.
             FrameNotFoundError: ``tip`` is not a link of the URDF (the message lists them).
             JointLimitError: a joint's lower limit is not below its upper limit.
         """
@@ -244,28 +447,45 @@ class Robot:
     # ------------------------------------------------------------------ properties
     @property
     def nq(self) -> int:
-        """Number of joint coordinates."""
-        return len(self.chain)
+        """Number of joint coordinates (continuous joints count once, mimic joints not)."""
+        return int(self.model.nq)
 
     @property
     def joint_names(self) -> list[str]:
         """Joint names in the order of ``q``."""
-        return [j.name for j in self.chain]
+        return [j.name for j in self.chain if not j.mimic]
 
     @property
     def joint_types(self) -> list[str]:
-        """``"revolute"`` or ``"prismatic"`` per joint."""
-        return [j.kind for j in self.chain]
+        """``"revolute"`` (continuous joints too) or ``"prismatic"`` per joint."""
+        return [j.kind for j in self.chain if not j.mimic]
 
     @property
     def lower(self) -> Array:
-        """Lower joint limits (nq,) [rad or m]."""
+        """Lower joint limits (nq,) [rad or m]; ``-inf`` for continuous joints."""
         return np.array(self.model.lowerPositionLimit, float)
 
     @property
     def upper(self) -> Array:
-        """Upper joint limits (nq,) [rad or m]."""
+        """Upper joint limits (nq,) [rad or m]; ``+inf`` for continuous joints."""
         return np.array(self.model.upperPositionLimit, float)
+
+    @property
+    def sampling_lower(self) -> Array:
+        """Lower end (nq,) [rad or m] of the box that random samplers draw ``q`` from.
+
+        :attr:`lower`, except ``-π`` where it is infinite (continuous joints): every
+        angle of such a joint is reached within one turn, ``[-π, π]``. For the multi-start
+        of IPOPT, the metaheuristics' populations and the Monte Carlo workspace.
+        """
+        lower = self.lower
+        return np.where(np.isfinite(lower), lower, -math.pi)
+
+    @property
+    def sampling_upper(self) -> Array:
+        """Upper end (nq,) [rad or m] of the sampling box: :attr:`upper`, ``π`` where infinite."""
+        upper = self.upper
+        return np.where(np.isfinite(upper), upper, math.pi)
 
     @property
     def velocity_limit(self) -> Array:
@@ -289,7 +509,8 @@ class Robot:
     def with_limits(self, **ranges: tuple[float, float]) -> Robot:
         """A copy with some joints' position limits replaced, by joint name [rad or m].
 
-        Example: ``robot.with_limits(z0=(-0.005, 0.040))`` widens peng2025's stroke.
+        Example: ``robot.with_limits(z0=(-0.005, 0.040))`` widens peng2025's stroke. A
+        continuous joint given a range becomes bounded (and so does its sampling box).
 
         Raises:
             JointLimitError: unknown joint, non-finite values, or lower >= upper.
@@ -319,7 +540,8 @@ class Robot:
         return new
 
     def __repr__(self) -> str:
-        joints = ", ".join(f"{j.name}:{j.kind[0].upper()}" for j in self.chain)
+        joints = ", ".join(f"{name}:{kind[0].upper()}"
+                           for name, kind in zip(self.joint_names, self.joint_types, strict=True))
         return f"Robot({self.name!r}, nq={self.nq}, joints=[{joints}], tip={self.tip!r})"
 
     # ------------------------------------------------------------------ input checks
@@ -378,7 +600,11 @@ class Robot:
         return self.fk(q)[:3, 3]
 
     def jacobian(self, q: object) -> Array:
-        """Tip Jacobian (6, nq): rows ``[v; ω]`` in the world-aligned frame at the tip."""
+        """Tip Jacobian (6, nq): rows ``[v; ω]`` in the world-aligned frame at the tip.
+
+        A mimic joint on the path adds ``scaling`` times its own column to its leader's
+        (the chain rule; Pinocchio's mimic joints do it).
+        """
         qa = self.check_q(q)
         return pin.computeFrameJacobian(
             self.model, self.data, qa, self.tip_id, pin.LOCAL_WORLD_ALIGNED
@@ -403,7 +629,9 @@ class Robot:
         return self._fk_batch_rp(self.check_q_batch(Q))[1]
 
     def joint_origins(self, Q: object) -> Array:
-        """World positions (n, nq + 1, 3) [m] of every joint frame's origin, then the tip.
+        """World positions (n, len(chain) + 1, 3) [m] of every joint frame's origin, then the tip.
+
+        ``len(chain)`` is ``nq`` unless mimic joints lie on the path (they have frames too).
 
         For drawing the arm as a stick figure and checking links against obstacles.
         """
@@ -418,12 +646,14 @@ class Robot:
         n = Q.shape[0]
         cols = [np.tile(e[:, None], (1, n)) for e in np.eye(3)]
         p = np.zeros((3, n))
-        for k, j in enumerate(self.chain):
+        for j in self.chain:
             p = p + _combine(cols, j.placement[:3, 3])
             if frames is not None:
                 frames.append(np.broadcast_to(p, (3, n)))
             cols = _rotate_const(cols, j.placement[:3, :3])
-            q = Q[:, k]
+            q = Q[:, j.index]
+            if j.mimic:
+                q = j.scaling * q + j.offset
             if j.kind == "prismatic":
                 p = p + _combine(cols, j.axis) * q
             else:
@@ -453,8 +683,8 @@ class Robot:
         """
         q0 = np.clip(np.zeros(self.nq), self.lower, self.upper)
         pin.forwardKinematics(self.model, self.data, q0)
-        axes = [self.data.oMi[k + 1].rotation @ j.axis
-                for k, j in enumerate(self.chain) if j.kind == "revolute"]
+        axes = [self.data.oMi[k].rotation @ j.axis
+                for k, j in enumerate(self.chain, start=1) if j.kind == "revolute"]
         if not axes:
             return None
         n = axes[0] / np.linalg.norm(axes[0])
@@ -580,3 +810,44 @@ def load_robot(name: str | Path, tip: str | None = None) -> Robot:
         robot.metadata = tomllib.loads(path.read_text())
         return robot
     return Robot.from_urdf(path, tip)
+
+
+#: the optional package of robot descriptions, and the extra that installs it
+EXAMPLE_ROBOT_DATA = "example-robot-data"
+ROBOTS_EXTRA = "pip install 'scara-opt[robots]'"
+
+
+def example_robot_data_urdf(relative: str) -> Path:
+    """Path of a URDF shipped by the optional ``example-robot-data`` package.
+
+    The package (version 4.4 and later) holds only the robot files, under
+    ``…/share/example-robot-data/robots/``; they are found through the installed
+    distribution's file list, without importing anything.
+
+    Args:
+        relative: the file's path below ``robots/``, e.g.
+            ``"panda_description/urdf/panda.urdf"`` or ``"ur_description/urdf/ur5_robot.urdf"``.
+
+    Returns:
+        The absolute path of the URDF file.
+
+    Raises:
+        ModuleNotFoundError: ``example-robot-data`` is not installed (the message names
+            the extra to install).
+        URDFError: the package has no such file (the message lists its URDFs).
+    """
+    from importlib import metadata
+
+    try:
+        files = metadata.distribution(EXAMPLE_ROBOT_DATA).files or []
+    except metadata.PackageNotFoundError:
+        raise ModuleNotFoundError(f"{EXAMPLE_ROBOT_DATA} is not installed; {ROBOTS_EXTRA}",
+                                  name=EXAMPLE_ROBOT_DATA) from None
+    suffix = "/robots/" + relative.strip("/")
+    match = [f for f in files if f.as_posix().endswith(suffix)]
+    if not match:
+        urdfs = sorted(f.as_posix().split("/robots/", 1)[1] for f in files
+                       if f.suffix == ".urdf" and "/robots/" in f.as_posix())
+        raise URDFError(f"{EXAMPLE_ROBOT_DATA} has no file robots/{relative}; its URDFs: "
+                        f"{', '.join(urdfs)}; pass one of these paths")
+    return Path(str(match[0].locate())).resolve()

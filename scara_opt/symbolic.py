@@ -28,22 +28,27 @@ def build_symbolic_fk(chain: Sequence[ChainJoint], tip_placement: np.ndarray,
                       name: str = "fk") -> ca.Function:
     """casadi Function ``q (nq,) -> (p (3,), R (3×3))`` of the tip pose in the world frame.
 
+    A mimic joint of the chain turns by ``scaling * q[index] + offset``; every other joint
+    by ``q[index]`` (continuous joints included: ``q`` holds their angle).
+
     Args:
-        chain: the movable joints in order (placement in the parent frame, kind, axis).
+        chain: the movable joints in order (placement in the parent frame, kind, axis,
+            the entry of ``q`` that drives it).
         tip_placement: 4×4 placement of the tip in the last joint's frame [m].
         name: the Function's name.
     """
-    q = ca.SX.sym("q", len(chain))
+    q = ca.SX.sym("q", sum(not j.mimic for j in chain))
     R: ca.SX = ca.SX.eye(3)
     p: ca.SX = ca.SX.zeros(3)
-    for k, j in enumerate(chain):
+    for j in chain:
         p = p + R @ ca.DM(j.placement[:3, 3])
         if not np.array_equal(j.placement[:3, :3], np.eye(3)):
             R = R @ ca.DM(j.placement[:3, :3])
+        value = j.scaling * q[j.index] + j.offset if j.mimic else q[j.index]
         if j.kind == "prismatic":
-            p = p + (R @ ca.DM(j.axis)) * q[k]
+            p = p + (R @ ca.DM(j.axis)) * value
         else:
-            R = R @ _rotation(j.axis, q[k])
+            R = R @ _rotation(j.axis, value)
     p = p + R @ ca.DM(tip_placement[:3, 3])
     R = R @ ca.DM(tip_placement[:3, :3])
     return ca.Function(name, [q], [ca.simplify(p), ca.simplify(R)], ["q"], ["p", "R"])

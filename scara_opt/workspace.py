@@ -624,7 +624,7 @@ def workspace(robot: Robot, n: int = 60_000, seed: int | np.random.Generator | N
     """
     _check_args(robot, n, grid, footprint)
     rng = seed if isinstance(seed, np.random.Generator) else np.random.default_rng(seed)
-    Q = rng.uniform(robot.lower, robot.upper, (int(n), robot.nq))
+    Q = rng.uniform(robot.sampling_lower, robot.sampling_upper, (int(n), robot.nq))
     plane = workspace_plane(robot)
     zone = Footprint.from_robot(robot) if footprint is True else (footprint or None)
     if zone is None:

@@ -164,15 +164,14 @@ def test_malformed_xml_raises_urdf_error(tmp_path):
         so.Robot.from_urdf(_write(tmp_path, "<notrobot/>"))
 
 
-def test_branching_chain_raises_urdf_error(tmp_path):
-    """A tree with two end links is refused, naming them and the remedy."""
+def test_branching_tree_keeps_the_path_to_the_tip(tmp_path):
+    """A tree loads: tip=None takes the longest chain, a named tip locks the other branch."""
     text = _urdf(["b", "l1", "l2", "l3"], [("j1", "revolute", "b", "l1"),
                                             ("j2", "revolute", "l1", "l2"),
                                             ("j3", "revolute", "l1", "l3")])
-    with pytest.raises(so.URDFError, match=r"branches.*'l2'.*'l3'|branches.*'l3'.*'l2'"):
-        so.Robot.from_urdf(_write(tmp_path, text))
-    with pytest.raises(so.URDFError, match=r"movable joints \[.j3.\] are not on the path"):
-        so.Robot.from_urdf(_write(tmp_path, text), tip="l2")
+    assert so.Robot.from_urdf(_write(tmp_path, text)).tip == "l2"  # first of two as long
+    robot = so.Robot.from_urdf(_write(tmp_path, text), tip="l3")
+    assert robot.joint_names == ["j1", "j3"] and robot.locked == {"j2": 0.0}
 
 
 def test_unknown_tip_lists_the_frames(tmp_path):
@@ -183,12 +182,12 @@ def test_unknown_tip_lists_the_frames(tmp_path):
 
 
 def test_inverted_urdf_limits_and_unsupported_joints(tmp_path):
-    """lower >= upper is a JointLimitError; continuous joints are refused with a remedy."""
+    """lower >= upper is a JointLimitError; a floating joint is refused with a remedy."""
     text = _urdf(["b", "l1"], [("j1", "revolute", "b", "l1", 1, -1)])
     with pytest.raises(so.JointLimitError, match="'j1'.*swap"):
         so.Robot.from_urdf(_write(tmp_path, text))
-    text = _urdf(["b", "l1"], [("j1", "continuous", "b", "l1")])
-    with pytest.raises(so.URDFError, match="continuous"):
+    text = _urdf(["b", "l1"], [("j1", "floating", "b", "l1")])
+    with pytest.raises(so.URDFError, match="'j1' is 'floating'.*fixed"):
         so.Robot.from_urdf(_write(tmp_path, text))
 
 

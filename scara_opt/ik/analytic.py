@@ -123,6 +123,8 @@ def _extract(robot: Robot) -> ScaraGeometry:
     n = robot.yaw_axis
     if n is None:
         raise refuse("has revolute axes that are not all parallel")
+    if any(j.mimic for j in robot.chain):
+        raise refuse("has mimic joints on its path")
     e1, e2 = robot.yaw_basis()
     nq = robot.nq
     q_zero = np.zeros(nq)
@@ -269,7 +271,8 @@ def _with_wrist(robot: Robot, geom: ScaraGeometry, target: Target, q: Array) -> 
         return [q] if abs(math.remainder(yaw - target.yaw, 2 * math.pi)) <= 1e-12 else []
     rest = geom.yaw0 + q @ geom.s - geom.s[w] * q[w]
     out = []
-    for v in _turns(geom.s[w] * (target.yaw - rest), robot.lower[w], robot.upper[w]):
+    for v in _turns(geom.s[w] * (target.yaw - rest), robot.sampling_lower[w],
+                    robot.sampling_upper[w]):
         qw = q.copy()
         qw[w] = v
         out.append(qw)

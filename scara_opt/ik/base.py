@@ -77,7 +77,7 @@ def check_q0(robot: Robot, q0: object | None) -> Array | None:
 
 def default_q0(robot: Robot) -> Array:
     """The start used when ``q0`` is None: zero where within the limits, else mid-range."""
-    mid = 0.5 * (robot.lower + robot.upper)
+    mid = 0.5 * (robot.sampling_lower + robot.sampling_upper)
     zero_ok = (robot.lower <= 0) & (robot.upper >= 0)
     return np.where(zero_ok, 0.0, mid)
 

@@ -230,7 +230,7 @@ class IpoptSolver(Solver):
         statuses = []
         for k in range(int(opts["restarts"]) + 1):
             if k > 0:
-                starts.append(rng.uniform(lbx, ubx))
+                starts.append(rng.uniform(robot.sampling_lower, robot.sampling_upper))
             x0 = starts[-1]
             sol = nlp.solver(x0=x0, p=_params(target, q_ref, lam), lbx=lbx, ubx=ubx)
             stats = nlp.solver.stats()

@@ -1,0 +1,259 @@
+"""The population loop shared by every metaheuristic (template method over :class:`Solver`).
+
+:class:`PopulationSolver` owns everything that is not the update rule: the box of joint
+limits and how a move that leaves it is brought back, the seeded random generator, the
+batch cost, the evaluation count, the best-so-far bookkeeping, ``history`` and the two
+stopping rules. A metaheuristic writes :meth:`PopulationSolver.initialize` (build its
+state from the first, already costed population) and :meth:`PopulationSolver.advance`
+(one generation).
+"""
+
+from __future__ import annotations
+
+import math
+from abc import abstractmethod
+from dataclasses import dataclass
+from typing import Any, ClassVar, Generic, TypeVar
+
+import numpy as np
+from numpy.typing import NDArray
+
+from scara_opt.errors import InputError
+from scara_opt.ik.base import Solver, SolverOutput
+from scara_opt.ik.task import cost_batch, wrap_angle
+from scara_opt.robot import Robot
+from scara_opt.target import Target
+
+Array = NDArray[np.float64]
+
+
+@dataclass
+class Population:
+    """The current individuals and their costs; metaheuristics subclass it to add state.
+
+    Attributes:
+        X: (n, nq) joint vectors [rad or m], every row within the joint limits.
+        f: (n,) their task costs (zavar2024 eq. 8 / nguyen eq. 10) [m and rad].
+    """
+
+    X: Array
+    f: Array
+
+
+class Problem:
+    """The search box and the counted, vectorised cost of one IK solve.
+
+    The box is the robot's joint limits, except that a joint without limits (a
+    continuous joint) is searched over one turn, ``[-π, π]``
+    (:attr:`Robot.sampling_lower` / :attr:`Robot.sampling_upper`).
+
+    Bounds rule (the only one any metaheuristic uses, through :meth:`repair`): a
+    coordinate that leaves ``[lower, upper]`` is **reflected** once at the limit it
+    crossed, then **clipped**, so a step that overshoots by more than the whole range
+    lands on the limit. Reflection keeps the step's length and does not pile
+    individuals up on the limits the way clipping alone does. A continuous joint's
+    angle is **wrapped** into ``[-π, π)`` instead: the same angle, no limit to hit.
+
+    Attributes:
+        robot: the robot.
+        target: the IK target.
+        lower: (nq,) lower end of the search box [rad or m].
+        upper: (nq,) upper end of the search box [rad or m].
+        span: (nq,) ``upper - lower``.
+        periodic: (nq,) bool, the joints without limits (wrapped, not reflected).
+        stop_cost: a cost at or below which the residual is within ``tol`` (see
+            :meth:`PopulationSolver._solve`).
+        evaluations: FK evaluations so far (rows passed to :meth:`cost`).
+    """
+
+    def __init__(self, robot: Robot, target: Target, tol: float) -> None:
+        self.robot = robot
+        self.target = target
+        self.lower: Array = robot.sampling_lower
+        self.upper: Array = robot.sampling_upper
+        self.span: Array = self.upper - self.lower
+        self.periodic = ~(np.isfinite(robot.lower) & np.isfinite(robot.upper))
+        wp, wa = target.weights
+        # cost^2 = wp^2 |dp|^2 + wa^2 da^2 >= min(wp, wa)^2 max(|dp|, |da|)^2 = (w error)^2
+        w = wp if target.kind == "position" else min(wp, wa)
+        self.stop_cost = tol * w * (1.0 - 1e-9)
+        self.evaluations = 0
+
+    @property
+    def nq(self) -> int:
+        """Number of joint coordinates."""
+        return self.lower.shape[0]
+
+    def cost(self, X: Array) -> Array:
+        """Costs (n,) of ``X`` (n, nq): one vectorised FK call, counted in :attr:`evaluations`."""
+        self.evaluations += X.shape[0]
+        return cost_batch(self.robot, self.target, X)
+
+    def cost_one(self, x: Array) -> float:
+        """Cost of one configuration ``x`` (nq,) (for scalar local searches such as Nelder–Mead)."""
+        return float(self.cost(x[None, :])[0])
+
+    def repair(self, X: Array) -> Array:
+        """``X`` (n, nq) brought into the box (reflect, clip; wrap continuous joints)."""
+        lo, hi = self.lower, self.upper
+        Y = np.where(X < lo, 2.0 * lo - X, X)
+        Y = np.clip(np.where(Y > hi, 2.0 * hi - Y, Y), lo, hi)
+        if self.periodic.any():
+            Y[:, self.periodic] = wrap_angle(X[:, self.periodic])
+        return Y
+
+    def uniform(self, rng: np.random.Generator, n: int) -> Array:
+        """``n`` configurations (n, nq) drawn uniformly within the search box."""
+        return rng.uniform(self.lower, self.upper, (n, self.nq))
+
+
+def check_number(name: str, value: Any, low: float, high: float = math.inf, *,
+                 integer: bool = False, low_open: bool = False) -> None:
+    """Refuse an option value outside ``[low, high]`` (``(low, high]`` if ``low_open``).
+
+    Raises:
+        InputError: wrong type or out of range; the message names the option and range.
+    """
+    ok_type = isinstance(value, (int, np.integer)) if integer else isinstance(
+        value, (int, float, np.integer, np.floating))
+    ok = ok_type and not isinstance(value, bool) and not math.isnan(value)
+    if ok:
+        ok = (value > low if low_open else value >= low) and value <= high
+    if not ok:
+        kind = "an integer" if integer else "a number"
+        bracket = "(" if low_open else "["
+        raise InputError(f"option {name}={value!r} must be {kind} in {bracket}{low:g}, {high:g}]")
+
+
+S = TypeVar("S", bound=Population)
+
+
+class PopulationSolver(Solver, Generic[S]):
+    """Base of the population metaheuristics: the generation loop (template method).
+
+    One solve runs:
+
+    1. the first population: ``population`` configurations drawn uniformly within the
+       joint limits; if ``q0`` is given it replaces the first of them (so a good start is
+       kept as one individual, never forced on the others);
+    2. :meth:`initialize` builds the algorithm's state from it;
+    3. up to ``iterations`` generations of :meth:`advance`, stopping early once the best
+       cost is at most ``tol`` times the smallest task weight in use (the cost is a
+       weighted Euclidean norm of the task errors, so that bound implies ``error <= tol``).
+
+    Every cost goes through :meth:`Problem.cost` — one vectorised FK batch per call, no
+    Python loop over individuals — which counts the evaluations; every move goes through
+    :meth:`Problem.repair`, so every individual stays within the joint limits. The best
+    configuration ever costed is returned, and ``history[k]`` is the best cost after
+    generation ``k`` (``history[0]``: the first population), so ``history`` never
+    increases and has ``iterations + 1`` entries. Randomness comes only from the
+    generator seeded by :meth:`Solver.solve`: same seed, same result.
+
+    Options (all in :attr:`defaults`):
+        population: individuals per generation (default 60).
+        iterations: maximum number of generations (default 200).
+    """
+
+    defaults: ClassVar[dict[str, Any]] = {"population": 60, "iterations": 200}
+    #: the smallest population the algorithm's update rule works with
+    min_population: ClassVar[int] = 2
+
+    def __init__(self, **options: Any) -> None:
+        super().__init__(**options)
+        check_number("population", self.options["population"], self.min_population,
+                     integer=True)
+        check_number("iterations", self.options["iterations"], 1, integer=True)
+        self.check_options()
+
+    def check_options(self) -> None:
+        """Validate the algorithm's own options (override; called at construction).
+
+        Raises:
+            InputError: an option value outside its range.
+        """
+
+    def _solve(self, robot: Robot, target: Target, q0: Array | None,
+               rng: np.random.Generator, tol: float) -> SolverOutput:
+        problem = Problem(robot, target, tol)
+        X = problem.uniform(rng, int(self.options["population"]))
+        if q0 is not None:
+            X[0] = q0
+        state = self.initialize(problem, Population(X, problem.cost(X)), rng)
+        i = int(np.argmin(state.f))
+        best_q, best_f = state.X[i].copy(), float(state.f[i])
+        history = [best_f]
+        generations = 0
+        while generations < int(self.options["iterations"]) and best_f > problem.stop_cost:
+            state = self.advance(problem, state, rng, generations)
+            generations += 1
+            i = int(np.argmin(state.f))
+            if state.f[i] < best_f:
+                best_q, best_f = state.X[i].copy(), float(state.f[i])
+            history.append(best_f)
+        return SolverOutput(q=best_q, iterations=generations, evaluations=problem.evaluations,
+                            history=np.asarray(history),
+                            message=f"best cost {best_f:.3g} after {generations} generations")
+
+    @abstractmethod
+    def initialize(self, problem: Problem, population: Population,
+                   rng: np.random.Generator) -> S:
+        """The algorithm's state from the first, already costed population.
+
+        Algorithms with more state than positions and costs (velocities, an archive, a
+        belief space) return a :class:`Population` subclass.
+
+        Args:
+            problem: bounds, repair rule and counted cost.
+            population: the first population (X (n, nq), f (n,)).
+            rng: the solve's random generator.
+        """
+
+    @abstractmethod
+    def advance(self, problem: Problem, state: S, rng: np.random.Generator, t: int) -> S:
+        """One generation: move the individuals, cost them in batch, return the new state.
+
+        Args:
+            problem: bounds, repair rule and counted cost.
+            state: the state returned by :meth:`initialize` or the previous :meth:`advance`.
+            rng: the solve's random generator (the only source of randomness).
+            t: index of this generation, ``0 <= t < iterations`` (for schedules).
+
+        Returns:
+            The new state; its ``X`` rows must lie within the limits.
+        """
+
+    def progress(self, t: int) -> float:
+        """Fraction of the generation budget used before generation ``t``, in [0, 1)."""
+        return t / int(self.options["iterations"])
+
+    def cooled(self, start: float, end: float, t: int) -> float:
+        r"""A step size cooled geometrically over the budget: :math:`s_0 (s_1/s_0)^{t/T}`.
+
+        Args:
+            start: :math:`s_0`, the value at the first generation (> 0).
+            end: :math:`s_1`, the value the last generation approaches (> 0).
+            t: the generation index.
+        """
+        return start * (end / start) ** self.progress(t)
+
+
+def greedy(old: Population, X: Array, f: Array) -> None:
+    """Replace, row by row, the individuals of ``old`` whose new position ``X`` costs less.
+
+    Args:
+        old: the population, updated in place.
+        X: (n, nq) candidate positions, one per individual.
+        f: (n,) their costs.
+    """
+    better = f < old.f
+    old.X[better] = X[better]
+    old.f[better] = f[better]
+
+
+def truncate(X: Array, f: Array, n: int) -> Population:
+    """The ``n`` cheapest rows of ``X`` (m, nq) with costs ``f`` (m,), sorted by cost.
+
+    A stable sort, so ties keep their order and the result is reproducible.
+    """
+    order = np.argsort(f, kind="stable")[:n]
+    return Population(X[order], f[order])

@@ -1,0 +1,79 @@
+"""Grey wolf optimiser (GWO): the pack follows its alpha, beta and delta wolves."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Any, ClassVar
+
+import numpy as np
+
+from scara_opt.ik.registry import register_solver
+from scara_opt.metaheuristics.base import (
+    Array,
+    Population,
+    PopulationSolver,
+    Problem,
+    check_number,
+    truncate,
+)
+
+
+@dataclass
+class Pack(Population):
+    """Wolves and their three leaders.
+
+    Attributes:
+        leaders: (3, nq) alpha, beta and delta: the three best positions found so far.
+        leader_f: (3,) their costs, ascending.
+    """
+
+    leaders: Array
+    leader_f: Array
+
+
+@register_solver("gwo")
+class GreyWolfSolver(PopulationSolver[Pack]):
+    r"""Grey wolf optimiser, zavar2024 Algorithm 2 (Mirjalili et al. 2014, eqs. 3.1–3.7).
+
+    Every wolf :math:`X` moves to the mean of three positions, one set by each leader
+    :math:`X_k \in \{X_α, X_β, X_δ\}` (the three best positions found so far), with
+    fresh :math:`r_1, r_2 \sim U(0, 1)` per leader, wolf and joint:
+
+    .. math::
+        A = 2 a r_1 - a, \quad C = 2 r_2, \quad D_k = |C X_k - X|, \quad
+        X'_k = X_k - A D_k, \qquad X \leftarrow (X'_α + X'_β + X'_δ) / 3
+
+    with :math:`a` falling linearly from ``a_start`` to 0 over the ``iterations``
+    generations (:math:`|A| > 1` explores, :math:`|A| < 1` closes in on the prey).
+
+    Options:
+        population: wolves (default 60, at least 3).
+        iterations: generations (default 200); also sets the schedule of :math:`a`.
+        a_start: initial value of :math:`a` (default 2, as in the paper).
+    """
+
+    name = "gwo"
+    defaults: ClassVar[dict[str, Any]] = {"population": 60, "iterations": 200, "a_start": 2.0}
+    min_population = 3
+
+    def check_options(self) -> None:
+        """Validate ``a_start`` (a positive number, at most 4)."""
+        check_number("a_start", self.options["a_start"], 0.0, 4.0, low_open=True)
+
+    def initialize(self, problem: Problem, population: Population,
+                   rng: np.random.Generator) -> Pack:
+        """The pack with its three best wolves as leaders."""
+        lead = truncate(population.X, population.f, 3)
+        return Pack(population.X, population.f, leaders=lead.X, leader_f=lead.f)
+
+    def advance(self, problem: Problem, state: Pack, rng: np.random.Generator,
+                t: int) -> Pack:
+        """Move every wolf toward the three leaders (eq. 3.7), then re-elect the leaders."""
+        a = self.options["a_start"] * (1.0 - self.progress(t))
+        L = state.leaders[:, None, :]                      # (3, 1, nq)
+        r1, r2 = rng.random((2, 3, *state.X.shape))        # (3, n, nq) each
+        A, C = 2.0 * a * r1 - a, 2.0 * r2
+        X = problem.repair((L - A * np.abs(C * L - state.X)).mean(axis=0))
+        f = problem.cost(X)
+        lead = truncate(np.vstack([state.leaders, X]), np.concatenate([state.leader_f, f]), 3)
+        return Pack(X, f, leaders=lead.X, leader_f=lead.f)
