@@ -89,21 +89,41 @@ def _paper_target(robot: so.Robot, rep: PaperReport) -> None:
 
 
 def _table2_findings(summary: pd.DataFrame, methods: list[str], rep: PaperReport) -> None:
+    """Per algorithm: does it reach 1e-6 m, as the paper's Table 2 claims (or not)?
+
+    The paper's cost column is the squared error (cost ~1e-33 next to errors ~1e-17), so it
+    claims 1e-6 m where sqrt(cost) <= 1e-6 at population 100.
+    """
     for m in methods:
         rows = summary[summary["method"] == m]
-        rate = rows["within_tol"].mean()
-        best = rows["error"].min()
+        top = rows[rows["population"] == rows["population"].max()].iloc[0]
+        paper_cost = PAPER_TABLE2[(m, 100)][1]
+        paper_reaches = bool(np.sqrt(paper_cost) <= 1e-6)
+        ours_reaches = bool(top["within_tol"] >= 0.5)
         rep.findings.append(Finding(
-            f"Table 2, {m.upper()}: error at 200 iterations (median over seeds)",
-            "see paper (at its unreachable target)",
-            f"median error {best:.1e} m at best; {rate:.0%} of runs within 1e-6 m",
-            "differs" if rate < 1 else "matched",
-            "the paper's errors were at an unreachable target and cannot be reproduced"))
+            f"Table 2, {m.upper()} at population {int(top['population'])}, 200 iterations",
+            f"cost {paper_cost:.2g} (error {np.sqrt(paper_cost):.1g} m): "
+            f"{'reaches' if paper_reaches else 'misses'} 1e-6 m",
+            f"median error {top['error']:.1e} m; {top['within_tol']:.0%} of runs within 1e-6 m",
+            "matched" if ours_reaches == paper_reaches else "differs",
+            "rerun at the reachable (-0.23, 0.20, -0.07) m; the paper's numbers are at its "
+            "unreachable target"))
     speed = summary["speedup_vs_paper"].median()
     rep.findings.append(Finding(
-        "Table 2 / Fig. 5: time per solve", "0.24-17 s (MATLAB)",
+        "Table 2 / Fig. 5: time per solve", "0.24-17 s (MATLAB, i3 2.4 GHz)",
         f"{summary['time_s'].median() * 1e3:.1f} ms median", "differs",
         f"{speed:.0f}x faster than the paper's times (median over rows); different machines"))
+    meta = summary[summary["method"].isin(methods)]
+    ranked = meta.groupby("method").agg(rate=("within_tol", "mean"), time=("time_s", "median"))
+    ranked = ranked.sort_values(["rate", "time"], ascending=[False, True])
+    best = str(ranked.index[0])
+    rep.findings.append(Finding(
+        "Conclusion: the best algorithm", "CA best overall (error, cost and time together)",
+        f"{best.upper()} (share within 1e-6 m {ranked['rate'].iloc[0]:.0%}, "
+        f"{ranked['time'].iloc[0] * 1e3:.0f} ms); order: "
+        + ", ".join(m.upper() for m in ranked.index),
+        "matched" if best == "ca" else "differs",
+        "ranked by the share of runs within 1e-6 m, then by median time"))
     exact = summary[summary["method"].isin(["ipopt", "analytic"])]
     for _, row in exact.iterrows():
         rep.notes.append(f"reference {row['method']}: error {row['error']:.1e} m in "
@@ -119,7 +139,7 @@ def _circle(robot: so.Robot, rep: PaperReport, out: Path, methods: list[str],
         "all points solved (Fig. 7)",
         f"all unreachable, residual {min(residuals):.4f}-{max(residuals):.4f} m",
         "paper inconsistent",
-        "|theta2| <= 120 deg with a1 = a2 = 0.2 m leaves a hole of radius 0.2 m around the base"))
+        "theta2 within +-120 deg with a1 = a2 = 0.2 m leaves a hole of radius 0.2 m around the base"))
     circle = circle_targets(0.30, -0.07)
     table = compare(robot, circle, methods=methods, populations=[60], iterations=200,
                     seeds=seeds, tol=1e-9, progress=False)
