@@ -187,6 +187,7 @@ def convergence(table: pd.DataFrame) -> dict[tuple[str, Any], np.ndarray]:
             continue
         n = max(len(h) for h in hists)
         padded = np.array([np.pad(h, (0, n - len(h)), mode="edge") for h in hists])
-        curves[(key[0], None if (isinstance(key[1], float) and math.isnan(key[1]))
-                else key[1])] = np.median(padded, axis=0)
+        pop = None if key[1] is None or (isinstance(key[1], float) and math.isnan(key[1])) \
+            else int(key[1])
+        curves[(key[0], pop)] = np.median(padded, axis=0)
     return curves

@@ -130,7 +130,7 @@ def plot_convergence(curves: Mapping[tuple[str, Any], np.ndarray], path: str | P
     fig = _figure(figsize=(4 * min(3, len(methods)), 3.2 * ((len(methods) + 2) // 3)))
     for i, method in enumerate(methods):
         ax = fig.add_subplot((len(methods) + 2) // 3, min(3, len(methods)), i + 1)
-        for (m, pop), h in sorted(curves.items(), key=lambda kv: str(kv[0][1])):
+        for (m, pop), h in sorted(curves.items(), key=lambda kv: kv[0][1] or 0):
             if m == method:
                 ax.semilogy(np.arange(1, len(h) + 1), np.maximum(h, 1e-17),
                             label=f"pop {pop}" if pop is not None else m)
