@@ -29,6 +29,7 @@ from pathlib import Path
 import numpy as np
 
 import scara_opt as so
+from scara_opt.plots import draw_robot
 from scara_opt.robot import ROBOTS_EXTRA, example_robot_data_urdf
 
 URDF = "panda_description/urdf/panda.urdf"  # below example-robot-data's robots/ folder
@@ -88,14 +89,9 @@ def solve_all(robot: so.Robot, poses: list[so.Target]) -> list[np.ndarray]:
 
 
 def timed_path(robot: so.Robot, solutions: list[np.ndarray]) -> None:
-    """Time the path home -> each solution with ``TIMING``, if the trajectory module exists."""
-    try:
-        from scara_opt.trajectory import time_parameterize
-    except ImportError:
-        print("(scara_opt.trajectory is not available: no time-optimal path)")
-        return
+    """Time the path home -> each solution with ``TIMING``."""
     Q = np.vstack([np.clip(np.zeros(robot.nq), robot.lower, robot.upper), *solutions])
-    traj = time_parameterize(Q, robot, method=TIMING, amax=np.array(AMAX))
+    traj = so.time_parameterize(Q, robot, method=TIMING, amax=np.array(AMAX))
     ratios = traj.check_limits()
     print(f"{TIMING} path through {len(Q)} waypoints: {traj.duration:.3f} s; largest "
           f"|qd|/vmax = {ratios['velocity'].max():.3f}, |qdd|/amax = "
@@ -107,11 +103,9 @@ def main() -> None:
     print(f"{robot}\nlocked: {robot.locked}")
     solutions = solve_all(robot, targets(robot))
     timed_path(robot, solutions)
-    from scara_opt.plots import draw_robot
-
     path = OUT / "panda_pose.png"
     draw_robot(robot, solutions[0], path=path, label="IPOPT solution of target 0")
-    print(f"saved {path}")
+    print(f"wrote {path}")
 
 
 if __name__ == "__main__":
