@@ -640,26 +640,43 @@ class Robot:
         p = self._fk_batch_rp(Qa, frames)[1]
         return np.stack([f.T for f in frames] + [p], axis=1)
 
+    @cached_property
+    def _plan(self) -> tuple[list[tuple], tuple]:
+        """The chain compiled once for :meth:`_fk_batch_rp`: only the non-zero terms remain."""
+        steps = [(_terms(j.placement[:3, 3]), _rotation_terms(j.placement[:3, :3]), j.kind,
+                  _terms(j.axis), _aligned(j.axis), j) for j in self.chain]
+        tip = (_terms(self.tip_placement[:3, 3]), _rotation_terms(self.tip_placement[:3, :3]))
+        return steps, tip
+
     def _fk_batch_rp(self, Q: Array, frames: list[Array] | None = None) -> tuple[Array, Array]:
         # R is kept as its three columns, each (3, n), so every step is a few fused
-        # elementwise operations over the batch instead of stacked 3×3 products.
+        # elementwise operations over the batch instead of stacked 3×3 products; the
+        # constant parts were reduced to their non-zero terms once (_plan).
         n = Q.shape[0]
-        cols = [np.tile(e[:, None], (1, n)) for e in np.eye(3)]
-        p = np.zeros((3, n))
-        for j in self.chain:
-            p = p + _combine(cols, j.placement[:3, 3])
+        cols: list[Array] = [np.tile(e[:, None], (1, n)) for e in np.eye(3)]
+        p: Array = np.zeros((3, n))
+        steps, (tip_t, tip_R) = self._plan
+        for t_terms, R_terms, kind, axis_terms, aligned, j in steps:
+            p = _add_terms(p, cols, t_terms)
             if frames is not None:
-                frames.append(np.broadcast_to(p, (3, n)))
-            cols = _rotate_const(cols, j.placement[:3, :3])
+                frames.append(p)
+            if R_terms is not None:
+                cols = [_sum_terms(cols, col) for col in R_terms]
             q = Q[:, j.index]
             if j.mimic:
                 q = j.scaling * q + j.offset
-            if j.kind == "prismatic":
-                p = p + _combine(cols, j.axis) * q
+            if kind == "prismatic":
+                p = p + _sum_terms(cols, axis_terms) * q
+            elif aligned is not None:
+                a, b, sign = aligned
+                c, s = np.cos(q), np.sin(q) * sign
+                cols = list(cols)
+                cols[a], cols[b] = cols[a] * c + cols[b] * s, cols[b] * c - cols[a] * s
             else:
                 cols = _rotate_var(cols, j.axis, q)
-        p = p + _combine(cols, self.tip_placement[:3, 3])
-        cols = _rotate_const(cols, self.tip_placement[:3, :3])
+        p = _add_terms(p, cols, tip_t)
+        if tip_R is not None:
+            cols = [_sum_terms(cols, col) for col in tip_R]
         return np.stack(cols, axis=-1).transpose(1, 0, 2), p.T
 
     @cached_property
@@ -738,20 +755,39 @@ def _rebuild_robot(init_args: tuple, metadata: dict, limits: tuple) -> Robot:
     return _REBUILT[key]
 
 
-def _combine(cols: list[Array], w: Array) -> Array | float:
-    """Σ_i cols[i] · w[i] for a constant (3,) vector ``w``, skipping zero entries."""
-    out: Array | float = 0.0
-    for c, wi in zip(cols, w, strict=True):
-        if wi != 0.0:
-            out = out + (c if wi == 1.0 else c * wi)
+def _terms(w: Array) -> tuple[tuple[int, float], ...]:
+    """The non-zero entries of a constant (3,) vector as (index, value) pairs."""
+    return tuple((i, float(v)) for i, v in enumerate(w) if v != 0.0)
+
+
+def _rotation_terms(Rf: Array) -> tuple | None:
+    """Per column of a constant 3×3 rotation, its non-zero terms; ``None`` for the identity."""
+    if np.array_equal(Rf, np.eye(3)):
+        return None
+    return tuple(_terms(Rf[:, j]) for j in range(3))
+
+
+def _aligned(axis: Array) -> tuple[int, int, float] | None:
+    """For an axis along ±x, ±y or ±z: the two columns it mixes and its sign; else ``None``."""
+    k = np.flatnonzero(axis)
+    if k.size != 1:
+        return None
+    i = int(k[0])
+    return (i + 1) % 3, (i + 2) % 3, float(np.sign(axis[i]))
+
+
+def _sum_terms(cols: list[Array], terms: tuple[tuple[int, float], ...]) -> Array:
+    """Σ cols[i] · w over the (i, w) terms (at least one term: rotation columns never vanish)."""
+    (i0, w0), *rest = terms
+    out = cols[i0] if w0 == 1.0 else cols[i0] * w0
+    for i, w in rest:
+        out = out + (cols[i] if w == 1.0 else cols[i] * w)
     return out
 
 
-def _rotate_const(cols: list[Array], Rf: Array) -> list[Array]:
-    """Columns of R @ Rf for a constant 3×3 ``Rf``."""
-    if np.array_equal(Rf, np.eye(3)):
-        return cols
-    return [_combine(cols, Rf[:, j]) for j in range(3)]  # type: ignore[misc]
+def _add_terms(p: Array, cols: list[Array], terms: tuple[tuple[int, float], ...]) -> Array:
+    """``p`` + Σ cols[i] · w; ``p`` itself when there are no terms."""
+    return p + _sum_terms(cols, terms) if terms else p
 
 
 def _rotate_var(cols: list[Array], axis: Array, q: Array) -> list[Array]:

@@ -38,6 +38,8 @@ def task_errors(robot: Robot, target: Target, Q: Array) -> tuple[Array, Array | 
     The position error is ``p(q) - p*``. The angle error is the wrapped yaw difference for a
     yaw target and the rotation angle of :math:`R^{*T} R(q)` for a rotation target.
     """
+    if target.kind == "position":  # positions only: no rotation blocks to assemble
+        return robot.positions(Q) - target.position, None
     return errors_from_poses(robot, target, robot.fk_batch(Q))
 
 

@@ -139,7 +139,8 @@ def _circle(robot: so.Robot, rep: PaperReport, out: Path, methods: list[str],
         "all points solved (Fig. 7)",
         f"all unreachable, residual {min(residuals):.4f}-{max(residuals):.4f} m",
         "paper inconsistent",
-        "theta2 within +-120 deg with a1 = a2 = 0.2 m leaves a hole of radius 0.2 m around the base"))
+        "theta2 within +-120 deg with a1 = a2 = 0.2 m leaves a hole of radius 0.2 m around "
+        "the base"))
     circle = circle_targets(0.30, -0.07)
     table = compare(robot, circle, methods=methods, populations=[60], iterations=200,
                     seeds=seeds, tol=1e-9, progress=False)
