@@ -6,7 +6,7 @@ residual was recomputed by the base from the robot's FK. The exact solvers live 
 ``ipopt`` (casadi NLP, the deterministic reference) and ``analytic`` (closed-form SCARA).
 """
 
-from scara_opt.ik import analytic, ipopt  # noqa: F401  (registers the exact solvers)
+from scara_opt.ik import analytic, auto, ipopt, lm  # noqa: F401  (registers the solvers)
 from scara_opt.ik.analytic import ik_all
 from scara_opt.ik.base import Solver, SolverOutput
 from scara_opt.ik.registry import get_solver, register_solver, solve_ik, solvers

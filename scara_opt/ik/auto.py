@@ -1,0 +1,100 @@
+"""The fast route with a certified verdict: Levenberg–Marquardt first, IPOPT before "unreachable".
+
+``method="auto"`` tries, in order, until a start reaches the target:
+
+1. the fast solver (:mod:`scara_opt.ik.lm`) from ``q0`` (or the default start): the
+   solution nearest to ``q0`` on the branch reached from it, the rule of IPOPT;
+2. for SCARA-type robots (position or yaw targets), the fast solver from each
+   closed-form branch (:func:`scara_opt.ik.analytic.solve_all`), nearest to ``q0`` first:
+   each is already a solution, polished and slid toward ``q0`` in a few iterations;
+3. ``restarts`` seeded random starts of the fast solver;
+4. IPOPT's multi-start (:class:`~scara_opt.ik.ipopt.IpoptSolver`, ``ipopt_restarts``),
+   whose verdict, checked against the closed form where it applies, is the only way this
+   method reports ``"unreachable"``; ``q`` is then the closer of the two solvers' answers.
+
+On reachable targets step 1 decides almost always (see ``benchmarks/bench_ik_peers.py``),
+so the cost is that of the fast solver; IPOPT runs only for the rare misses and for
+targets out of reach.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Iterator
+from itertools import chain
+from typing import Any, ClassVar
+
+import numpy as np
+
+from scara_opt.ik.analytic import NotScaraError, solve_all
+from scara_opt.ik.base import Solver, SolverOutput
+from scara_opt.ik.ipopt import IpoptSolver, _errs
+from scara_opt.ik.lm import Search, limits, lm_search, random_starts, search_output
+from scara_opt.ik.registry import register_solver
+from scara_opt.ik.task import error_from
+from scara_opt.robot import Array, Robot
+from scara_opt.target import Target
+
+
+def closed_form_starts(robot: Robot, target: Target, q_ref: Array) -> Iterator[Array]:
+    """Closed-form branches within the limits, nearest to ``q_ref`` first (lazily).
+
+    Nothing for robots that are not SCARA-type or for rotation targets.
+    """
+    try:
+        branches = solve_all(robot, target, q_ref)
+    except NotScaraError:
+        return
+    yield from sorted(branches, key=lambda q: float(np.linalg.norm(q - q_ref)))
+
+
+@register_solver("auto")
+class AutoSolver(Solver):
+    """Fast exact IK with a certified verdict (see the module docstring for the order).
+
+    Options:
+        restarts: random starts of the fast solver after ``q0`` and the closed-form
+            branches (default 10).
+        max_iter: fast-solver iterations per start (default 100).
+        ipopt_restarts: IPOPT's further random starts when the fast solver misses
+            (default 10).
+        jit: compile the fast solver's iterations to C (default False; see
+            :class:`~scara_opt.ik.lm.LevenbergMarquardtSolver`).
+    """
+
+    name = "auto"
+    defaults: ClassVar[dict[str, Any]] = {"restarts": 10, "max_iter": 100,
+                                          "ipopt_restarts": 10, "jit": False}
+    certifies_unreachable = True
+
+    def _solve(self, robot: Robot, target: Target, q0: Array | None,
+               rng: np.random.Generator, tol: float) -> SolverOutput:
+        opts = self.options
+        box, q_default = limits(robot)
+        q_ref = q_default if q0 is None else q0
+        starts = chain([q_ref], closed_form_starts(robot, target, q_ref),
+                       random_starts(robot, rng, int(opts["restarts"])))
+        found = lm_search(robot, target, q_ref, starts, tol=tol, max_iter=int(opts["max_iter"]),
+                          jit=bool(opts["jit"]), box=box)
+        if found.converged:
+            return search_output(found)
+        return self._certify(robot, target, q0, rng, tol, found)
+
+    def _certify(self, robot: Robot, target: Target, q0: Array | None,
+                 rng: np.random.Generator, tol: float, found: Search) -> SolverOutput:
+        """IPOPT's multi-start after the fast solver missed; the closer answer is kept."""
+        ipopt = IpoptSolver(restarts=int(self.options["ipopt_restarts"]))
+        out = ipopt._solve(robot, target, q0, rng, tol)  # the template's hook: no re-judging
+        fast = search_output(found)
+        closer = out if _error(robot, target, out.q) <= _error(robot, target, found.q) else fast
+        message = f"fast solver missed from {found.starts} starts"
+        if out.message:
+            message += f"; then {out.message}"
+        return SolverOutput(q=closer.q, iterations=fast.iterations + out.iterations,
+                            evaluations=fast.evaluations + out.evaluations,
+                            history=np.concatenate([fast.history, out.history]),
+                            status=out.status, message=message)
+
+
+def _error(robot: Robot, target: Target, q: Array) -> float:
+    """The honest residual of ``q`` [m, rad], as the base will judge it."""
+    return error_from(*_errs(robot, target, np.clip(q, robot.lower, robot.upper)))

@@ -1,0 +1,547 @@
+r"""Fast exact IK: bounded Levenberg–Marquardt in casadi, on the IPOPT reference's problem.
+
+The problem is the one of :mod:`scara_opt.ik.ipopt` with a vanishing regulariser, which
+is what IPOPT and its polish aim at: the weighted task residual :math:`r(q)` (the
+position error; plus the NLP's rotation-matrix error, or for a yaw the wrapped angle,
+which vanishes where the NLP's chord does) driven to round-off within the joint bounds,
+and among the configurations that reach the target the one nearest to ``q0`` in
+range-scaled joint coordinates, locally (on the branch reached from the start).
+
+Each start runs three phases, in range-scaled coordinates :math:`u = q / s` (``s``: the
+joint ranges), over the joints that a bound does not hold:
+
+1. **Levenberg–Marquardt** on :math:`\tfrac12\|r\|^2`: :math:`Δu = -J^+_μ r`,
+   :math:`J^+_μ = J^T (J J^T + μ I)^{-1}` (minimum norm: the redundant joints stay put),
+   :math:`μ = λ \|r\|^2` (Yamashita and Fukushima, 2001: quadratic convergence also where
+   the solutions are not isolated); a step is kept when it lowers the residual (then
+   :math:`λ` shrinks tenfold), else refused (:math:`λ` grows tenfold). Joints at a bound
+   whose gradient points outward are held; every candidate is clipped onto the box.
+2. **Slide** along the solution set toward ``q0``: the tangent step
+   :math:`(I - J^+ J)(u_0 - u)` (or a fraction of it, or as far as the first bound), then
+   two Gauss–Newton steps back onto the solution set (a retraction, so curved solution
+   sets such as nguyen's rail + 2R are followed); the candidate nearest to ``q0`` among
+   those nearer than the current point with a residual below 1e-6 is kept.
+   Skipped in effect (one evaluation) where there is no redundancy.
+3. **Polish**: phase 1 again, to round-off, if the slide moved.
+
+Each phase's iteration is one casadi SX :class:`casadi.Function` per robot and task kind
+(FK, Jacobian, active set, damped pseudo-inverse, candidates and the choice), evaluated
+by casadi's virtual machine through :meth:`casadi.Function.buffer`: ~1 µs of call
+overhead and no C compiler at run time. :func:`solve_many` maps the same Functions over
+a batch of targets.
+
+A start that stalls (a local minimum, usually at a joint limit: no progress for
+``STALL_CALLS`` calls) is followed by up to ``restarts`` starts drawn
+uniformly within the limits from the seeded generator; the best configuration is kept.
+The solver cannot prove a target unreachable: the base then asks the exact solvers
+whether a miss is ``"max_iter"`` or ``"unreachable"``; ``method="auto"``
+(:mod:`scara_opt.ik.auto`) adds the IPOPT multi-start itself.
+"""
+
+from __future__ import annotations
+
+import math
+import os
+import tempfile
+import threading
+from collections.abc import Iterable, Iterator, Sequence
+from dataclasses import dataclass, field
+from itertools import chain
+from typing import Any, ClassVar
+
+import casadi as ca
+import numpy as np
+
+from scara_opt.errors import InputError
+from scara_opt.ik.base import Solver, SolverOutput, default_q0
+from scara_opt.ik.ipopt import _angle_error, _params
+from scara_opt.ik.registry import register_solver
+from scara_opt.robot import Array, Robot
+from scara_opt.target import Target
+
+#: damping factor λ of μ = λ‖r‖²: start, floor, ceiling (a start has stalled at the ceiling)
+LAMBDA0, LAMBDA_MIN, LAMBDA_MAX = 1.0, 1e-6, 1e8
+#: added to μ [weighted m²]: keeps the damped pseudo-inverse regular at exact solutions
+MU_FLOOR = 1e-14
+#: slide lengths tried, as fractions of the full tangent step toward q0 (and one to a bound)
+SLIDES = (1.0, 0.5, 0.25, 0.125)
+#: Gauss–Newton steps that bring a slid configuration back onto the solution set
+RETRACTION_STEPS = 2
+#: residual [weighted m, rad] a slide may leave; the polish removes it
+SLIDE_SLACK = 1e-6
+#: a start has converged when ‖r‖ <= TOL_FACTOR * tol * min(weights) and the step <= STEP_TOL
+TOL_FACTOR, STEP_TOL = 1e-2, 1e-12
+#: the slide has converged when its step falls below this [joint ranges]
+SLIDE_TOL = 1e-9
+#: a start has stalled after this many calls in a row without a relative decrease 1e-6
+STALL_CALLS = 2
+#: Levenberg–Marquardt iterations per Function call
+UNROLL = 3
+#: iterations and FK evaluations per Function call (residual and Jacobian, the candidates)
+ITERATIONS = {"lm": UNROLL, "slide": 1}
+EVALS = {"lm": 2 * UNROLL, "slide": 1 + (2 + RETRACTION_STEPS) * (len(SLIDES) + 1)}
+
+_ANGLE_SIZE = {"position": 0, "yaw": 2, "rotation": 9}
+
+
+# ---------------------------------------------------------------------- casadi iterations
+@dataclass
+class _Symbols:
+    """The symbolic inputs shared by both iterations, and the NLP's pieces of them."""
+
+    q: ca.SX
+    par: ca.SX
+    box: ca.SX
+    lo: ca.SX
+    hi: ca.SX
+    s: ca.SX
+    q_ref: ca.SX
+
+    @classmethod
+    def make(cls, robot: Robot, kind: str) -> _Symbols:
+        nq, n_ang = robot.nq, _ANGLE_SIZE[kind]
+        q, box = ca.SX.sym("q", nq), ca.SX.sym("box", 3 * nq)
+        par = ca.SX.sym("par", 3 + n_ang + nq + 3)
+        return cls(q, par, box, box[:nq], box[nq:2 * nq], box[2 * nq:],
+                   par[3 + n_ang:3 + n_ang + nq])
+
+    def clip(self, q: ca.SX) -> ca.SX:
+        """``q`` clipped onto the joint box."""
+        return ca.fmin(ca.fmax(q, self.lo), self.hi)
+
+    def distance(self, q: ca.SX) -> ca.SX:
+        """Squared range-scaled distance to ``q0``."""
+        return ca.sumsqr((q - self.q_ref) / self.s)
+
+
+def _residual(robot: Robot, kind: str, q: ca.SX, par: ca.SX) -> ca.SX:
+    """Weighted task residual r(q) (m,), zero exactly where the NLP's task cost is.
+
+    Position and rotation rows are the NLP's (``ipopt._angle_error``). For a yaw the row
+    is the wrapped angle itself rather than the NLP's 2-row chord (whose length is
+    2 sin(|Δ|/2)): the same solutions, but a residual whose Jacobian has full row rank,
+    which the damped minimum-norm solve needs on redundant robots.
+    """
+    nq, n_ang = robot.nq, _ANGLE_SIZE[kind]
+    wp, wa = par[3 + n_ang + nq], par[4 + n_ang + nq]
+    p, R = robot.symbolic_fk(q)
+    r = wp * (p - par[:3])
+    if kind == "position":
+        return r
+    chord = _angle_error(robot, kind, R, par[3:3 + n_ang])
+    if kind == "yaw":  # heading h = chord + (c, s): angle from (c, s) to h
+        c, s = par[3], par[4]
+        h1, h2 = chord[0] + c, chord[1] + s
+        return ca.vertcat(r, wa * ca.atan2(c * h2 - s * h1, c * h1 + s * h2))
+    return ca.vertcat(r, wa * chord)
+
+
+def _damped_pinv(J: ca.SX, mu: ca.SX | float) -> ca.SX:
+    """:math:`J^T (J J^T + μI)^{-1}` (nq, m), solved in the smaller of its two forms."""
+    m, nq = J.shape
+    if m <= nq:
+        return ca.solve(J @ J.T + mu * ca.SX.eye(m), J).T
+    return ca.solve(J.T @ J + mu * ca.SX.eye(nq), J.T)
+
+
+def _scaled(sym: _Symbols, robot: Robot, kind: str, q: ca.SX,
+            free: ca.SX) -> tuple[ca.SX, ca.SX]:
+    """Residual r (m,) at an expression ``q`` and its Jacobian in scaled free coordinates."""
+    x = ca.SX.sym("x", robot.nq)
+    r = _residual(robot, kind, x, sym.par)
+    rj = ca.Function("rj", [x, sym.par], [r, ca.densify(ca.jacobian(r, x))])
+    r_q, J_q = rj(q, sym.par)
+    return r_q, J_q @ ca.diag(sym.s * free)
+
+
+def _tangent(sym: _Symbols, J: ca.SX) -> tuple[ca.SX, ca.SX, ca.SX]:
+    r"""The slide direction at ``sym.q`` with task Jacobian ``J``: (free, Js, tangent).
+
+    ``tangent`` :math:`= (I - J_s^+ J_s)\,t`, the part of the scaled pull
+    :math:`t = (q_0 - q) / s` along the solution set, over the joints not held at a bound
+    that ``q0`` lies beyond.
+    """
+    q, t = sym.q, (sym.q_ref - sym.q) / sym.s
+    free = 1 - ca.logic_or(ca.logic_and(q <= sym.lo, t < 0), ca.logic_and(q >= sym.hi, t > 0))
+    Js = J @ ca.diag(sym.s * free)
+    return free, Js, free * t - _damped_pinv(Js, MU_FLOOR) @ (Js @ (free * t))
+
+
+def _lm_iteration(robot: Robot, kind: str) -> ca.Function:
+    """One Levenberg–Marquardt iteration (see the module docstring and :func:`build_lm_step`)."""
+    sym = _Symbols.make(robot, kind)
+    q, lam = sym.q, ca.SX.sym("lam")
+    r = _residual(robot, kind, q, sym.par)
+    J = ca.densify(ca.jacobian(r, q))
+    g = J.T @ r
+    free = 1 - ca.logic_or(ca.logic_and(q <= sym.lo, g > 0), ca.logic_and(q >= sym.hi, g < 0))
+    e0 = ca.sumsqr(r)
+    pinv = _damped_pinv(J @ ca.diag(sym.s * free), lam * e0 + MU_FLOOR)
+    cand = sym.clip(q - sym.s * (pinv @ r))
+    e_c = ca.sumsqr(_residual(robot, kind, cand, sym.par))
+    ok = e_c < e0
+    q_next = ca.if_else(ok, cand, q)
+    return ca.Function(
+        "lm_iteration", [q, lam, sym.par, sym.box],
+        [q_next, ca.if_else(ok, ca.fmax(lam / 10, LAMBDA_MIN), ca.fmin(lam * 10, LAMBDA_MAX)),
+         ca.if_else(ok, e_c, e0), ca.mmax(ca.fabs(q_next - q) / sym.s),
+         ca.mmax(ca.fabs(_tangent(sym, J)[2]))])
+
+
+def build_lm_step(robot: Robot, kind: str) -> ca.Function:
+    """Phase 1 and 3: ``UNROLL`` Levenberg–Marquardt iterations in one Function.
+
+    ``lm_step(q (nq), lam (1), par, box (3 nq)) -> (q_next (nq), lam_next (1),
+    e_next (1), step (1), slide (1))``: ``par`` is the IPOPT NLP's parameter vector (only
+    its target and weights are used here), ``box`` the lower limits, upper limits and
+    ranges ``s`` (inputs, so the Function survives :meth:`Robot.with_limits`). ``e_next``
+    is ‖r‖² at ``q_next``; ``step`` the largest joint move of the last iteration in
+    ranges, 0 when it was refused; ``slide`` the largest entry of the slide direction
+    before it (phase 2 is skipped when that is below ``SLIDE_TOL``: no redundancy, or
+    already nearest). Unrolling saves the Python work between iterations; an iteration
+    after convergence is refused and changes nothing.
+    """
+    one = _lm_iteration(robot, kind)
+    sym = _Symbols.make(robot, kind)
+    x, lam = sym.q, ca.SX.sym("lam")
+    outputs: list[ca.SX] = [x, lam]
+    for _ in range(UNROLL):
+        outputs = list(one(outputs[0], outputs[1], sym.par, sym.box))
+    return ca.Function(f"lm_step_{robot.name}_{kind}", [x, lam, sym.par, sym.box], outputs,
+                       ["q", "lam", "par", "box"],
+                       ["q_next", "lam_next", "e_next", "step", "slide"])
+
+
+def _room(sym: _Symbols, q: ca.SX, direction: ca.SX) -> ca.SX:
+    """The largest multiple of ``direction`` (scaled) that keeps ``q`` within the box, ≤ 1."""
+    room = ca.if_else(direction < 0, sym.lo - q, sym.hi - q) / (sym.s * direction)
+    return ca.fmin(1.0, ca.mmin(ca.if_else(ca.fabs(direction) > 1e-300, room, ca.inf)))
+
+
+def build_slide_step(robot: Robot, kind: str) -> ca.Function:
+    """Phase 2: one slide toward ``q0`` along the solution set, with a retraction.
+
+    ``slide_step(q (nq), par, box (3 nq)) -> (q_next (nq), e_next (1), step (1))``, inputs
+    as for :func:`build_lm_step`. Joints at a bound that ``q0`` lies beyond are held, and
+    so are joints the slide takes to a bound, during the retraction. Slide lengths
+    tried: the fractions ``SLIDES`` of the tangent step and the length that meets the
+    first bound; of those that end nearer to ``q0`` with a small residual, the nearest.
+    """
+    sym = _Symbols.make(robot, kind)
+    q = sym.q
+    r = _residual(robot, kind, q, sym.par)
+    free, Js, tangent = _tangent(sym, ca.densify(ca.jacobian(r, q)))
+    fix = -_damped_pinv(Js, MU_FLOOR) @ r
+    e0 = ca.sumsqr(r)
+    q_next, e_next, d_next = q, e0, sym.distance(q)
+    for alpha in (*SLIDES, _room(sym, q, tangent)):
+        c1 = sym.clip(q + sym.s * (fix + alpha * tangent))
+        inside = ca.logic_and(c1 > sym.lo, c1 < sym.hi)
+        c2 = c1
+        for _ in range(RETRACTION_STEPS):
+            r1, Js1 = _scaled(sym, robot, kind, c2, free * inside)
+            c2 = sym.clip(c2 - sym.s * (_damped_pinv(Js1, MU_FLOOR) @ r1))
+        e2, d2 = ca.sumsqr(_residual(robot, kind, c2, sym.par)), sym.distance(c2)
+        ok = ca.logic_and(e2 <= ca.fmax(e0, SLIDE_SLACK**2), d2 < d_next)
+        q_next, e_next = ca.if_else(ok, c2, q_next), ca.if_else(ok, e2, e_next)
+        d_next = ca.if_else(ok, d2, d_next)
+    return ca.Function(f"slide_step_{robot.name}_{kind}", [q, sym.par, sym.box],
+                       [q_next, e_next, ca.mmax(ca.fabs(q_next - q) / sym.s)],
+                       ["q", "par", "box"], ["q_next", "e_next", "step"])
+
+
+_BUILDERS = {"lm": build_lm_step, "slide": build_slide_step}
+
+
+def _finish(f: ca.Function, jit: bool) -> ca.Function:
+    """``f`` with common subexpressions merged, compiled to C if ``jit``.
+
+    Raises:
+        InputError: ``jit=True`` but casadi finds no C compiler.
+    """
+    outputs = f.call(f.sx_in())
+    if hasattr(ca, "cse"):  # casadi >= 3.6: ~10-30 % fewer virtual-machine instructions
+        outputs = ca.cse(outputs)
+    opts: dict[str, Any] = {}
+    if jit:  # sources and objects go to the temp directory, removed with the Function
+        opts = {"jit": True, "compiler": "shell", "jit_name": f"scara_opt_{f.name()}",
+                "jit_options": {"flags": ["-O2"], "directory": tempfile.gettempdir() + os.sep}}
+    try:
+        return ca.Function(f.name(), f.sx_in(), outputs, f.name_in(), f.name_out(), opts)
+    except RuntimeError as exc:
+        raise InputError(f"jit=True compiles the iterations to C at run time and needs a C "
+                         f"compiler (casadi's 'shell' compiler, e.g. gcc): {exc}; install one "
+                         "or pass jit=False") from None
+
+
+def cached_step(robot: Robot, phase: str, kind: str, n: int = 1,
+                jit: bool = False) -> ca.Function:
+    """The ``phase`` ("lm" or "slide") Function, mapped over ``n`` columns, built once.
+
+    With ``jit`` it is compiled to C (~10x faster iterations; needs a C compiler, and
+    ~0.5 s per robot, task kind and phase to build).
+    """
+    cache: dict[tuple, ca.Function] = robot.__dict__.setdefault("_ik_lm_cache", {})
+    if (phase, kind, 1, jit) not in cache:
+        cache[(phase, kind, 1, jit)] = _finish(_BUILDERS[phase](robot, kind), jit)
+    if (phase, kind, n, jit) not in cache:
+        cache[(phase, kind, n, jit)] = cache[(phase, kind, 1, jit)].map(n)
+    return cache[(phase, kind, n, jit)]
+
+
+class FunctionArrays:
+    """Numpy arrays wired to a (mapped) casadi Function's inputs and outputs, by name.
+
+    Each array is ``(n, size)`` in C order: the memory of casadi's column-major
+    ``(size, n)``. Calling the object evaluates in place. casadi buffers carry state:
+    use one instance per thread (:func:`phase_arrays`).
+
+    Attributes:
+        arg: input arrays by input name; res: output arrays by output name.
+    """
+
+    def __init__(self, f: ca.Function, n: int, shared: dict[str, Array] | None = None) -> None:
+        shared = shared or {}
+        self.arg = {name: shared.get(name, np.zeros((n, f.size1_in(i))))
+                    for i, name in enumerate(f.name_in())}
+        self.res = {name: np.zeros((n, f.size1_out(i)))
+                    for i, name in enumerate(f.name_out())}
+        if hasattr(f, "buffer"):  # casadi >= 3.6: no argument conversion per call
+            self._buffer, self._eval = f.buffer()
+            for i, a in enumerate(self.arg.values()):
+                self._buffer.set_arg(i, memoryview(a.reshape(-1)))  # type: ignore[call-arg,arg-type]
+            for i, a in enumerate(self.res.values()):
+                self._buffer.set_res(i, memoryview(a.reshape(-1)))  # type: ignore[call-arg,arg-type]
+        else:  # pragma: no cover - older casadi
+            def evaluate() -> None:
+                out = f.call([a.T for a in self.arg.values()])
+                for a, v in zip(self.res.values(), out, strict=True):
+                    a[...] = np.asarray(v).T.reshape(a.shape)
+
+            self._eval = evaluate
+
+    def __call__(self) -> None:
+        """Evaluate every column; results land in :attr:`res`."""
+        self._eval()
+
+
+@dataclass
+class PhaseArrays:
+    """The two iterations' :class:`FunctionArrays` for ``n`` targets, sharing ``par``, ``box``.
+
+    Attributes:
+        lm, slide: the arrays of :func:`build_lm_step` and :func:`build_slide_step`.
+        par: (n, n_par) the NLP parameters of each target; box: (n, 3 nq) the limits.
+    """
+
+    lm: FunctionArrays
+    slide: FunctionArrays
+    par: Array
+    box: Array
+
+
+def phase_arrays(robot: Robot, kind: str, n: int = 1, jit: bool = False) -> PhaseArrays:
+    """This thread's :class:`PhaseArrays` for ``robot``, task kind and ``n`` columns."""
+    cache: dict[tuple, PhaseArrays] = robot.__dict__.setdefault("_ik_lm_arrays", {})
+    key = (kind, n, jit, threading.get_ident())
+    if key not in cache:
+        lm = FunctionArrays(cached_step(robot, "lm", kind, n, jit), n)
+        shared = {"par": lm.arg["par"], "box": lm.arg["box"]}
+        slide = FunctionArrays(cached_step(robot, "slide", kind, n, jit), n, shared)
+        cache[key] = PhaseArrays(lm, slide, shared["par"], shared["box"])
+    return cache[key]
+
+
+def limits(robot: Robot) -> tuple[Array, Array]:
+    """``box`` (3 nq,) = [lower, upper, ranges] and the default ``q0``, cached per limits."""
+    lo, hi = robot.lower, robot.upper
+    cache: dict[bytes, tuple[Array, Array]] = robot.__dict__.setdefault("_ik_lm_limits", {})
+    key = lo.tobytes() + hi.tobytes()
+    if key not in cache:
+        span = np.where(np.isfinite(hi - lo), hi - lo, 1.0)
+        cache[key] = np.concatenate([lo, hi, span]), default_q0(robot)
+    return cache[key]
+
+
+def residual_tol(weights: Sequence[float], tol: float) -> float:
+    """‖r‖² [weighted m², rad²] at which a start has converged, for the caller's ``tol``."""
+    return (TOL_FACTOR * tol * min(weights)) ** 2
+
+
+# ---------------------------------------------------------------------- one target
+@dataclass
+class _Run:
+    """State of the iterations on one target (the three phases share it)."""
+
+    f: PhaseArrays
+    e_tol: float
+    budget: int = 0
+    iterations: int = 0
+    evaluations: int = 0
+    history: list[float] = field(default_factory=list)
+    best: float = math.inf
+    slide_needed: bool = True
+
+    def _count(self, phase: str, e: float) -> None:
+        self.iterations += ITERATIONS[phase]
+        self.budget -= ITERATIONS[phase]
+        self.evaluations += EVALS[phase]
+        if e < self.best:
+            self.best = e
+        self.history.append(math.sqrt(self.best))
+
+    def descend(self, q: Array) -> tuple[Array, float, bool]:
+        """Phase 1 (and 3) from ``q``: (q, ‖r‖², converged); sets :attr:`slide_needed`."""
+        f = self.f.lm
+        q_in, lam_in = f.arg["q"], f.arg["lam"]
+        q_out, lam_out, e_out, step_out = (f.res[k] for k in ("q_next", "lam_next", "e_next",
+                                                             "step"))
+        q_in[0] = q
+        lam_in[0, 0] = LAMBDA0
+        prev, stall, e = math.inf, 0, math.inf
+        while self.budget > 0:
+            f()
+            e, step, lam = e_out[0, 0], step_out[0, 0], lam_out[0, 0]
+            q_in[0] = q_out[0]
+            lam_in[0, 0] = lam
+            self._count("lm", e)
+            if e <= self.e_tol and step <= STEP_TOL:
+                self.slide_needed = f.res["slide"][0, 0] > SLIDE_TOL
+                return q_in[0].copy(), float(e), True
+            stall = stall + 1 if e >= (1 - 1e-6) * prev else 0
+            prev = min(prev, e)
+            if stall >= STALL_CALLS or lam >= LAMBDA_MAX:
+                break
+        return q_in[0].copy(), float(e), bool(e <= self.e_tol)
+
+    def slide_toward(self, q: Array) -> tuple[Array, bool]:
+        """Phase 2 from a solution ``q``: (q, whether it moved)."""
+        f = self.f.slide
+        q_in, q_out = f.arg["q"], f.res["q_next"]
+        q_in[0] = q
+        moved = False
+        while self.budget > 0:
+            f()
+            self._count("slide", f.res["e_next"][0, 0])
+            step = f.res["step"][0, 0]
+            q_in[0] = q_out[0]
+            moved = moved or step > 0
+            if step <= SLIDE_TOL:
+                break
+        return q_in[0].copy(), moved
+
+    def start(self, q: Array) -> tuple[Array, float]:
+        """All three phases from one start: (q, ‖r‖²)."""
+        q, e, converged = self.descend(q)
+        if not (converged and self.slide_needed):
+            return q, e
+        slid, moved = self.slide_toward(q)
+        if moved:
+            polished, e_p, ok = self.descend(slid)
+            if ok:
+                return polished, e_p
+        return q, e
+
+
+@dataclass
+class Search:
+    """Outcome of :func:`lm_search` over several starts.
+
+    Attributes:
+        q: (nq,) the best configuration found; ``e`` its ‖r‖² [weighted m², rad²].
+        converged: ``e`` is at the convergence threshold.
+        iterations: iterations over all starts and phases; ``evaluations`` FK evaluations.
+        starts: the starts used.
+        history: √‖r‖² (the task cost), best so far, after each Function call
+            (``UNROLL`` iterations of phase 1 or 3, or one slide).
+    """
+
+    q: Array
+    e: float
+    converged: bool
+    iterations: int
+    evaluations: int
+    starts: int
+    history: list[float]
+
+
+def lm_search(robot: Robot, target: Target, q_ref: Array, starts: Iterable[Array], *,
+              tol: float, max_iter: int, jit: bool = False, box: Array | None = None) -> Search:
+    """The three phases from each start in turn until one converges.
+
+    Args:
+        robot: the robot.
+        target: the (checked) target.
+        q_ref: (nq,) ``q0``, the configuration the slide pulls toward.
+        starts: start configurations (nq,) within the limits, drawn lazily in order.
+        tol: residual [m, rad] the caller judges against.
+        max_iter: iterations per start.
+        jit: compile the iterations to C (see :func:`cached_step`).
+        box: ``limits(robot)[0]`` if the caller has it already.
+
+    Returns:
+        Search: the best configuration over the starts tried.
+    """
+    f = phase_arrays(robot, target.kind, 1, jit)
+    f.par[0] = _params(target, q_ref, 0.0)
+    f.box[0] = limits(robot)[0] if box is None else box
+    run = _Run(f, residual_tol(target.weights, tol))
+    best_q, best_e, n = q_ref, math.inf, 0
+    for start in starts:
+        n += 1
+        run.budget = max_iter
+        q, e = run.start(np.asarray(start, dtype=float))
+        if e < best_e:
+            best_q, best_e = q, e
+        if best_e <= run.e_tol:
+            break
+    return Search(best_q, best_e, best_e <= run.e_tol, run.iterations, run.evaluations, n,
+                  run.history)
+
+
+def random_starts(robot: Robot, rng: np.random.Generator, n: int) -> Iterator[Array]:
+    """``n`` configurations drawn uniformly within the limits, lazily.
+
+    Unbounded joints (continuous, limits ±inf) are drawn within [-π, π].
+    """
+    lo = np.where(np.isfinite(robot.lower), robot.lower, -math.pi)
+    hi = np.where(np.isfinite(robot.upper), robot.upper, math.pi)
+    for _ in range(n):
+        yield rng.uniform(lo, hi)
+
+
+def search_output(found: Search, message: str = "") -> SolverOutput:
+    """The :class:`SolverOutput` of a :class:`Search` (the base judges its residual)."""
+    if not message and not found.converged:
+        message = f"Levenberg–Marquardt missed from {found.starts} starts"
+    return SolverOutput(q=found.q, iterations=found.iterations, evaluations=found.evaluations,
+                        history=np.asarray(found.history), message=message)
+
+
+@register_solver("lm")
+class LevenbergMarquardtSolver(Solver):
+    r"""Fast exact IK: bounded Levenberg–Marquardt in casadi (see the module docstring).
+
+    Solves the IPOPT reference's problem (:mod:`scara_opt.ik.ipopt`) to round-off,
+    nearest to ``q0`` on the branch reached from it, typically in 5–15 iterations of a
+    few µs each. It cannot certify ``"unreachable"`` (``method="auto"`` adds IPOPT).
+
+    Options:
+        restarts: further seeded random starts after a start stalls (default 10).
+        max_iter: iterations per start, all phases (default 100).
+        jit: compile the iterations to C at first use (default False: casadi's virtual
+            machine, no compiler needed); ~10x faster iterations, needs a C compiler.
+    """
+
+    name = "lm"
+    defaults: ClassVar[dict[str, Any]] = {"restarts": 10, "max_iter": 100, "jit": False}
+    certifies_unreachable = False
+
+    def _solve(self, robot: Robot, target: Target, q0: Array | None,
+               rng: np.random.Generator, tol: float) -> SolverOutput:
+        box, q_default = limits(robot)
+        q_ref = q_default if q0 is None else q0
+        starts = chain([q_ref], random_starts(robot, rng, int(self.options["restarts"])))
+        return search_output(lm_search(robot, target, q_ref, starts, tol=tol,
+                                       max_iter=int(self.options["max_iter"]),
+                                       jit=bool(self.options["jit"]), box=box))

@@ -1,0 +1,281 @@
+"""Many IK targets at once: the Levenberg–Marquardt phases of :mod:`scara_opt.ik.lm`, batched.
+
+The casadi iterations are mapped over the targets still running (``Function.map``, padded
+to a power of two and evaluated through :meth:`casadi.Function.buffer`), so the Python
+work is per iteration round, not per target. Each target follows exactly the steps of
+:func:`scara_opt.solve_ik` with ``method="lm"``: its ``q0`` (or the default start) first,
+then up to ``restarts`` starts from a generator seeded with ``seed`` (the same draws as a
+single solve with that seed), so both give the same answers.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from collections.abc import Iterator, Sequence
+from dataclasses import dataclass
+from typing import cast
+
+import numpy as np
+from numpy.typing import NDArray
+
+from scara_opt.errors import InputError
+from scara_opt.ik.base import LIMIT_SLACK, check_q0
+from scara_opt.ik.ipopt import _params
+from scara_opt.ik.lm import (
+    LAMBDA0,
+    LAMBDA_MAX,
+    SLIDE_TOL,
+    STALL_CALLS,
+    STEP_TOL,
+    UNROLL,
+    limits,
+    phase_arrays,
+    random_starts,
+    residual_tol,
+)
+from scara_opt.ik.task import check_task, errors_from_poses
+from scara_opt.robot import Array, Robot
+from scara_opt.target import Target, as_target
+
+#: most targets evaluated in one mapped call
+CHUNK = 512
+
+
+@dataclass(frozen=True)
+class BatchResult:
+    """Outcome of :func:`solve_many`, one row per target.
+
+    Attributes:
+        q: (n, nq) configurations [rad or m], within the joint limits.
+        error: (n,) honest residual max(|Δp| [m], |Δangle| [rad]) from the robot's FK.
+        success: (n,) ``error <= tol`` (and within the limits).
+        iterations: (n,) iterations used over all starts and phases.
+        starts: (n,) starts used.
+        time_s: wall-clock time of the whole batch [s].
+        tol: the tolerance ``success`` was judged against [m, rad].
+    """
+
+    q: Array
+    error: Array
+    success: NDArray[np.bool_]
+    iterations: NDArray[np.int64]
+    starts: NDArray[np.int64]
+    time_s: float
+    tol: float
+
+    def __len__(self) -> int:
+        return len(self.q)
+
+
+@dataclass(frozen=True)
+class _Stacked:
+    """Targets of one kind stacked along a first axis (``errors_from_poses`` broadcasts)."""
+
+    kind: str
+    position: Array
+    yaw: Array | None
+    rotation: Array | None
+
+
+def _targets(robot: Robot, targets: object) -> tuple[_Stacked, list[Target] | None]:
+    """Stacked targets from an (n, 3) / (n, 4) array [m, rad] or a sequence of Target."""
+    if isinstance(targets, Sequence) and targets and isinstance(targets[0], Target):
+        ts = [as_target(t) for t in targets]
+        kinds = {t.kind for t in ts}
+        if len(kinds) != 1:
+            raise InputError(f"solve_many takes targets of one kind; got {sorted(kinds)}: call "
+                             "it once per kind")
+        check_task(robot, ts[0])  # depends on the kind only
+        rot = np.array([t.rotation for t in ts]) if ts[0].kind == "rotation" else None
+        yaw = np.array([t.yaw for t in ts]) if ts[0].kind == "yaw" else None
+        return _Stacked(ts[0].kind, np.array([t.position for t in ts]), yaw, rot), ts
+    try:
+        A = np.asarray(targets, dtype=float)
+    except (TypeError, ValueError):
+        raise InputError("targets must be an (n, 3) or (n, 4) array [x, y, z(, yaw)] [m, rad] "
+                         "or a sequence of Target") from None
+    if A.ndim != 2 or A.shape[1] not in (3, 4) or len(A) == 0 or not np.isfinite(A).all():
+        raise InputError("targets must be a finite, non-empty (n, 3) or (n, 4) array "
+                         f"[x, y, z(, yaw)] [m, rad]; got shape {A.shape}")
+    if A.shape[1] == 4:
+        check_task(robot, Target(A[0, :3], yaw=float(A[0, 3])))
+        return _Stacked("yaw", A[:, :3], A[:, 3], None), None
+    return _Stacked("position", A, None, None), None
+
+
+def _q0s(robot: Robot, q0s: object | None, n: int) -> Array:
+    """(n, nq) references: the default start, one (nq,) for all, or one row per target."""
+    if q0s is None:
+        return np.tile(limits(robot)[1], (n, 1))
+    Q = np.asarray(q0s, dtype=float)
+    if Q.ndim == 1:
+        return np.tile(cast(Array, check_q0(robot, Q)), (n, 1))
+    Q = robot.check_q_batch(Q, "q0s")
+    if len(Q) != n:
+        raise InputError(f"q0s has {len(Q)} rows for {n} targets; give one per target")
+    for row in Q[~robot.within_limits(Q, LIMIT_SLACK)][:1]:
+        check_q0(robot, row)  # raises JointLimitError naming the joint, value and range
+    return np.clip(Q, robot.lower, robot.upper)
+
+
+def _params_rows(stacked: _Stacked, ts: list[Target] | None, Q_ref: Array) -> Array:
+    """The NLP parameter rows (n, n_par) of every target (see ``ipopt._params``)."""
+    if ts is not None:
+        return np.array([_params(t, q, 0.0) for t, q in zip(ts, Q_ref, strict=True)])
+    n = len(Q_ref)
+    ang = (np.zeros((n, 0)) if stacked.yaw is None
+           else np.column_stack([np.cos(stacked.yaw), np.sin(stacked.yaw)]))
+    return np.column_stack([stacked.position, ang, Q_ref, np.ones(n), np.ones(n),
+                            np.zeros(n)])
+
+
+def _call(robot: Robot, phase: str, kind: str, box: Array, inputs: dict[str, Array],
+          jit: bool) -> dict[str, Array]:
+    """Evaluate a phase Function on the rows of ``inputs``, in padded power-of-two chunks."""
+    m = len(inputs["q"])
+    chunks: dict[str, list[Array]] = {}
+    for lo in range(0, m, CHUNK):
+        k = min(CHUNK, m - lo)
+        size = 1 << (k - 1).bit_length()
+        fa = phase_arrays(robot, kind, size, jit)
+        f = fa.lm if phase == "lm" else fa.slide
+        fa.box[:] = box
+        for name, a in inputs.items():
+            f.arg[name][:k] = a[lo:lo + k]
+            f.arg[name][k:] = a[lo]  # padding columns repeat a real one
+        f()
+        for name, a in f.res.items():
+            chunks.setdefault(name, []).append(a[:k].copy())
+    return {name: np.concatenate(parts) for name, parts in chunks.items()}
+
+
+@dataclass
+class _Batch:
+    """What every phase of one start needs: the targets' parameters, limits and budgets."""
+
+    robot: Robot
+    kind: str
+    par: Array
+    box: Array
+    e_tol: Array
+    max_iter: int
+    jit: bool
+
+    def descend(self, rows: NDArray[np.intp], Q: Array,
+                used: NDArray[np.int64]) -> tuple[Array, Array, NDArray[np.bool_], Array]:
+        """Phase 1 (and 3) for ``rows``: (Q, ‖r‖², converged, slide entry); ``used`` grows."""
+        n = len(rows)
+        Q, lam = Q.copy(), np.full(n, LAMBDA0)
+        e, prev, slide = np.full(n, math.inf), np.full(n, math.inf), np.zeros(n)
+        stall, conv, active = np.zeros(n, int), np.zeros(n, bool), used[rows] < self.max_iter
+        while active.any():
+            a = np.flatnonzero(active)
+            out = _call(self.robot, "lm", self.kind, self.box,
+                        {"q": Q[a], "lam": lam[a, None], "par": self.par[rows[a]]}, self.jit)
+            Q[a], lam[a], e[a] = out["q_next"], out["lam_next"][:, 0], out["e_next"][:, 0]
+            used[rows[a]] += UNROLL
+            ok = (e[a] <= self.e_tol[rows[a]]) & (out["step"][:, 0] <= STEP_TOL)
+            conv[a[ok]], slide[a[ok]] = True, out["slide"][ok, 0]
+            stall[a] = np.where(e[a] >= (1 - 1e-6) * prev[a], stall[a] + 1, 0)
+            prev[a] = np.minimum(prev[a], e[a])
+            stop = ok | (stall[a] >= STALL_CALLS) | (lam[a] >= LAMBDA_MAX)
+            active[a[stop | (used[rows[a]] >= self.max_iter)]] = False
+        return Q, e, conv | (e <= self.e_tol[rows]), slide
+
+    def slide(self, rows: NDArray[np.intp], Q: Array,
+              used: NDArray[np.int64]) -> tuple[Array, NDArray[np.bool_]]:
+        """Phase 2 for ``rows``: (Q, moved)."""
+        Q, moved = Q.copy(), np.zeros(len(rows), bool)
+        active = used[rows] < self.max_iter
+        while active.any():
+            a = np.flatnonzero(active)
+            out = _call(self.robot, "slide", self.kind, self.box,
+                        {"q": Q[a], "par": self.par[rows[a]]}, self.jit)
+            Q[a], step = out["q_next"], out["step"][:, 0]
+            used[rows[a]] += 1
+            moved[a] |= step > 0
+            active[a[(step <= SLIDE_TOL) | (used[rows[a]] >= self.max_iter)]] = False
+        return Q, moved
+
+    def start(self, rows: NDArray[np.intp], Q0: Array,
+              used: NDArray[np.int64]) -> tuple[Array, Array]:
+        """All three phases from the starts ``Q0`` of ``rows``: (Q, ‖r‖²)."""
+        Q, e, conv, slide = self.descend(rows, Q0, used)
+        need = np.flatnonzero(conv & (slide > SLIDE_TOL))
+        if need.size:
+            Qs, moved = self.slide(rows[need], Q[need], used)
+            m = need[moved]
+            if m.size:
+                Qp, ep, okp, _ = self.descend(rows[m], Qs[moved], used)
+                Q[m[okp]], e[m[okp]] = Qp[okp], ep[okp]
+        return Q, e
+
+
+def solve_many(robot: Robot, targets: object, q0s: object | None = None, *,
+               tol: float = 1e-9, max_iter: int = 100, restarts: int = 10,
+               seed: int | None = 0, jit: bool = False) -> BatchResult:
+    """Solve IK for many targets at once with the fast solver (``method="lm"``).
+
+    Args:
+        robot: the robot.
+        targets: an (n, 3) array of positions [m], an (n, 4) array ``[x, y, z, yaw]``
+            [m, rad], or a sequence of :class:`~scara_opt.Target` of one kind.
+        q0s: ``None`` (default start), one (nq,) ``q0`` for all, or (n, nq), one per
+            target; each is the first start and the configuration to stay nearest to.
+        tol: residual [m, rad] below which a target counts as reached.
+        max_iter: iterations per start and target.
+        restarts: further seeded random starts for a target whose start stalls.
+        seed: seed of each target's generator (the draws of a single solve with it).
+        jit: compile the iterations to C (~10x faster; needs a C compiler at run time).
+
+    Returns:
+        BatchResult: configurations, honest residuals and success flags, one row each.
+
+    Raises:
+        InputError: malformed targets or ``q0s``, or targets of mixed kinds.
+        TargetError: a yaw for a robot whose tool cannot turn.
+        JointLimitError: a ``q0s`` row outside the joint limits.
+    """
+    clock = time.perf_counter()
+    if not (isinstance(tol, (int, float)) and math.isfinite(tol) and tol > 0):
+        raise InputError(f"tol must be a positive number [m, rad]; got {tol!r}")
+    stacked, ts = _targets(robot, targets)
+    n = len(stacked.position)
+    Q_ref = _q0s(robot, q0s, n)
+    weights = [t.weights for t in ts] if ts is not None else [(1.0, 1.0)] * n
+    batch = _Batch(robot, stacked.kind, _params_rows(stacked, ts, Q_ref), limits(robot)[0],
+                   np.array([residual_tol(w, tol) for w in weights]), int(max_iter), bool(jit))
+    best_Q, best_e = Q_ref.copy(), np.full(n, math.inf)
+    iterations, starts = np.zeros(n, np.int64), np.zeros(n, np.int64)
+    draws: dict[int, Iterator[Array]] = {}  # per target: the draws of a single solve
+    rows = np.arange(n)
+    for attempt in range(int(restarts) + 1):
+        if attempt == 0:
+            Q0 = Q_ref[rows]
+        else:
+            for i in rows[[int(i) not in draws for i in rows]]:
+                draws[int(i)] = random_starts(robot, np.random.default_rng(seed), int(restarts))
+            Q0 = np.array([next(draws[int(i)]) for i in rows])
+        used = np.zeros(n, np.int64)
+        Q, e = batch.start(rows, Q0, used)
+        iterations += used
+        starts[rows] += 1
+        better = e < best_e[rows]
+        best_Q[rows[better]], best_e[rows[better]] = Q[better], e[better]
+        rows = rows[best_e[rows] > batch.e_tol[rows]]
+        if not rows.size:
+            break
+    return _result(robot, stacked, best_Q, iterations, starts, time.perf_counter() - clock, tol)
+
+
+def _result(robot: Robot, stacked: _Stacked, Q: Array, iterations: NDArray[np.int64],
+            starts: NDArray[np.int64], time_s: float, tol: float) -> BatchResult:
+    """Judge every row by the robot's own FK, as the base does for single solves."""
+    Q = np.clip(Q, robot.lower, robot.upper)
+    dp, dang = errors_from_poses(robot, stacked, robot.fk_batch(Q))  # type: ignore[arg-type]
+    error = np.linalg.norm(dp, axis=1)
+    if dang is not None:
+        error = np.maximum(error, np.abs(dang))
+    ok = (error <= tol) & robot.within_limits(Q)
+    return BatchResult(Q, error, ok, iterations, starts, time_s, float(tol))
