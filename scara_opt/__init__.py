@@ -20,6 +20,7 @@ from scara_opt.errors import (
     URDFError,
 )
 from scara_opt.ik import IKResult, Status, get_solver, ik_all, register_solver, solve_ik, solvers
+from scara_opt.ik.lm_batch import BatchResult, solve_many
 from scara_opt.robot import Robot, list_robots, load_robot
 from scara_opt.target import Target
 from scara_opt.trajectory import (
@@ -37,6 +38,7 @@ logging.getLogger(__name__).addHandler(logging.NullHandler())
 
 __all__ = [
     "__version__",
+    "BatchResult",
     "Footprint",
     "FrameNotFoundError",
     "get_solver",
@@ -54,6 +56,7 @@ __all__ = [
     "RobotNotFoundError",
     "ScaraOptError",
     "solve_ik",
+    "solve_many",
     "SolverOptionError",
     "solvers",
     "Status",

@@ -248,7 +248,8 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--xyz", type=float, nargs=3, required=True, metavar=("X", "Y", "Z"),
                    help="target position (m, or mm with --mm)")
     p.add_argument("--yaw", type=float, metavar="DEG", help="tool angle [deg]")
-    p.add_argument("--method", default="ipopt", help="IK method (see `scara-opt solvers`)")
+    p.add_argument("--method", default="auto",
+                   help="IK method (see `scara-opt solvers`; default auto)")
     p.add_argument("--seed", type=int, default=0, help="random seed (default 0)")
     p.add_argument("--tol", type=float, default=1e-9, help="residual counted as solved [m]")
     p.add_argument("--all", action="store_true", help="every closed-form branch (SCARA only)")

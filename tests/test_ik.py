@@ -34,7 +34,8 @@ def assert_invariants(robot: so.Robot, res: so.IKResult) -> None:
 def test_ipopt_solves_1000_reachable_targets(robots, name):
     """IPOPT reaches 1000 random reachable targets of each bundled robot to 1e-9 m."""
     robot = robots[name]
-    results = [so.solve_ik(robot, p, tol=1e-9) for p in reachable_targets(robot, 1000, seed=7)]
+    P = reachable_targets(robot, 1000, seed=7)
+    results = [so.solve_ik(robot, p, method="ipopt", tol=1e-9) for p in P]
     for res in results:
         assert_invariants(robot, res)
     failed = [r for r in results if not r.success]
@@ -47,7 +48,7 @@ def test_ipopt_answer_is_one_of_the_closed_form_branches(robots, name):
     """For the 4-joint robots IPOPT's q (position target) equals one branch of ik_all."""
     robot = robots[name]
     for p in reachable_targets(robot, 200, seed=8):
-        res = so.solve_ik(robot, p)
+        res = so.solve_ik(robot, p, method="ipopt")
         branches = so.ik_all(robot, p)
         assert branches, "reachable target without closed-form branch"
         gap = min(np.abs(b.q - res.q).max() for b in branches)
@@ -60,7 +61,7 @@ def test_ipopt_with_yaw(robots, name):
     robot = robots[name]
     Q = random_q(robot, 100, seed=9)
     for q, p in zip(Q, robot.positions(Q), strict=True):
-        res = so.solve_ik(robot, so.Target(p, yaw=robot.yaw(q)))
+        res = so.solve_ik(robot, so.Target(p, yaw=robot.yaw(q)), method="ipopt")
         assert res.success, res
         assert abs(res.yaw_error) <= 1e-9
 
@@ -75,7 +76,8 @@ def test_ipopt_with_a_full_rotation_on_a_general_arm(arm6):
     results = []
     for q in random_q(arm6, 20, seed=10):
         T = arm6.fk(q)
-        results.append(so.solve_ik(arm6, so.Target(T[:3, 3], rotation=T[:3, :3]), restarts=40))
+        results.append(so.solve_ik(arm6, so.Target(T[:3, 3], rotation=T[:3, :3]),
+                                   method="ipopt", restarts=40))
     for res in results:
         assert_invariants(arm6, res)
     assert sum(r.success for r in results) >= 18, results
@@ -84,9 +86,9 @@ def test_ipopt_with_a_full_rotation_on_a_general_arm(arm6):
 def test_nlp_is_built_once_per_robot_and_task_kind(robots):
     """A second solve reuses the cached casadi NLP instead of rebuilding it."""
     robot = robots["zavar2024"]
-    so.solve_ik(robot, [0.2, 0.1, -0.06])
+    so.solve_ik(robot, [0.2, 0.1, -0.06], method="ipopt")
     first = cached_nlp(robot, "position")
-    so.solve_ik(robot, [0.25, -0.1, -0.07])
+    so.solve_ik(robot, [0.25, -0.1, -0.07], method="ipopt")
     assert cached_nlp(robot, "position") is first
 
 
@@ -95,7 +97,7 @@ def test_redundant_inverted5_splits_the_stroke_closest_to_q0(robots):
     robot = robots["inverted5"]
     q0 = np.array([0.02, 0.5, 1.0, 0.0, 0.02])
     p = robot.position(q0) + [0, 0, -0.02]  # 2 cm lower: P1 + P5 must grow by 0.02 m
-    res = so.solve_ik(robot, p, q0=q0)
+    res = so.solve_ik(robot, p, q0=q0, method="ipopt")
     assert res.success
     np.testing.assert_allclose(res.q[[0, 4]], [0.03, 0.03], atol=1e-6)
     np.testing.assert_allclose(res.q[1:4], q0[1:4], atol=1e-6)
@@ -105,7 +107,8 @@ def test_redundant_nguyen_moves_least_from_q0(robots):
     """nguyen: a target reached from q0 itself returns q0 (zero motion is the nearest)."""
     robot = robots["nguyen"]
     q0 = np.array([0.3, 0.4, -0.6, 0.05, 0.2])
-    res = so.solve_ik(robot, so.Target(robot.position(q0), yaw=robot.yaw(q0)), q0=q0)
+    res = so.solve_ik(robot, so.Target(robot.position(q0), yaw=robot.yaw(q0)), q0=q0,
+                      method="ipopt")
     assert res.success
     np.testing.assert_allclose(res.q, q0, atol=1e-9)
 
@@ -114,7 +117,7 @@ def test_redundant_nguyen_moves_least_from_q0(robots):
 def test_zavar2024_paper_target_is_unreachable_by_0102_m(robots):
     """zavar2024's target (-0.23, 0.20, -0.20) is out of reach: residual 0.102 m along z."""
     robot = robots["zavar2024"]
-    for method in ("ipopt", "analytic"):
+    for method in ("ipopt", "analytic", "auto"):
         res = so.solve_ik(robot, [-0.23, 0.20, -0.20], method=method)
         assert res.status == "unreachable" and not res.success
         assert res.error == pytest.approx(0.102, abs=1e-3)
@@ -125,7 +128,7 @@ def test_zavar2024_paper_target_is_unreachable_by_0102_m(robots):
 def test_zavar2024_reachable_variant_is_solved(robots):
     """The same x, y at z = -0.07 m (inside the stroke) is solved by both exact methods."""
     robot = robots["zavar2024"]
-    for method in ("ipopt", "analytic"):
+    for method in ("ipopt", "analytic", "auto"):
         res = so.solve_ik(robot, [-0.23, 0.20, -0.07], method=method)
         assert res.status == "solved" and res.error <= 1e-9
 

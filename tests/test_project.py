@@ -14,3 +14,14 @@ def test_ci_runs_the_readme_commands():
     for command in block[:2]:
         assert command in ci, f"README command not in .ci/run: {command}"
     assert "pytest" in block[1]
+
+
+def test_readme_quickstart_runs():
+    """The README's Python quickstart runs as printed and its results are what it claims."""
+    readme = (ROOT / "README.md").read_text()
+    code = readme.split("```python\n", 1)[1].split("```", 1)[0]
+    scope: dict = {}
+    exec(compile(code, "README quickstart", "exec"), scope)  # noqa: S102
+    assert scope["res"].success and scope["ref"].success
+    assert scope["batch"].success.all()
+    assert all((r <= 1 + 1e-9).all() for r in scope["traj"].check_limits().values())

@@ -27,10 +27,10 @@ import numpy as np
 
 from scara_opt.ik.analytic import NotScaraError, solve_all
 from scara_opt.ik.base import Solver, SolverOutput
-from scara_opt.ik.ipopt import IpoptSolver, _errs
+from scara_opt.ik.ipopt import IpoptSolver
 from scara_opt.ik.lm import Search, limits, lm_search, random_starts, search_output
 from scara_opt.ik.registry import register_solver
-from scara_opt.ik.task import error_from
+from scara_opt.ik.task import config_errors, error_from
 from scara_opt.robot import Array, Robot
 from scara_opt.target import Target
 
@@ -97,4 +97,4 @@ class AutoSolver(Solver):
 
 def _error(robot: Robot, target: Target, q: Array) -> float:
     """The honest residual of ``q`` [m, rad], as the base will judge it."""
-    return error_from(*_errs(robot, target, np.clip(q, robot.lower, robot.upper)))
+    return error_from(*config_errors(robot, target, np.clip(q, robot.lower, robot.upper)))

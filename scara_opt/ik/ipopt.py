@@ -38,7 +38,7 @@ from numpy.typing import NDArray
 from scara_opt.ik.base import Solver, SolverOutput, default_q0
 from scara_opt.ik.registry import register_solver
 from scara_opt.ik.result import Status
-from scara_opt.ik.task import error_from, errors_from_poses
+from scara_opt.ik.task import config_errors, error_from, errors_from_poses
 from scara_opt.robot import Array, Robot
 from scara_opt.target import Target
 
@@ -64,7 +64,7 @@ class _NLP:
     n_param: int
 
 
-def _angle_error(robot: Robot, kind: str, R: ca.SX, param: ca.SX) -> ca.SX:
+def angle_error_expr(robot: Robot, kind: str, R: ca.SX, param: ca.SX) -> ca.SX:
     """Smooth angle-error vector: its norm ~ the angle [rad] for small errors."""
     if kind == "yaw":
         e1, e2 = robot.yaw_basis()
@@ -90,7 +90,7 @@ def build_ik_nlp(robot: Robot, kind: str, max_iter: int = 100, verbose: bool = F
     p, R = robot.symbolic_fk(q)
     f = 0.5 * wp**2 * ca.sumsqr(p - p_star)
     if kind != "position":
-        f += 0.5 * wa**2 * ca.sumsqr(_angle_error(robot, kind, R, ang))
+        f += 0.5 * wa**2 * ca.sumsqr(angle_error_expr(robot, kind, R, ang))
     scale = ca.DM(np.where(np.isfinite(robot.upper - robot.lower), robot.upper - robot.lower, 1.0))
     f += 0.5 * lam * ca.sumsqr((q - q0) / scale)
     ipopt = {**IPOPT_OPTIONS, "max_iter": int(max_iter), "print_level": 5 if verbose else 0}
@@ -108,7 +108,8 @@ def cached_nlp(robot: Robot, kind: str, max_iter: int = 100, verbose: bool = Fal
     return cache[key]
 
 
-def _params(target: Target, q0: Array, lam: float) -> np.ndarray:
+def nlp_params(target: Target, q0: Array, lam: float) -> np.ndarray:
+    """The NLP parameter vector of one target (order of :func:`build_ik_nlp`)."""
     if target.kind == "yaw":
         ang = [math.cos(target.yaw), math.sin(target.yaw)]
     elif target.kind == "rotation":
@@ -117,11 +118,6 @@ def _params(target: Target, q0: Array, lam: float) -> np.ndarray:
         ang = []
     return np.concatenate([target.position, ang, q0, target.weights, [lam]])
 
-
-def _errs(robot: Robot, target: Target, q: Array) -> tuple[Array, float | None]:
-    """Position error (3,) and angle error of one configuration (one Pinocchio FK)."""
-    dp, dang = errors_from_poses(robot, target, robot.fk(q)[None])
-    return dp[0], None if dang is None else float(dang[0])
 
 
 def _residual_and_jacobian(robot: Robot, target: Target, q: Array) -> tuple[Array, Array, float]:
@@ -232,7 +228,7 @@ class IpoptSolver(Solver):
             if k > 0:
                 starts.append(rng.uniform(robot.sampling_lower, robot.sampling_upper))
             x0 = starts[-1]
-            sol = nlp.solver(x0=x0, p=_params(target, q_ref, lam), lbx=lbx, ubx=ubx)
+            sol = nlp.solver(x0=x0, p=nlp_params(target, q_ref, lam), lbx=lbx, ubx=ubx)
             stats = nlp.solver.stats()
             statuses.append(stats["return_status"])
             iters += int(stats.get("iter_count", 0))
@@ -241,7 +237,7 @@ class IpoptSolver(Solver):
             if opts["polish"]:
                 q, err = polish(robot, target, q, q_ref)
             else:
-                err = error_from(*_errs(robot, target, q))
+                err = error_from(*config_errors(robot, target, q))
             if err < best_err:
                 best_q, best_err = q, err
             history.append(best_err)

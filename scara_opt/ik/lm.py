@@ -54,7 +54,7 @@ import numpy as np
 
 from scara_opt.errors import InputError
 from scara_opt.ik.base import Solver, SolverOutput, default_q0
-from scara_opt.ik.ipopt import _angle_error, _params
+from scara_opt.ik.ipopt import angle_error_expr, nlp_params
 from scara_opt.ik.registry import register_solver
 from scara_opt.robot import Array, Robot
 from scara_opt.target import Target
@@ -117,7 +117,7 @@ class _Symbols:
 def _residual(robot: Robot, kind: str, q: ca.SX, par: ca.SX) -> ca.SX:
     """Weighted task residual r(q) (m,), zero exactly where the NLP's task cost is.
 
-    Position and rotation rows are the NLP's (``ipopt._angle_error``). For a yaw the row
+    Position and rotation rows are the NLP's (``ipopt.angle_error_expr``). For a yaw the row
     is the wrapped angle itself rather than the NLP's 2-row chord (whose length is
     2 sin(|Δ|/2)): the same solutions, but a residual whose Jacobian has full row rank,
     which the damped minimum-norm solve needs on redundant robots.
@@ -128,7 +128,7 @@ def _residual(robot: Robot, kind: str, q: ca.SX, par: ca.SX) -> ca.SX:
     r = wp * (p - par[:3])
     if kind == "position":
         return r
-    chord = _angle_error(robot, kind, R, par[3:3 + n_ang])
+    chord = angle_error_expr(robot, kind, R, par[3:3 + n_ang])
     if kind == "yaw":  # heading h = chord + (c, s): angle from (c, s) to h
         c, s = par[3], par[4]
         h1, h2 = chord[0] + c, chord[1] + s
@@ -483,7 +483,7 @@ def lm_search(robot: Robot, target: Target, q_ref: Array, starts: Iterable[Array
         Search: the best configuration over the starts tried.
     """
     f = phase_arrays(robot, target.kind, 1, jit)
-    f.par[0] = _params(target, q_ref, 0.0)
+    f.par[0] = nlp_params(target, q_ref, 0.0)
     f.box[0] = limits(robot)[0] if box is None else box
     run = _Run(f, residual_tol(target.weights, tol))
     best_q, best_e, n = q_ref, math.inf, 0

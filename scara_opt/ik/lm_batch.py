@@ -21,7 +21,7 @@ from numpy.typing import NDArray
 
 from scara_opt.errors import InputError
 from scara_opt.ik.base import LIMIT_SLACK, check_q0
-from scara_opt.ik.ipopt import _params
+from scara_opt.ik.ipopt import nlp_params
 from scara_opt.ik.lm import (
     LAMBDA0,
     LAMBDA_MAX,
@@ -120,9 +120,9 @@ def _q0s(robot: Robot, q0s: object | None, n: int) -> Array:
 
 
 def _params_rows(stacked: _Stacked, ts: list[Target] | None, Q_ref: Array) -> Array:
-    """The NLP parameter rows (n, n_par) of every target (see ``ipopt._params``)."""
+    """The NLP parameter rows (n, n_par) of every target (see ``ipopt.nlp_params``)."""
     if ts is not None:
-        return np.array([_params(t, q, 0.0) for t, q in zip(ts, Q_ref, strict=True)])
+        return np.array([nlp_params(t, q, 0.0) for t, q in zip(ts, Q_ref, strict=True)])
     n = len(Q_ref)
     ang = (np.zeros((n, 0)) if stacked.yaw is None
            else np.column_stack([np.cos(stacked.yaw), np.sin(stacked.yaw)]))

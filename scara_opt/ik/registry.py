@@ -55,7 +55,7 @@ def get_solver(method: str, **options: Any) -> Solver:
     return _REGISTRY[method](**options)
 
 
-def solve_ik(robot: Robot, target: Target | object, method: str = "ipopt",
+def solve_ik(robot: Robot, target: Target | object, method: str = "auto",
              q0: object | None = None, seed: int | None = 0, tol: float = 1e-9,
              **options: Any) -> IKResult:
     """Solve inverse kinematics with any registered method.
@@ -63,7 +63,11 @@ def solve_ik(robot: Robot, target: Target | object, method: str = "ipopt",
     Args:
         robot: the robot.
         target: a :class:`Target` or a (3,) position [m].
-        method: a name from :func:`solvers` (``"ipopt"``, ``"analytic"``, ``"pso"``, …).
+        method: a name from :func:`solvers`. The default ``"auto"`` runs the fast
+            Levenberg–Marquardt solver (``"lm"``) seeded by the closed form where it applies
+            and falls back to IPOPT's multi-start before it reports ``"unreachable"``;
+            ``"ipopt"`` is the certifying reference, ``"analytic"`` the closed form,
+            ``"pso"``, ``"gwo"``, … the metaheuristics.
         q0: (nq,) start / preferred configuration within the limits, or ``None``.
         seed: seed of the solver's random generator.
         tol: residual [m and rad] below which the status is ``"solved"``.

@@ -81,3 +81,9 @@ def error_from(dp: Array, dang: float | None) -> float:
     """The honest residual of one solution: max(|Δp| [m], |Δangle| [rad])."""
     err = float(np.linalg.norm(dp))
     return err if dang is None else max(err, abs(float(dang)))
+
+
+def config_errors(robot: Robot, target: Target, q: Array) -> tuple[Array, float | None]:
+    """Position error (3,) and angle error of one configuration (one Pinocchio FK)."""
+    dp, dang = errors_from_poses(robot, target, robot.fk(q)[None])
+    return dp[0], None if dang is None else float(dang[0])

@@ -199,7 +199,7 @@ def _assemble(Q: Array, results: Sequence[IKResult], targets: Sequence[Target],
         method=method, joint_names=tuple(names), results=tuple(results), time_s=time_s)
 
 
-def ik_path(robot: Robot, targets: object, method: str = "ipopt", q_start: object | None = None,
+def ik_path(robot: Robot, targets: object, method: str = "auto", q_start: object | None = None,
             jump_threshold: object | None = None, seed: int | None = 0, tol: float = 1e-9,
             **options: Any) -> JointPath:
     """Inverse kinematics along a path, each point warm-started from the previous solution.
@@ -208,8 +208,10 @@ def ik_path(robot: Robot, targets: object, method: str = "ipopt", q_start: objec
         robot: the robot.
         targets: a sequence of :class:`~scara_opt.Target` or an (n, 3) / (n, 4) array
             ``[x, y, z(, yaw)]`` [m, rad] (see :mod:`scara_opt.paths`).
-        method: any registered IK method (:func:`~scara_opt.solvers`). Methods that honour
-            ``q0`` (``"ipopt"``, ``"analytic"``) keep the previous branch; a metaheuristic
+        method: any registered IK method (:func:`~scara_opt.solvers`); default ``"auto"``
+            (the fast ``"lm"`` solver, IPOPT only for its misses). Methods that honour
+            ``q0`` (``"auto"``, ``"lm"``, ``"ipopt"``, ``"analytic"``) keep the previous
+            branch; a metaheuristic
             that ignores it may change branch, which then shows up in :attr:`JointPath.jumps`.
         q_start: (nq,) configuration the path starts from: the ``q0`` of the first point (not
             itself part of the path); ``None`` lets the solver choose.
