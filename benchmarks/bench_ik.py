@@ -56,15 +56,16 @@ def bench_robot(name: str, rng: np.random.Generator) -> None:
     Q = rng.uniform(robot.lower, robot.upper, (N, robot.nq))
     P = robot.positions(Q)
     q_start = default_q0(robot)
-    so.solve_ik(robot, P[0])  # build and cache the NLP outside the timing
+    so.solve_ik(robot, P[0], method="ipopt")  # build and cache the NLP outside the timing
     t_sp, res_sp = timed(lambda p: scipy_solve(robot, p, q_start), P)
     ok_sp = np.mean([np.linalg.norm(robot.position(r.x) - p) <= 1e-9
                      for r, p in zip(res_sp, P, strict=True)])
     base = float(np.median(t_sp))
-    t_cold, res_cold = timed(lambda p: so.solve_ik(robot, p), P)
+    t_cold, res_cold = timed(lambda p: so.solve_ik(robot, p, method="ipopt"), P)
     # warm: start from the solution of a neighbour 1 mm away (a path's previous point)
-    neigh = [so.solve_ik(robot, p + [0.001, 0, 0]).q for p in P]
-    t_warm, res_warm = timed(lambda k: so.solve_ik(robot, P[k], q0=neigh[k]), range(N))
+    neigh = [so.solve_ik(robot, p + [0.001, 0, 0], method="ipopt").q for p in P]
+    t_warm, res_warm = timed(lambda k: so.solve_ik(robot, P[k], q0=neigh[k], method="ipopt"),
+                             range(N))
     t_an, res_an = timed(lambda p: so.solve_ik(robot, p, method="analytic"), P)
     big = np.repeat(P, max(1, 1_000_000 // N), axis=0)
     t0 = time.perf_counter()

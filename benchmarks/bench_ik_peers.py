@@ -105,10 +105,10 @@ def ours(robot: so.Robot, P: np.ndarray) -> dict[str, tuple[np.ndarray, np.ndarr
         batch = solve_many(robot, P, jit=jit)
         rows[label] = (np.full(len(P), (time.perf_counter() - t) / len(P)), batch.q)
     rows["auto"] = timed(lambda k: so.solve_ik(robot, P[k], method="auto").q, len(P))
-    rows["ipopt cold"] = timed(lambda k: so.solve_ik(robot, P[k]).q, len(P))
+    rows["ipopt cold"] = timed(lambda k: so.solve_ik(robot, P[k], method="ipopt").q, len(P))
     fast = rows["lm"][1]
     rows["ipopt certify (q0 = lm answer)"] = timed(
-        lambda k: so.solve_ik(robot, P[k], q0=fast[k]).q, len(P))
+        lambda k: so.solve_ik(robot, P[k], method="ipopt", q0=fast[k]).q, len(P))
     rows["analytic (closed form)"] = timed(
         lambda k: so.solve_ik(robot, P[k], method="analytic").q, len(P))
     return rows

@@ -33,7 +33,7 @@ def main() -> None:
     print(robot)
     T = robot.fk(Q_GOAL)
     pose = so.Target(T[:3, 3], rotation=T[:3, :3])
-    res_ipopt = so.solve_ik(robot, pose, restarts=40)
+    res_ipopt = so.solve_ik(robot, pose, method="ipopt", restarts=40)
     res_pso = so.solve_ik(robot, T[:3, 3], method="pso", population=60, iterations=200,
                           seed=0, tol=1e-6)
     print(f"{'method':<8}{'target':<10}{'status':<13}{'error':>10}{'time [ms]':>11}")

@@ -9,13 +9,15 @@ Problem (built once per robot and task kind, then cached on the robot):
 
 with :math:`e_a` the tool-angle error (yaw: the chord between the tool's heading and the
 target heading; rotation: :math:`\|R - R^*\|_F / 2`), ``s`` the joint ranges and a small
-``regularization`` :math:`\lambda`. The minimiser is then polished by Gauss–Newton
-minimum-norm steps on the Pinocchio Jacobian, so the residual reaches round-off instead of
-the :math:`O(\lambda)` offset the regulariser leaves.
+``regularization`` :math:`\lambda`. The minimiser is then polished by the phases of the
+fast solver (:mod:`scara_opt.ik.lm`: damped Gauss–Newton on the same residual, a slide
+toward ``q0``, Gauss–Newton again), so the residual reaches round-off instead of the
+:math:`O(\lambda)` offset the regulariser leaves.
 
 Redundancy rule (``nguyen``, ``inverted5``, and the free wrist of a position-only target):
-among the configurations that reach the target, the regulariser and the minimum-norm
-polish pick the one nearest to ``q0`` (locally: on the branch IPOPT converges to).
+among the configurations that reach the target, the regulariser and the polish's slide
+pick the one nearest to ``q0`` in range-scaled joint coordinates (locally: on the branch
+IPOPT converges to).
 
 If the first start misses, up to ``restarts`` further starts are drawn uniformly within the
 limits from the seeded generator; the best is kept. A best residual above ``tol`` after all
@@ -32,13 +34,11 @@ from typing import Any
 
 import casadi as ca
 import numpy as np
-import pinocchio as pin
-from numpy.typing import NDArray
 
 from scara_opt.ik.base import Solver, SolverOutput, default_q0
 from scara_opt.ik.registry import register_solver
 from scara_opt.ik.result import Status
-from scara_opt.ik.task import config_errors, error_from, errors_from_poses
+from scara_opt.ik.task import config_errors, error_from
 from scara_opt.robot import Array, Robot
 from scara_opt.target import Target
 
@@ -120,81 +120,24 @@ def nlp_params(target: Target, q0: Array, lam: float) -> np.ndarray:
 
 
 
-def _residual_and_jacobian(robot: Robot, target: Target, q: Array) -> tuple[Array, Array, float]:
-    """Weighted task residual r (m,), its Jacobian (m, nq), and the error, at ``q``."""
-    wp, wa = target.weights
-    T = robot.fk(q)
-    J = robot.jacobian(q)
-    dp, dang = errors_from_poses(robot, target, T[None])
-    r, Jr = [wp * dp[0]], [wp * J[:3]]
-    if target.kind == "yaw":
-        r.append(wa * dang)
-        Jr.append(wa * (robot.yaw_axis @ J[3:])[None, :])
-    elif target.kind == "rotation":
-        r.append(wa * pin.log3(T[:3, :3] @ np.asarray(target.rotation).T))
-        Jr.append(wa * J[3:])
-    err = error_from(dp[0], None if dang is None else float(dang[0]))
-    return np.concatenate(r), np.vstack(Jr), err
+def polish(robot: Robot, target: Target, q: Array, err: float, q_ref: Array,
+           tol: float) -> tuple[Array, float]:
+    """Refine an NLP answer ``q`` (error ``err``) to round-off, nearest to ``q_ref``.
 
-
-def polish(robot: Robot, target: Target, q: Array, q_ref: Array,
-           steps: int = 30) -> tuple[Array, float]:
-    """Refine an NLP answer: Gauss–Newton to round-off, plus null-space moves toward ``q_ref``.
-
-    Each step is :math:`Δ = -J^+ r + (I - J^+ J)(q_{ref} - q)` in range-scaled joint
-    coordinates, over the joints not held at a limit: the first term removes the task
-    residual (minimum-norm), the second slides along the solution set toward ``q_ref``, so
-    a redundant robot ends at the solution locally nearest to ``q_ref``. A joint a step
-    would push past a limit is held at that limit from then on. Steps are kept only while
-    the residual does not grow above max(its value, 1e-13), shortening the slide if needed.
+    The fast solver's phases (:func:`scara_opt.ik.lm.lm_search`) from ``q``: Levenberg–
+    Marquardt on the residual, a slide along the solution set toward ``q_ref`` (a
+    redundant robot ends at the solution locally nearest to it), and Gauss–Newton to
+    round-off. The refined ``q`` is kept only if its error is not larger.
 
     Returns:
-        The refined ``q`` (within the limits) and its error [m, rad].
+        ``q`` (within the limits) and its error [m, rad].
     """
-    lo, hi = robot.lower, robot.upper
-    scale = np.where(np.isfinite(hi - lo), hi - lo, 1.0)
-    free = (q > lo + 1e-12) & (q < hi - 1e-12)
-    r, J, err = _residual_and_jacobian(robot, target, q)
-    for _ in range(steps):
-        if not free.any():
-            break
-        Js = J[:, free] * scale[free]
-        pinv = np.linalg.pinv(Js, rcond=1e-10)
-        toward = (q_ref - q)[free] / scale[free]
-        fix = -pinv @ r
-        slide = toward - pinv @ (Js @ toward)
-        for alpha in (1.0, 0.25, 1 / 16, 0.0):  # shorten the slide until the residual holds
-            cand = q.copy()
-            cand[free] += (fix + alpha * slide) * scale[free]
-            held = free & ((cand < lo) | (cand > hi))
-            cand = np.clip(cand, lo, hi)
-            r_c, J_c, err_c = _residual_and_jacobian(robot, target, cand)
-            if err_c <= max(err, 1e-13):
-                break
-        else:
-            break
-        free &= ~held
-        moved = float(np.abs(cand - q).max())
-        q, r, J, err = cand, r_c, J_c, err_c
-        if moved < 1e-13:
-            break
-    return _gauss_newton(robot, target, q, free, r, J, err)
+    from scara_opt.ik.lm import lm_search  # lm builds on this module's NLP pieces
 
-
-def _gauss_newton(robot: Robot, target: Target, q: Array, free: NDArray[np.bool_], r: Array,
-                  J: Array, err: float, steps: int = 5) -> tuple[Array, float]:
-    """Pure minimum-norm Gauss–Newton steps (no slide) while the residual keeps falling."""
-    for _ in range(steps):
-        if err == 0.0 or not free.any():
-            break
-        cand = q.copy()
-        cand[free] -= np.linalg.lstsq(J[:, free], r, rcond=1e-10)[0]
-        cand = np.clip(cand, robot.lower, robot.upper)
-        r_c, J_c, err_c = _residual_and_jacobian(robot, target, cand)
-        if not err_c < err:
-            break
-        q, r, J, err = cand, r_c, J_c, err_c
-    return q, err
+    found = lm_search(robot, target, q_ref, [q], tol=tol, max_iter=100)
+    q_new = np.clip(found.q, robot.lower, robot.upper)
+    err_new = error_from(*config_errors(robot, target, q_new))
+    return (q_new, err_new) if err_new <= err else (q, err)
 
 
 @register_solver("ipopt")
@@ -234,10 +177,9 @@ class IpoptSolver(Solver):
             iters += int(stats.get("iter_count", 0))
             evals += int(stats.get("n_call_nlp_f", 0)) + int(stats.get("n_call_nlp_grad_f", 0))
             q = np.clip(np.asarray(sol["x"]).ravel(), lbx, ubx)
+            err = error_from(*config_errors(robot, target, q))
             if opts["polish"]:
-                q, err = polish(robot, target, q, q_ref)
-            else:
-                err = error_from(*config_errors(robot, target, q))
+                q, err = polish(robot, target, q, err, q_ref, tol)
             if err < best_err:
                 best_q, best_err = q, err
             history.append(best_err)

@@ -72,6 +72,13 @@ def cost_from_errors(target: Target, dp: Array, dang: Array | None) -> Array:
     return np.sqrt(sq)
 
 
+def cost_of(target: Target, dp: Array, dang: float | None) -> float:
+    """:func:`cost_from_errors` of one configuration: ``dp`` (3,) [m], ``dang`` [rad]."""
+    wp, wa = target.weights
+    sq = wp**2 * float(dp @ dp)
+    return math.sqrt(sq if dang is None else sq + wa**2 * dang**2)
+
+
 def cost_batch(robot: Robot, target: Target, Q: Array) -> Array:
     """Task cost (n,) of configurations ``Q`` (n, nq): one vectorised FK call."""
     return cost_from_errors(target, *task_errors(robot, target, Q))
@@ -79,7 +86,7 @@ def cost_batch(robot: Robot, target: Target, Q: Array) -> Array:
 
 def error_from(dp: Array, dang: float | None) -> float:
     """The honest residual of one solution: max(|Δp| [m], |Δangle| [rad])."""
-    err = float(np.linalg.norm(dp))
+    err = math.sqrt(float(dp @ dp))
     return err if dang is None else max(err, abs(float(dang)))
 
 
