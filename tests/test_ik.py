@@ -30,12 +30,13 @@ def assert_invariants(robot: so.Robot, res: so.IKResult) -> None:
 
 
 # ------------------------------------------------------------------ IPOPT reference
+@pytest.mark.parametrize("method", ["ipopt", "lm"])
 @pytest.mark.parametrize("name", BUNDLED)
-def test_ipopt_solves_1000_reachable_targets(robots, name):
-    """IPOPT reaches 1000 random reachable targets of each bundled robot to 1e-9 m."""
+def test_exact_solvers_reach_1000_reachable_targets(robots, name, method):
+    """IPOPT, and the fast solver alone, reach 1000 reachable targets of each robot to 1e-9 m."""
     robot = robots[name]
     P = reachable_targets(robot, 1000, seed=7)
-    results = [so.solve_ik(robot, p, method="ipopt", tol=1e-9) for p in P]
+    results = [so.solve_ik(robot, p, method=method, tol=1e-9) for p in P]
     for res in results:
         assert_invariants(robot, res)
     failed = [r for r in results if not r.success]

@@ -18,18 +18,6 @@ UNREACHABLE = [-0.23, 0.20, -0.20]  # zavar2024's paper target: 0.102 m below th
 
 # ------------------------------------------------------------------ the fast solver
 @pytest.mark.parametrize("name", BUNDLED)
-def test_lm_solves_1000_reachable_targets(robots, name):
-    """The fast solver alone reaches 1000 reachable targets of every bundled robot to 1e-9 m."""
-    robot = robots[name]
-    results = [so.solve_ik(robot, p, method="lm") for p in reachable_targets(robot, 1000, 7)]
-    for res in results:
-        assert_invariants(robot, res)
-    failed = [r for r in results if not r.success]
-    assert not failed, f"{len(failed)} failures, e.g. {failed[:2]}"
-    assert max(r.error for r in results) <= 1e-9
-
-
-@pytest.mark.parametrize("name", BUNDLED)
 def test_auto_solves_position_and_yaw_targets(robots, name):
     """'auto' reaches 200 position + tool-angle targets of every bundled robot to 1e-9."""
     robot = robots[name]

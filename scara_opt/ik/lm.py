@@ -502,10 +502,12 @@ def lm_search(robot: Robot, target: Target, q_ref: Array, starts: Iterable[Array
 def random_starts(robot: Robot, rng: np.random.Generator, n: int) -> Iterator[Array]:
     """``n`` configurations drawn uniformly within the limits, lazily.
 
-    Unbounded joints (continuous, limits ±inf) are drawn within [-π, π].
+    Unbounded joints (continuous, limits ±inf) are drawn within [-π, π]
+    (:attr:`~scara_opt.Robot.sampling_lower`, ``sampling_upper``).
     """
-    lo = np.where(np.isfinite(robot.lower), robot.lower, -math.pi)
-    hi = np.where(np.isfinite(robot.upper), robot.upper, math.pi)
+    if n <= 0:
+        return
+    lo, hi = robot.sampling_lower, robot.sampling_upper
     for _ in range(n):
         yield rng.uniform(lo, hi)
 
