@@ -196,6 +196,80 @@ def cmd_workspace(args: argparse.Namespace) -> int:
     return 0
 
 
+def _yaw_arg(text: str) -> float | str:
+    """``--yaw`` of a path: degrees, or ``tangent``."""
+    if text == "tangent":
+        return text
+    try:
+        return math.radians(float(text))
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected degrees or 'tangent', got {text!r}") from None
+
+
+def _path_targets(args: argparse.Namespace) -> list[Any]:
+    """The path's targets in SI from --circle CX CY R Z or --line X0 Y0 Z0 X1 Y1 Z1."""
+    from scara_opt import paths
+
+    L = 1000.0 if args.mm else 1.0
+    if args.circle:
+        cx, cy, r, z = (v / L for v in args.circle)
+        return paths.circle((cx, cy), r, z, n=args.n, yaw=args.yaw)
+    xyz = np.asarray(args.line, float) / L
+    return paths.line(xyz[:3], xyz[3:], args.n, yaw=args.yaw)
+
+
+def _write_joint_path(jp: Any, robot: Any, path: Any) -> None:
+    """One CSV row per path point: target, status, residual and q, in SI units."""
+    import pandas as pd
+
+    rows = []
+    for i, (t, res) in enumerate(zip(jp.targets, jp.results, strict=True)):
+        row: dict[str, Any] = {"point": i, "x_m": t.position[0], "y_m": t.position[1],
+                               "z_m": t.position[2], "status": res.status.value,
+                               "error": res.error}
+        units = _units(robot, False, False)
+        row.update({f"{n}_{u}": v for n, u, v in zip(robot.joint_names, units, res.q,
+                                                     strict=True)})
+        rows.append(row)
+    pd.DataFrame(rows).to_csv(path, index=False)
+
+
+def cmd_path(args: argparse.Namespace) -> int:
+    """IK along a circle or a line, then time the joint path: CSV tables and a figure."""
+    from pathlib import Path
+
+    import scara_opt as so
+
+    robot = so.load_robot(args.robot)
+    q_start = None
+    if args.q_start is not None:
+        q_start = robot.check_q(args.q_start, "--q-start") / _joint_scale(robot, args.deg,
+                                                                           args.mm)
+    jp = so.ik_path(robot, _path_targets(args), method=args.method, q_start=q_start,
+                    seed=args.seed, tol=args.tol)
+    out = Path(args.out)
+    out.mkdir(parents=True, exist_ok=True)
+    _write_joint_path(jp, robot, out / "joint_path.csv")
+    if not args.json:
+        print(jp.summary())
+    jp.raise_if_invalid(allow_jumps=args.allow_jumps)  # exit 2, joint_path.csv kept
+    traj = so.time_parameterize(jp, robot, method=args.time, allow_jumps=args.allow_jumps)
+    files = [out / "joint_path.csv", traj.to_csv(out / "trajectory.csv"),
+             traj.plot(out / "trajectory.png")]
+    ratios = {k: float(np.max(v)) for k, v in traj.check_limits().items()}
+    if args.json:
+        print(json.dumps({
+            "robot": robot.name, "method": jp.method, "timing": args.time, "points": len(jp),
+            "solved": int(jp.solved.sum()), "max_error": float(jp.error.max()),
+            "jumps": [j.index for j in jp.jumps], "duration_s": traj.duration,
+            "limit_ratios": ratios, "files": [str(f) for f in files]}))
+        return 0
+    peaks = ", ".join(f"{k} {v:.3f}" for k, v in ratios.items())
+    print(f"{args.time}: {traj.duration:.4f} s; largest ratio to the limits: {peaks}")
+    print("wrote " + ", ".join(str(f) for f in files))
+    return 0
+
+
 def cmd_reproduce(args: argparse.Namespace) -> int:
     """Reproduce one paper or all: tables, figures and summary.md."""
     from scara_opt.reports import reproduce
@@ -271,6 +345,31 @@ def build_parser() -> argparse.ArgumentParser:
     group.add_argument("--workers", type=int, default=1, help="local worker processes")
     group.add_argument("--dask", metavar="ADDRESS", help="dask scheduler address")
     p.set_defaults(func=cmd_compare)
+
+    p = sub.add_parser("path", parents=[units],
+                       help="IK along a circle or line, then time it (CSV + figure)")
+    p.add_argument("robot", metavar="ROBOT", help="bundled robot name or path to .urdf/.toml")
+    shape = p.add_mutually_exclusive_group(required=True)
+    shape.add_argument("--circle", type=float, nargs=4, metavar=("CX", "CY", "R", "Z"),
+                       help="horizontal circle: centre, radius, height (m, or mm with --mm)")
+    shape.add_argument("--line", type=float, nargs=6,
+                       metavar=("X0", "Y0", "Z0", "X1", "Y1", "Z1"),
+                       help="straight line from start to end (m, or mm with --mm)")
+    p.add_argument("-n", type=int, default=36, help="path points (default 36)")
+    p.add_argument("--yaw", type=_yaw_arg, metavar="DEG|tangent",
+                   help="tool angle along the path [deg], or 'tangent' to the path")
+    p.add_argument("--method", default="auto",
+                   help="IK method (see `scara-opt solvers`; default auto)")
+    p.add_argument("--time", default="toppra", choices=["toppra", "ruckig", "quintic"],
+                   help="time parameterisation (default toppra)")
+    p.add_argument("--q-start", type=float, nargs="+", metavar="q",
+                   help="configuration the path starts from (units per --deg/--mm)")
+    p.add_argument("--allow-jumps", action="store_true",
+                   help="time the path even if the joints jump (elbow flip, wrist turn)")
+    p.add_argument("--seed", type=int, default=0, help="random seed (default 0)")
+    p.add_argument("--tol", type=float, default=1e-9, help="residual counted as solved [m]")
+    p.add_argument("--out", required=True, help="output folder")
+    p.set_defaults(func=cmd_path)
 
     p = sub.add_parser("workspace", help="Monte Carlo workspace with figures")
     p.add_argument("robot", metavar="ROBOT", help="bundled robot name or path to .urdf/.toml")

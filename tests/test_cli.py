@@ -25,8 +25,8 @@ def test_robots_lists_every_bundled_robot_with_limits_and_source():
     assert "[-120.0, 120.0] deg" in out.stdout and "seeds/" in out.stdout
 
 
-@pytest.mark.parametrize("command", ["robots", "solvers", "fk", "ik", "compare", "workspace",
-                                     "reproduce"])
+@pytest.mark.parametrize("command", ["robots", "solvers", "fk", "ik", "compare", "path",
+                                     "workspace", "reproduce"])
 def test_help_everywhere(command):
     """Every subcommand answers --help with exit code 0."""
     out = run(command, "--help")
@@ -74,6 +74,11 @@ def test_ik_all_lists_the_branches():
     (("fk", "no_such_robot", "1"), "no bundled robot named 'no_such_robot'"),
     (("ik", "zavar2024", "--xyz", "0.2", "0.1", "-0.06", "--yaw", "nan"), "yaw must be finite"),
     (("workspace", "zavar2024", "-n", "0", "--out", "/tmp/scara_opt_ws"), "n"),
+    # zavar2024 Table 3's circle (r = 16 cm, z = -6 cm) lies inside the hole around the base
+    (("path", "zavar2024", "--circle", "0", "0", "160", "-60", "--mm", "-n", "10", "--out",
+      "/tmp/scara_opt_path"), "10 of 10 path points were not reached"),
+    (("path", "zavar2024", "--line", "0.25", "0", "-0.07", "0.25", "0", "-0.07", "--yaw",
+      "tangent", "--out", "/tmp/scara_opt_path"), "no tangent direction"),
 ])
 def test_bad_input_is_one_line_and_exit_2(args, message):
     """Bad input: exit code 2, a one-line error on stderr, no traceback."""
@@ -89,6 +94,12 @@ def test_bad_usage_exits_2():
     assert out.returncode == 2 and "invalid choice" in out.stderr
     out = run("reproduce", "nobody2020", "--out", "/tmp/x")
     assert out.returncode == 2 and "invalid choice" in out.stderr
+    out = run("path", "zavar2024", "--circle", "0.25", "0", "0.05", "-0.07", "--line", "0", "0",
+              "0", "1", "1", "1", "--out", "/tmp/x")
+    assert out.returncode == 2 and "not allowed with" in out.stderr
+    out = run("path", "zavar2024", "--circle", "0.25", "0", "0.05", "-0.07", "--yaw", "north",
+              "--out", "/tmp/x")
+    assert out.returncode == 2 and "expected degrees or 'tangent'" in out.stderr
 
 
 def test_compare_writes_the_table_and_figures(tmp_path):
@@ -98,6 +109,25 @@ def test_compare_writes_the_table_and_figures(tmp_path):
     assert out.returncode == 0, out.stderr
     for name in ("runs.csv", "summary.csv", "convergence.png", "time_vs_population.png",
                  "error_time_boxes.png"):
+        assert (tmp_path / name).is_file(), name
+
+
+PATH_KEYS = {"robot", "method", "timing", "points", "solved", "max_error", "jumps", "duration_s",
+             "limit_ratios", "files"}
+
+
+@pytest.mark.parametrize("timing", ["toppra", "ruckig"])
+def test_path_solves_times_and_writes(tmp_path, timing):
+    """path: a reachable circle is solved at every point, timed within the limits, written."""
+    out = run("path", "zavar2024", "--circle", "280", "0", "50", "-70", "--mm", "-n", "24",
+              "--time", timing, "--json", "--out", str(tmp_path))
+    assert out.returncode == 0, out.stderr
+    data = json.loads(out.stdout)
+    assert set(data) == PATH_KEYS
+    assert data["points"] == data["solved"] == 24 and data["max_error"] <= 1e-9
+    assert data["jumps"] == [] and data["duration_s"] > 0
+    assert all(r <= 1 + 1e-6 for r in data["limit_ratios"].values())
+    for name in ("joint_path.csv", "trajectory.csv", "trajectory.png"):
         assert (tmp_path / name).is_file(), name
 
 
