@@ -57,6 +57,7 @@ from scara_opt.ik.base import Solver, SolverOutput, default_q0
 from scara_opt.ik.ipopt import angle_error_expr, nlp_params
 from scara_opt.ik.registry import register_solver
 from scara_opt.robot import Array, Robot
+from scara_opt.symbolic import FunctionArrays
 from scara_opt.target import Target
 
 #: damping factor λ of μ = λ‖r‖²: start, floor, ceiling (a start has stalled at the ceiling)
@@ -287,42 +288,6 @@ def cached_step(robot: Robot, phase: str, kind: str, n: int = 1,
     if (phase, kind, n, jit) not in cache:
         cache[(phase, kind, n, jit)] = cache[(phase, kind, 1, jit)].map(n)
     return cache[(phase, kind, n, jit)]
-
-
-class FunctionArrays:
-    """Numpy arrays wired to a (mapped) casadi Function's inputs and outputs, by name.
-
-    Each array is ``(n, size)`` in C order: the memory of casadi's column-major
-    ``(size, n)``. Calling the object evaluates in place. casadi buffers carry state:
-    use one instance per thread (:func:`phase_arrays`).
-
-    Attributes:
-        arg: input arrays by input name; res: output arrays by output name.
-    """
-
-    def __init__(self, f: ca.Function, n: int, shared: dict[str, Array] | None = None) -> None:
-        shared = shared or {}
-        self.arg = {name: shared.get(name, np.zeros((n, f.size1_in(i))))
-                    for i, name in enumerate(f.name_in())}
-        self.res = {name: np.zeros((n, f.size1_out(i)))
-                    for i, name in enumerate(f.name_out())}
-        if hasattr(f, "buffer"):  # casadi >= 3.6: no argument conversion per call
-            self._buffer, self._eval = f.buffer()
-            for i, a in enumerate(self.arg.values()):
-                self._buffer.set_arg(i, memoryview(a.reshape(-1)))  # type: ignore[call-arg,arg-type]
-            for i, a in enumerate(self.res.values()):
-                self._buffer.set_res(i, memoryview(a.reshape(-1)))  # type: ignore[call-arg,arg-type]
-        else:  # pragma: no cover - older casadi
-            def evaluate() -> None:
-                out = f.call([a.T for a in self.arg.values()])
-                for a, v in zip(self.res.values(), out, strict=True):
-                    a[...] = np.asarray(v).T.reshape(a.shape)
-
-            self._eval = evaluate
-
-    def __call__(self) -> None:
-        """Evaluate every column; results land in :attr:`res`."""
-        self._eval()
 
 
 @dataclass

@@ -20,7 +20,7 @@ from numpy.typing import NDArray
 
 from scara_opt.errors import InputError
 from scara_opt.ik.base import Solver, SolverOutput
-from scara_opt.ik.task import cost_batch, wrap_angle
+from scara_opt.ik.task import config_errors, cost_batch, cost_of, wrap_angle
 from scara_opt.robot import Robot
 from scara_opt.target import Target
 
@@ -90,8 +90,13 @@ class Problem:
         return cost_batch(self.robot, self.target, X)
 
     def cost_one(self, x: Array) -> float:
-        """Cost of one configuration ``x`` (nq,) (for scalar local searches such as Nelder–Mead)."""
-        return float(self.cost(x[None, :])[0])
+        """Cost of one configuration ``x`` (nq,) (for scalar local searches such as Nelder–Mead).
+
+        One Pinocchio FK call (~5 µs), cheaper than a batch of one; the same cost up to
+        round-off. Counted in :attr:`evaluations`.
+        """
+        self.evaluations += 1
+        return cost_of(self.target, *config_errors(self.robot, self.target, x))
 
     def repair(self, X: Array) -> Array:
         """``X`` (n, nq) brought into the box (reflect, clip; wrap continuous joints)."""

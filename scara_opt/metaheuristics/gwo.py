@@ -7,6 +7,7 @@ from typing import Any, ClassVar
 
 import numpy as np
 
+from scara_opt.errors import InputError
 from scara_opt.ik.registry import register_solver
 from scara_opt.metaheuristics.base import (
     Array,
@@ -50,15 +51,20 @@ class GreyWolfSolver(PopulationSolver[Pack]):
         population: wolves (default 60, at least 3).
         iterations: generations (default 200); also sets the schedule of :math:`a`.
         a_start: initial value of :math:`a` (default 2, as in the paper).
+        greedy: a wolf moves only if its new position costs less (default False, as in
+            the paper and Mirjalili et al.; mealpy's ``OriginalGWO`` does this).
     """
 
     name = "gwo"
-    defaults: ClassVar[dict[str, Any]] = {"population": 60, "iterations": 200, "a_start": 2.0}
+    defaults: ClassVar[dict[str, Any]] = {"population": 60, "iterations": 200, "a_start": 2.0,
+                                          "greedy": False}
     min_population = 3
 
     def check_options(self) -> None:
         """Validate ``a_start`` (a positive number, at most 4)."""
         check_number("a_start", self.options["a_start"], 0.0, 4.0, low_open=True)
+        if not isinstance(self.options["greedy"], bool):
+            raise InputError(f"gwo: greedy must be True or False; got {self.options['greedy']!r}")
 
     def initialize(self, problem: Problem, population: Population,
                    rng: np.random.Generator) -> Pack:
@@ -76,4 +82,7 @@ class GreyWolfSolver(PopulationSolver[Pack]):
         X = problem.repair((L - A * np.abs(C * L - state.X)).mean(axis=0))
         f = problem.cost(X)
         lead = truncate(np.vstack([state.leaders, X]), np.concatenate([state.leader_f, f]), 3)
+        if self.options["greedy"]:
+            keep = f >= state.f
+            X[keep], f[keep] = state.X[keep], state.f[keep]
         return Pack(X, f, leaders=lead.X, leader_f=lead.f)
