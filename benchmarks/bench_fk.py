@@ -39,6 +39,29 @@ def fk_loop(robot: so.Robot, Q: np.ndarray) -> list[np.ndarray]:
     return [robot.fk(q) for q in Q]
 
 
+def per_call(fn, Q: np.ndarray, calls: int) -> float:
+    """Best time of one ``fn(Q)`` call [s], over ``calls`` calls in a row."""
+    return best_time(lambda: [fn(Q) for _ in range(calls)]) / calls
+
+
+def small_batches(robot: so.Robot, Q: np.ndarray, calls: int = 2000) -> None:
+    """Per-call cost at a metaheuristic's population sizes.
+
+    fk_batch and positions (the casadi route up to SMALL_BATCH / SMALL_BATCH_POSITIONS)
+    against the numpy chain walk they replace there, and the closed form.
+    """
+    print(f"small batches on {robot.name} (a population per call), us per call:")
+    print(f"  {'n':>5} {'fk_batch':>9} {'positions':>10} {'numpy walk':>11} "
+          f"{'closed form':>12} {'walk/positions':>15}")
+    for n in (20, 60, 100, 200, 400):
+        fast = per_call(robot.fk_batch, Q[:n], calls)
+        pos = per_call(robot.positions, Q[:n], calls)
+        walk = per_call(robot._fk_batch_rp, Q[:n], calls)
+        base = per_call(closed_form_zavar, Q[:n], calls)
+        print(f"  {n:>5} {fast * 1e6:>9.1f} {pos * 1e6:>10.1f} {walk * 1e6:>11.1f} "
+              f"{base * 1e6:>12.1f} {walk / pos:>15.2f}")
+
+
 def main() -> None:
     rng = np.random.default_rng(0)
     zavar = so.load_robot("zavar2024")
@@ -59,6 +82,7 @@ def main() -> None:
         ]
         for route, t in rows:
             print(f"{name:<10} {route:<22} {t * 1e9:>10.0f} {t / base:>11.1f}")
+    small_batches(zavar, Qz)
     t = best_time(zavar.fk_batch, Qz) / N
     verdict = "met" if t <= 1e-6 else "NOT met"
     print(f"goal fk_batch <= 1 us/config on zavar2024: {t * 1e6:.2f} us -> {verdict}")

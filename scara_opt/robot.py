@@ -3,8 +3,8 @@
 Pinocchio is the numeric source of truth (:meth:`Robot.fk`, :meth:`Robot.jacobian`).
 For batches, :meth:`Robot.fk_batch` walks the same model tree with numpy, and
 :attr:`Robot.symbolic_fk` builds the casadi expression from it; both are tested
-against Pinocchio. Batches of up to ``SMALL_BATCH`` configurations are evaluated by the
-casadi expression (lower per-call cost), larger ones by the numpy walk.
+against Pinocchio. Small batches (a metaheuristic's population) are evaluated by the
+casadi expression instead (lower per-call cost), large ones by the numpy walk.
 
 Real-world URDFs load without edits:
 
@@ -50,7 +50,7 @@ from scara_opt.errors import (
     TargetError,
     URDFError,
 )
-from scara_opt.symbolic import SMALL_BATCH, small_batch_poses
+from scara_opt.symbolic import SMALL_BATCH, SMALL_BATCH_POSITIONS, small_batch_poses
 
 if TYPE_CHECKING:
     import casadi
@@ -629,7 +629,7 @@ class Robot:
     def positions(self, Q: object) -> Array:
         """Tip positions (n, 3) [m] for ``Q`` (n, nq); the batch form of :meth:`position`."""
         Qa = self.check_q_batch(Q)
-        if 0 < Qa.shape[0] <= SMALL_BATCH:
+        if 0 < Qa.shape[0] <= SMALL_BATCH_POSITIONS:
             return small_batch_poses(self, Qa, rotations=False)[0]
         return self._fk_batch_rp(Qa)[1]
 

@@ -25,9 +25,10 @@ if TYPE_CHECKING:
 
 Array = NDArray[np.float64]
 
-#: batches up to this many configurations go through casadi (:func:`small_batch_poses`);
-#: measured crossover with the numpy walk: ~250 (poses) to ~500 (positions only)
-SMALL_BATCH = 256
+#: batches up to this many configurations go through casadi (:func:`small_batch_poses`):
+#: poses, and positions only (half the instructions); measured crossovers with the numpy
+#: walk of :meth:`Robot.fk_batch` (``benchmarks/bench_fk.py``): ~150 and ~600
+SMALL_BATCH, SMALL_BATCH_POSITIONS = 128, 512
 
 
 def _rotation(axis: np.ndarray, angle: ca.SX) -> ca.SX:
@@ -109,7 +110,7 @@ def _padded(n: int) -> int:
 
 
 def small_batch_poses(robot: Robot, Q: Array, rotations: bool = True) -> tuple[Array, Array | None]:
-    """Tip positions (n, 3) [m] and rotations (n, 3, 3) of ``Q`` (n, nq), 1 <= n <= SMALL_BATCH.
+    """Tip positions (n, 3) [m] and rotations (n, 3, 3) of ``Q`` (n, nq), n >= 1.
 
     :attr:`Robot.symbolic_fk` mapped over a power-of-two batch (unused columns are zero)
     and evaluated in place, one instance per robot, output, size and thread (casadi
