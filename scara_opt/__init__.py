@@ -7,6 +7,7 @@ generated from the papers' DH tables (:func:`load_robot`, :func:`list_robots`).
 import logging
 
 from scara_opt import metaheuristics, paths  # noqa: F401  (metaheuristics register themselves)
+from scara_opt.compare import compare  # the function (the module stays importable)
 from scara_opt.errors import (
     FrameNotFoundError,
     InputError,
@@ -39,6 +40,7 @@ logging.getLogger(__name__).addHandler(logging.NullHandler())
 __all__ = [
     "__version__",
     "BatchResult",
+    "compare",
     "Footprint",
     "FrameNotFoundError",
     "get_solver",

@@ -25,7 +25,7 @@ from scara_opt.ik.result import IKResult
 from scara_opt.robot import Robot
 from scara_opt.target import Target, as_target
 
-#: methods that take no population / iteration budget and need no seed sweep
+#: the exact reference methods added to every comparison (``reference=True``)
 EXACT_METHODS = ("analytic", "ipopt")
 
 COLUMNS = ["method", "population", "budget_iterations", "seed", "target", "x", "y", "z",
@@ -67,13 +67,21 @@ def _row(job: _Job, res: IKResult) -> dict[str, Any]:
     }
 
 
+def takes_budget(method: str) -> bool:
+    """Whether ``method`` is a population method (population, iterations, a seed sweep).
+
+    The others (``ipopt``, ``analytic``, ``lm``, ``auto``, …) run once per target, seed 0.
+    """
+    return "population" in get_solver(method).defaults
+
+
 def _jobs(targets: list[Target], methods: Sequence[str], populations: Sequence[int],
           iterations: int, seeds: Sequence[int],
           options: dict[str, dict[str, Any]]) -> list[_Job]:
     jobs: list[_Job] = []
     for method in methods:
         opts = tuple(sorted(options.get(method, {}).items()))
-        exact = method in EXACT_METHODS
+        exact = not takes_budget(method)
         for pop in ([None] if exact else populations):
             for seed in ([0] if exact else seeds):
                 for t_idx, target in enumerate(targets):
@@ -96,7 +104,8 @@ def compare(robot: Robot, targets: Iterable[Target | object], methods: Sequence[
         methods: registry names, or ``"all"`` for every registered solver.
         populations: population sizes for the population methods.
         iterations: iteration budget of the population methods.
-        seeds: seeds of the population methods (exact methods run once, seed 0).
+        seeds: seeds of the population methods (the others run once, seed 0; see
+            :func:`takes_budget`).
         executor: any ``concurrent.futures.Executor`` (``None``: run serially here).
         progress: show a tqdm progress bar.
         tol: residual [m, rad] counted as solved.
@@ -123,7 +132,7 @@ def compare(robot: Robot, targets: Iterable[Target | object], methods: Sequence[
     for m in names:
         get_solver(m, **(options or {}).get(m, {}))  # fail fast on names and options
     seed_list, pop_list = list(seeds), list(populations)
-    if any(m not in EXACT_METHODS for m in names) and (not seed_list or not pop_list):
+    if any(takes_budget(m) for m in names) and (not seed_list or not pop_list):
         raise InputError("compare needs at least one seed and one population size")
     if iterations <= 0 or any(p <= 0 for p in pop_list):
         raise InputError(f"iterations and populations must be positive; got {iterations}, "

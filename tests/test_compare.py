@@ -69,3 +69,14 @@ def test_compare_refuses_bad_input(robots):
                 progress=False)
     with pytest.raises(so.InputError, match="positive"):
         compare(robot, TARGETS, methods=["ipopt"], iterations=0, progress=False)
+
+
+def test_all_methods_budgets_only_the_population_methods(robots):
+    """methods="all": exact and fast methods run once per target, metaheuristics per seed."""
+    table = so.compare(robots["zavar2024"], TARGETS[:1], methods="all", populations=[20],
+                       iterations=3, seeds=[0, 1], progress=False)
+    counts = table.groupby("method").size().to_dict()
+    assert set(counts) == set(so.solvers())
+    for method in ("analytic", "auto", "ipopt", "lm"):
+        assert counts[method] == 1 and table[table["method"] == method]["success"].all()
+    assert all(counts[m] == 2 for m in counts if m not in ("analytic", "auto", "ipopt", "lm"))
