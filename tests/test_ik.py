@@ -56,15 +56,17 @@ def test_ipopt_answer_is_one_of_the_closed_form_branches(robots, name):
         assert gap < 1e-6, (res, branches)
 
 
-@pytest.mark.parametrize("name", FOUR_JOINT)
-def test_ipopt_with_yaw(robots, name):
-    """IPOPT reaches position and tool angle together (nguyen eq. 10 task) on 100 targets."""
+@pytest.mark.parametrize(("name", "method"), [(n, "ipopt") for n in FOUR_JOINT]
+                         + [(n, "auto") for n in BUNDLED])
+def test_exact_solvers_with_yaw(robots, name, method):
+    """Position and tool angle together (nguyen eq. 10 task) on 200 targets, to 1e-9."""
     robot = robots[name]
-    Q = random_q(robot, 100, seed=9)
+    Q = random_q(robot, 200, seed=9)
     for q, p in zip(Q, robot.positions(Q), strict=True):
-        res = so.solve_ik(robot, so.Target(p, yaw=robot.yaw(q)), method="ipopt")
+        res = so.solve_ik(robot, so.Target(p, yaw=robot.yaw(q)), method=method)
         assert res.success, res
         assert abs(res.yaw_error) <= 1e-9
+        assert_invariants(robot, res)
 
 
 def test_ipopt_with_a_full_rotation_on_a_general_arm(arm6):

@@ -17,18 +17,6 @@ UNREACHABLE = [-0.23, 0.20, -0.20]  # zavar2024's paper target: 0.102 m below th
 
 
 # ------------------------------------------------------------------ the fast solver
-@pytest.mark.parametrize("name", BUNDLED)
-def test_auto_solves_position_and_yaw_targets(robots, name):
-    """'auto' reaches 200 position + tool-angle targets of every bundled robot to 1e-9."""
-    robot = robots[name]
-    Q = random_q(robot, 200, seed=9)
-    for q, p in zip(Q, robot.positions(Q), strict=True):
-        res = so.solve_ik(robot, so.Target(p, yaw=robot.yaw(q)), method="auto")
-        assert res.success, res
-        assert abs(res.yaw_error) <= 1e-9
-        assert_invariants(robot, res)
-
-
 @pytest.mark.parametrize("name", FOUR_JOINT)
 def test_lm_answer_is_a_closed_form_branch_with_the_wrist_at_q0(robots, name):
     """4-joint robots: the answer is one of ik_all's branches, the free wrist left at q0."""
