@@ -119,7 +119,6 @@ def nlp_params(target: Target, q0: Array, lam: float) -> np.ndarray:
     return np.concatenate([target.position, ang, q0, target.weights, [lam]])
 
 
-
 def polish(robot: Robot, target: Target, q: Array, err: float, q_ref: Array,
            tol: float) -> tuple[Array, float]:
     """Refine an NLP answer ``q`` (error ``err``) to round-off, nearest to ``q_ref``.
