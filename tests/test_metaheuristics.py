@@ -147,3 +147,13 @@ def test_sfla_on_nguyen_with_yaw_at_the_paper_settings(robots):
     assert np.median(errors) < 5e-3 and max(errors) < 3e-2
     more = so.solve_ik(robot, targets[0], method="sfla", seed=0, tol=1e-6, iterations=1000)
     assert more.success
+
+
+def test_aco_deviation_sums_equal_the_pairwise_definition():
+    """ACO_R's O(k log k) deviation sums equal sum_e |s_e - s_l| computed pairwise (ties too)."""
+    from scara_opt.metaheuristics.aco import abs_deviation_sums
+
+    S = np.random.default_rng(4).normal(size=(40, 5))
+    S[7] = S[3]  # a tie
+    pairwise = np.abs(S[:, None, :] - S[None, :, :]).sum(axis=0)
+    np.testing.assert_allclose(abs_deviation_sums(S), pairwise, rtol=1e-12, atol=1e-12)

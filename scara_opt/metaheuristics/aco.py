@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+from functools import lru_cache
 from typing import Any, ClassVar
 
 import numpy as np
@@ -69,13 +70,24 @@ class AntColonySolver(PopulationSolver[Population]):
                 t: int) -> Population:
         """Sample one generation of ants from the archive's kernels; keep the best k."""
         S, k = state.X, state.f.shape[0]
-        qk = self.options["q"] * k
-        w = np.exp(-0.5 * (np.arange(k) / qk) ** 2) / (qk * math.sqrt(2.0 * math.pi))
-        cum = np.cumsum(w)
+        cum = rank_weights_cumsum(k, float(self.options["q"]))
         guide = np.minimum(np.searchsorted(cum, cum[-1] * rng.random(k), side="right"), k - 1)
         sigma = self.options["xi"] * abs_deviation_sums(S)[guide] / (k - 1)
         ants = problem.repair(S[guide] + sigma * rng.standard_normal(S.shape))
         return truncate(np.vstack([S, ants]), np.concatenate([state.f, problem.cost(ants)]), k)
+
+
+@lru_cache(maxsize=32)
+def rank_weights_cumsum(k: int, q: float) -> Array:
+    r"""Cumulative sum (k,) of the rank weights :math:`w_l = \mathcal{N}(l; 0, qk)`, l = 0..k-1.
+
+    Constant for a given archive size and ``q``, so computed once (read-only).
+    """
+    qk = q * k
+    w = np.exp(-0.5 * (np.arange(k) / qk) ** 2) / (qk * math.sqrt(2.0 * math.pi))
+    cum = np.cumsum(w)
+    cum.setflags(write=False)
+    return cum
 
 
 def abs_deviation_sums(S: Array) -> Array:
@@ -91,12 +103,12 @@ def abs_deviation_sums(S: Array) -> Array:
     Returns:
         (k, nq) sums of absolute deviations, in the row order of ``S``.
     """
-    k = S.shape[0]
+    k, nq = S.shape
     order = np.argsort(S, axis=0, kind="stable")
-    V = np.take_along_axis(S, order, axis=0)
+    cols = np.arange(nq)
+    V = S[order, cols]
     C = np.cumsum(V, axis=0)
     r = np.arange(k)[:, None]
-    sums = (r * V - (C - V)) + ((C[-1] - C) - (k - 1 - r) * V)
     out = np.empty_like(S)
-    np.put_along_axis(out, order, sums, axis=0)
+    out[order, cols] = (2 * r - (k - 1)) * V - 2 * C + V + C[-1]
     return out
