@@ -5,10 +5,11 @@ from __future__ import annotations
 from concurrent.futures import ProcessPoolExecutor
 
 import numpy as np
+import pandas as pd
 import pytest
 
 import scara_opt as so
-from scara_opt.compare import COLUMNS, compare, convergence, summarize
+from scara_opt.compare import COLUMNS, compare, convergence, rank_methods, summarize
 
 TARGETS = [[-0.23, 0.20, -0.07], [-0.23, 0.20, -0.20], [0.30, 0.10, -0.06]]
 SAME = [c for c in COLUMNS if c not in ("time_s", "history")]
@@ -55,6 +56,19 @@ def test_summary_and_convergence(serial):
     assert row["within_tol"] == pytest.approx(2 / 3) and row["solves"] == 3
     curves = convergence(serial)
     assert ("ipopt", None) in curves and np.all(np.diff(curves[("ipopt", None)]) <= 0)
+
+
+def test_rank_methods_lets_time_break_ties_only():
+    """Share within tol first, then (reproducible) evaluations; time only on an exact tie."""
+    summary = pd.DataFrame({
+        "method": ["ca", "ca", "ga", "pso", "gwo"], "population": [20, 40, 20, 20, 20],
+        "within_tol": [1.0, 1.0, 1.0, 1.0, 0.5], "evaluations": [900, 1100, 800, 1000, 10],
+        "time_s": [0.001, 0.001, 0.009, 0.002, 0.0001]})
+    ranked = rank_methods(summary)
+    assert list(ranked.index) == ["ga", "ca", "pso", "gwo"]
+    assert ranked.loc["ca", "evals"] == 1000 and ranked.loc["ca", "rate"] == 1.0
+    tie = summary.assign(evaluations=1000)
+    assert list(rank_methods(tie).index) == ["ca", "pso", "ga", "gwo"]
 
 
 def test_compare_refuses_bad_input(robots):
