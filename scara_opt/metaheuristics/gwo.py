@@ -45,14 +45,17 @@ class GreyWolfSolver(PopulationSolver[Pack]):
         X'_k = X_k - A D_k, \qquad X \leftarrow (X'_α + X'_β + X'_δ) / 3
 
     with :math:`a` falling linearly from ``a_start`` to 0 over the ``iterations``
-    generations (:math:`|A| > 1` explores, :math:`|A| < 1` closes in on the prey).
+    generations, :math:`a = a_0 (1 - (t + 1)/T)` for generation :math:`t = 0 … T-1`, so the
+    last generation moves every wolf to the leaders' centroid (:math:`|A| > 1` explores,
+    :math:`|A| < 1` closes in on the prey).
 
     Options:
         population: wolves (default 60, at least 3).
         iterations: generations (default 200); also sets the schedule of :math:`a`.
         a_start: initial value of :math:`a` (default 2, as in the paper).
-        greedy: a wolf moves only if its new position costs less (default False, as in
-            the paper and Mirjalili et al.; mealpy's ``OriginalGWO`` does this).
+        greedy: a wolf moves only if its new position costs less, and the leaders are
+            the three best wolves (default False, as in the paper and Mirjalili et al.;
+            True is mealpy's ``OriginalGWO``).
     """
 
     name = "gwo"
@@ -75,14 +78,16 @@ class GreyWolfSolver(PopulationSolver[Pack]):
     def advance(self, problem: Problem, state: Pack, rng: np.random.Generator,
                 t: int) -> Pack:
         """Move every wolf toward the three leaders (eq. 3.7), then re-elect the leaders."""
-        a = self.options["a_start"] * (1.0 - self.progress(t))
+        a = self.options["a_start"] * (1.0 - self.progress(t + 1))  # 0 at the last generation
         L = state.leaders[:, None, :]                      # (3, 1, nq)
         r1, r2 = rng.random((2, 3, *state.X.shape))        # (3, n, nq) each
         A, C = 2.0 * a * r1 - a, 2.0 * r2
         X = problem.repair((L - A * np.abs(C * L - state.X)).mean(axis=0))
         f = problem.cost(X)
-        lead = truncate(np.vstack([state.leaders, X]), np.concatenate([state.leader_f, f]), 3)
-        if self.options["greedy"]:
+        if self.options["greedy"]:  # every wolf keeps its best; the leaders are the 3 best wolves
             keep = f >= state.f
             X[keep], f[keep] = state.X[keep], state.f[keep]
+            lead = truncate(X, f, 3)
+        else:
+            lead = truncate(np.vstack([state.leaders, X]), np.concatenate([state.leader_f, f]), 3)
         return Pack(X, f, leaders=lead.X, leader_f=lead.f)
