@@ -193,6 +193,11 @@ def test_analytic_holds_the_redundant_joint(robots):
     assert res.success and res.q[0] == 0.025 and res.q[4] == pytest.approx(0.015, abs=1e-12)
     with pytest.raises(so.InputError, match="redundant joints"):
         so.solve_ik(robot, p, method="analytic", fixed={"theta1": 0.1})
+    # out of reach with P1 held at 0: unreachable, and the closest configuration holds it too
+    far = robot.position(np.array([0.07, 0.7, 1.4, -0.2, 0.08]))
+    miss = so.solve_ik(robot, far, method="analytic", fixed={"P1": 0.0})
+    assert miss.status == "unreachable" and miss.q[0] == 0.0 and "P1 = 0 held" in miss.message
+    assert so.solve_ik(robot, far, method="ipopt").success  # P1 free: reachable
 
 
 def test_analytic_refuses_a_non_scara_chain(arm6):
@@ -225,12 +230,12 @@ def test_solve_batch_flags_unreachable_rows(robots):
 
 # ------------------------------------------------------------------ property-based
 @settings(max_examples=40, deadline=None)
-@given(st.sampled_from(BUNDLED), st.integers(0, 2**31 - 1))
-def test_fk_ik_fk_round_trip(name, seed):
-    """For any in-limit q, IPOPT finds a q' with fk(q') = fk(q) to 1e-9 m."""
+@given(st.sampled_from(BUNDLED), st.integers(0, 2**31 - 1), st.sampled_from(["ipopt", "auto"]))
+def test_fk_ik_fk_round_trip(name, seed, method):
+    """For any in-limit q, IPOPT (and the default, auto) find q' with fk(q') = fk(q) to 1e-9 m."""
     robot = so.load_robot(name)
     q = random_q(robot, 1, seed)[0]
-    res = so.solve_ik(robot, robot.position(q))
+    res = so.solve_ik(robot, robot.position(q), method=method)
     assert res.success
     np.testing.assert_allclose(robot.position(res.q), robot.position(q), atol=1e-9)
 
@@ -282,6 +287,32 @@ def test_bad_input_raises_specific_errors(robots, call, error, match):
     """NaN/inf targets, wrong shapes, q0 outside limits, bad tol, inverted overrides."""
     with pytest.raises(error, match=match):
         call(robots["zavar2024"])
+
+
+@pytest.mark.parametrize("method, options, match", [
+    ("ipopt", {"restarts": -1}, "restarts=-1 must be an integer in \\[0"),
+    ("ipopt", {"restarts": "x"}, "restarts='x'"),
+    ("ipopt", {"max_iter": -5}, "max_iter=-5"),
+    ("ipopt", {"regularization": np.nan}, "regularization=nan"),
+    ("ipopt", {"polish": "yes"}, "polish='yes' must be True or False"),
+    ("lm", {"max_iter": 0}, "max_iter=0"),
+    ("lm", {"jit": 1}, "jit=1 must be True or False"),
+    ("auto", {"ipopt_restarts": -1}, "ipopt_restarts=-1"),
+    ("auto", {"restarts": 2.5}, "restarts=2.5"),
+])
+def test_bad_option_values_are_refused(robots, method, options, match):
+    """An option value out of range is an InputError naming it, never a silent no-op.
+
+    (ipopt with restarts=-1 used to run no start at all and call the target unreachable.)
+    """
+    with pytest.raises(so.InputError, match=match):
+        so.solve_ik(robots["zavar2024"], [-0.23, 0.20, -0.07], method=method, **options)
+
+
+def test_tol_may_be_a_numpy_scalar(robots):
+    """tol=np.float32(1e-6) is a number like any other."""
+    res = so.solve_ik(robots["zavar2024"], [-0.23, 0.20, -0.07], tol=np.float32(1e-6))
+    assert res.success and res.tol == pytest.approx(1e-6)
 
 
 def test_yaw_for_a_robot_whose_tool_cannot_turn_is_refused(arm6):

@@ -245,3 +245,7 @@ def test_solve_many_bad_input(robots, arm6):
         solve_many(robot, P, np.tile([3.0, 0.0, 0.01, 0.0], (3, 1)))
     with pytest.raises(so.TargetError):
         solve_many(arm6, [[0.3, 0.1, 0.4, 0.1]])
+    with pytest.raises(so.InputError, match="max_iter=-1"):
+        solve_many(robot, P, max_iter=-1)
+    with pytest.raises(so.InputError, match="tol"):
+        solve_many(robot, P, tol=np.inf)

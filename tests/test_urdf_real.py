@@ -15,6 +15,7 @@ import pinocchio as pin
 import pytest
 
 import scara_opt as so
+from scara_opt.ik.analytic import solve_batch
 from scara_opt.robot import ROBOTS_EXTRA, example_robot_data_urdf
 from tests.conftest import DATA
 
@@ -328,6 +329,28 @@ def test_scara_with_a_continuous_wrist_solves_yaw_targets(scara_wrist, method, t
     res = so.solve_ik(scara_wrist, so.Target(scara_wrist.position(q), yaw=scara_wrist.yaw(q)),
                       method=method, tol=tol)
     assert res.success, res.message
+
+
+def test_closed_form_with_a_continuous_shoulder_and_wrist(tmp_path):
+    """Unbounded shoulder and wrist: every closed-form route searches one turn, never inf."""
+    text = (DATA / "scara_continuous_wrist.urdf").read_text()
+    urdf = tmp_path / "scara_continuous.urdf"
+    urdf.write_text(text.replace('<joint name="theta1" type="revolute">',
+                                 '<joint name="theta1" type="continuous">'))
+    robot = so.Robot.from_urdf(urdf, tip="tool")
+    assert np.isinf(robot.lower[[0, 3]]).all()
+    q = np.array([2.9, 0.5, 0.01, -3.0])
+    target = so.Target(robot.position(q), yaw=robot.yaw(q))
+    branches = so.ik_all(robot, target)
+    assert len(branches) == 2  # elbow up and down, each angle within one turn
+    for branch in branches:
+        assert branch.success and np.all(np.abs(branch.q[[0, 3]]) <= np.pi + 1e-12)
+    for method in ("analytic", "auto"):
+        assert so.solve_ik(robot, target, method=method).success
+    Q, valid = solve_batch(robot, target.position[None], yaws=[target.yaw])
+    assert valid.all() and np.isfinite(Q).all()
+    np.testing.assert_allclose(robot.positions(Q[0]), np.tile(target.position, (2, 1)),
+                               atol=1e-12)
 
 
 def test_workspace_of_a_robot_with_continuous_joints(scara_wrist):

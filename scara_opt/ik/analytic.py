@@ -184,7 +184,7 @@ def _extract(robot: Robot) -> ScaraGeometry:
 
 
 def _turns(values: Array, lo: float, hi: float) -> list[float]:
-    """Every ``v + 2πk`` within [lo, hi] for each angle in ``values``."""
+    """Every ``v + 2πk`` within [lo, hi] (finite: one turn for a continuous joint)."""
     out = []
     for v in np.atleast_1d(values):
         k0 = math.ceil((lo - LIMIT_SLACK - v) / (2 * math.pi))
@@ -228,6 +228,7 @@ def solve_all(robot: Robot, target: Target, q_ref: Array,
         raise NotScaraError("the closed form takes position and yaw targets; for a full "
                             "rotation use method='ipopt'")
     lo, hi = robot.lower, robot.upper
+    slo, shi = robot.sampling_lower, robot.sampling_upper  # a continuous joint: one turn
     held = _held_values(robot, geom, q_ref, fixed)
     p = target.position
     # heights: the solved prismatic joint takes up the rest of n·p
@@ -252,8 +253,8 @@ def solve_all(robot: Robot, target: Target, q_ref: Array,
                                                    geom.l1 + geom.l2 * math.cos(gamma))
         t1 = geom.s[geom.shoulder] * (a1 - geom.phi1)
         t2 = geom.s[geom.elbow] * (gamma - (geom.phi2 - geom.phi1))
-        for v1 in _turns(t1, lo[geom.shoulder], hi[geom.shoulder]):
-            for v2 in _turns(t2, lo[geom.elbow], hi[geom.elbow]):
+        for v1 in _turns(t1, slo[geom.shoulder], shi[geom.shoulder]):
+            for v2 in _turns(t2, slo[geom.elbow], shi[geom.elbow]):
                 q = held.copy()
                 q[geom.shoulder], q[geom.elbow] = v1, v2
                 if geom.height >= 0:
@@ -334,8 +335,9 @@ class AnalyticSolver(Solver):
     Options:
         fixed: values of the redundant joints by name [rad or m] (default: ``q0``'s).
 
-    An out-of-reach target is ``unreachable`` (the closed form proves it); its ``q`` and
-    residual then come from IPOPT's least-squares solve, the closest configuration.
+    An out-of-reach target is ``unreachable`` (the closed form proves it, with the
+    redundant joints held); its ``q`` and residual then come from IPOPT's least-squares
+    solve with the same joints held, the closest configuration found.
     """
 
     name = "analytic"
@@ -351,12 +353,16 @@ class AnalyticSolver(Solver):
             return SolverOutput(q=best, iterations=0, evaluations=1)
         from scara_opt.ik.ipopt import IpoptSolver
 
-        closest = IpoptSolver().solve(robot, target, q0=q0, seed=int(rng.integers(2**31)),
-                                      tol=tol)
+        geom = scara_geometry(robot)
+        values = _held_values(robot, geom, q_ref, self.options["fixed"])
+        held = {k: float(values[k]) for k in geom.redundant}
+        closest = IpoptSolver()._solve(robot, target, q_ref, rng, tol, held=held)
+        names = ", ".join(f"{robot.joint_names[k]} = {v:.4g}" for k, v in held.items())
         return SolverOutput(q=closest.q, iterations=closest.iterations,
                             evaluations=closest.evaluations, status=Status.UNREACHABLE,
-                            message="no closed-form branch within the limits; q from IPOPT's "
-                                    "closest configuration")
+                            message="no closed-form branch within the limits"
+                                    + (f" with {names} held" if held else "")
+                                    + "; q from IPOPT's closest configuration")
 
 
 def solve_batch(robot: Robot, positions: object, yaws: object | None = None,
@@ -417,7 +423,7 @@ def solve_batch(robot: Robot, positions: object, yaws: object | None = None,
     # each revolute angle: the 2π turn nearest the middle of its range
     for k in (geom.shoulder, geom.elbow, geom.wrist if yaws is not None else -1):
         if k >= 0:
-            mid = 0.5 * (lo[k] + hi[k])
+            mid = 0.5 * (robot.sampling_lower[k] + robot.sampling_upper[k])
             Q[:, :, k] = Q[:, :, k] - 2 * np.pi * np.round((Q[:, :, k] - mid) / (2 * np.pi))
     valid = ok[:, None] & np.all((Q >= lo - LIMIT_SLACK) & (Q <= hi + LIMIT_SLACK), axis=2)
     return np.clip(Q, lo, hi), valid

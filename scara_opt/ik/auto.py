@@ -26,9 +26,16 @@ from typing import Any, ClassVar
 import numpy as np
 
 from scara_opt.ik.analytic import NotScaraError, solve_all
-from scara_opt.ik.base import Solver, SolverOutput
+from scara_opt.ik.base import Solver, SolverOutput, check_number
 from scara_opt.ik.ipopt import IpoptSolver
-from scara_opt.ik.lm import Search, limits, lm_search, random_starts, search_output
+from scara_opt.ik.lm import (
+    Search,
+    check_budget,
+    limits,
+    lm_search,
+    random_starts,
+    search_output,
+)
 from scara_opt.ik.registry import register_solver
 from scara_opt.ik.task import config_errors, error_from
 from scara_opt.robot import Array, Robot
@@ -65,6 +72,11 @@ class AutoSolver(Solver):
     defaults: ClassVar[dict[str, Any]] = {"restarts": 10, "max_iter": 100,
                                           "ipopt_restarts": 10, "jit": False}
     certifies_unreachable = True
+
+    def check_options(self) -> None:
+        """restarts, ipopt_restarts >= 0 and max_iter >= 1 (integers), jit a bool."""
+        check_budget(self.options)
+        check_number("ipopt_restarts", self.options["ipopt_restarts"], 0, integer=True)
 
     def _solve(self, robot: Robot, target: Target, q0: Array | None,
                rng: np.random.Generator, tol: float) -> SolverOutput:

@@ -13,6 +13,7 @@ by an exact solver, so ``"unreachable"`` always means outside the workspace and
 from __future__ import annotations
 
 import math
+import numbers
 import time
 from abc import ABC, abstractmethod
 from dataclasses import dataclass, field
@@ -131,6 +132,46 @@ def make_result(robot: Robot, target: Target, out: SolverOutput, *, tol: float, 
                     tol=tol)
 
 
+def check_number(name: str, value: Any, low: float, high: float = math.inf, *,
+                 integer: bool = False, low_open: bool = False) -> None:
+    """Refuse an option value outside ``[low, high]`` (``(low, high]`` if ``low_open``).
+
+    Raises:
+        InputError: wrong type or out of range; the message names the option and range.
+    """
+    ok_type = isinstance(value, (int, np.integer)) if integer else isinstance(
+        value, (int, float, np.integer, np.floating))
+    ok = ok_type and not isinstance(value, bool) and not math.isnan(value)
+    if ok:
+        ok = (value > low if low_open else value >= low) and value <= high
+    if not ok:
+        kind = "an integer" if integer else "a number"
+        bracket = "(" if low_open else "["
+        raise InputError(f"option {name}={value!r} must be {kind} in {bracket}{low:g}, {high:g}]")
+
+
+def check_flag(name: str, value: Any) -> None:
+    """Refuse an option that must be True or False.
+
+    Raises:
+        InputError: the message names the option and the value given.
+    """
+    if not isinstance(value, (bool, np.bool_)):
+        raise InputError(f"option {name}={value!r} must be True or False")
+
+
+def check_tol(tol: Any) -> float:
+    """``tol`` as a float: a finite positive number [m, rad] (numpy scalars included).
+
+    Raises:
+        InputError: not a number, not finite, or not positive.
+    """
+    ok = isinstance(tol, numbers.Real) and not isinstance(tol, (bool, np.bool_))
+    if not (ok and math.isfinite(tol) and tol > 0):
+        raise InputError(f"tol must be a positive number [m, rad]; got {tol!r}")
+    return float(tol)
+
+
 class LazyGenerator:
     """A ``numpy.random.Generator`` for ``seed``, created at its first use.
 
@@ -170,6 +211,15 @@ class Solver(ABC):
         if unknown:
             raise SolverOptionError(self.name, unknown, self.defaults)
         self.options: dict[str, Any] = {**self.defaults, **options}
+        self.check_options()
+
+    def check_options(self) -> None:
+        """Validate the option values (override; called at construction).
+
+        Raises:
+            InputError: an option value of the wrong type or outside its range.
+        """
+        return None  # a solver without numeric options accepts any value
 
     def solve(self, robot: Robot, target: Target | object, q0: object | None = None,
               seed: int | None = 0, tol: float = 1e-9) -> IKResult:
@@ -190,13 +240,12 @@ class Solver(ABC):
         target = as_target(target)
         check_task(robot, target)
         q0a = check_q0(robot, q0)
-        if not (isinstance(tol, (int, float)) and math.isfinite(tol) and tol > 0):
-            raise InputError(f"tol must be a positive number [m, rad]; got {tol!r}")
+        tol = check_tol(tol)
         rng = cast(np.random.Generator, LazyGenerator(seed))
         start = time.perf_counter()
-        out = self._solve(robot, target, q0a, rng, float(tol))
+        out = self._solve(robot, target, q0a, rng, tol)
         elapsed = time.perf_counter() - start
-        return make_result(robot, target, out, tol=float(tol), method=self.name, seed=seed,
+        return make_result(robot, target, out, tol=tol, method=self.name, seed=seed,
                            time_s=elapsed, certified=self.certifies_unreachable)
 
     @abstractmethod

@@ -35,7 +35,7 @@ from typing import Any
 import casadi as ca
 import numpy as np
 
-from scara_opt.ik.base import Solver, SolverOutput, default_q0
+from scara_opt.ik.base import Solver, SolverOutput, check_flag, check_number, default_q0
 from scara_opt.ik.registry import register_solver
 from scara_opt.ik.result import Status
 from scara_opt.ik.task import config_errors, error_from
@@ -156,19 +156,40 @@ class IpoptSolver(Solver):
                 "verbose": False}
     certifies_unreachable = True
 
+    def check_options(self) -> None:
+        """restarts >= 0 and max_iter >= 1 (integers), regularization >= 0, flags bool."""
+        check_number("restarts", self.options["restarts"], 0, integer=True)
+        check_number("max_iter", self.options["max_iter"], 1, integer=True)
+        check_number("regularization", self.options["regularization"], 0.0, 1.0)
+        check_flag("polish", self.options["polish"])
+        check_flag("verbose", self.options["verbose"])
+
     def _solve(self, robot: Robot, target: Target, q0: Array | None,
-               rng: np.random.Generator, tol: float) -> SolverOutput:
+               rng: np.random.Generator, tol: float, held: dict[int, float] | None = None
+               ) -> SolverOutput:
+        """The multi-start; ``held`` (joint index -> value) holds joints by equal bounds.
+
+        With joints held (the closed form's fallback) the polish, which moves every joint,
+        is skipped.
+        """
         opts = self.options
         nlp = cached_nlp(robot, target.kind, opts["max_iter"], opts["verbose"])
         q_ref = default_q0(robot) if q0 is None else q0
         lam = float(opts["regularization"])
-        lbx, ubx = robot.lower, robot.upper
+        lbx, ubx = robot.lower.copy(), robot.upper.copy()
+        idx = list((held or {}).keys())
+        vals = np.array([held[k] for k in idx]) if held else np.zeros(0)
+        lbx[idx] = ubx[idx] = vals
+        q_ref = q_ref.copy()
+        q_ref[idx] = vals
+        do_polish = bool(opts["polish"]) and not held
         starts = [q_ref]
         best_q, best_err, iters, evals, history = q_ref, math.inf, 0, 0, []
         statuses = []
         for k in range(int(opts["restarts"]) + 1):
             if k > 0:
                 starts.append(rng.uniform(robot.sampling_lower, robot.sampling_upper))
+                starts[-1][idx] = vals
             x0 = starts[-1]
             sol = nlp.solver(x0=x0, p=nlp_params(target, q_ref, lam), lbx=lbx, ubx=ubx)
             stats = nlp.solver.stats()
@@ -177,7 +198,7 @@ class IpoptSolver(Solver):
             evals += int(stats.get("n_call_nlp_f", 0)) + int(stats.get("n_call_nlp_grad_f", 0))
             q = np.clip(np.asarray(sol["x"]).ravel(), lbx, ubx)
             err = error_from(*config_errors(robot, target, q))
-            if opts["polish"]:
+            if do_polish:
                 q, err = polish(robot, target, q, err, q_ref, tol)
             if err < best_err:
                 best_q, best_err = q, err

@@ -53,7 +53,7 @@ import casadi as ca
 import numpy as np
 
 from scara_opt.errors import InputError
-from scara_opt.ik.base import Solver, SolverOutput, default_q0
+from scara_opt.ik.base import Solver, SolverOutput, check_flag, check_number, default_q0
 from scara_opt.ik.ipopt import angle_error_expr, nlp_params
 from scara_opt.ik.registry import register_solver
 from scara_opt.robot import Array, Robot
@@ -485,6 +485,17 @@ def search_output(found: Search, message: str = "") -> SolverOutput:
                         history=np.asarray(found.history), message=message)
 
 
+def check_budget(options: dict[str, Any]) -> None:
+    """The fast solver's budget options: restarts >= 0, max_iter >= 1, jit a bool.
+
+    Raises:
+        InputError: the message names the option, its value and the range.
+    """
+    check_number("restarts", options["restarts"], 0, integer=True)
+    check_number("max_iter", options["max_iter"], 1, integer=True)
+    check_flag("jit", options["jit"])
+
+
 @register_solver("lm")
 class LevenbergMarquardtSolver(Solver):
     r"""Fast exact IK: bounded Levenberg–Marquardt in casadi (see the module docstring).
@@ -503,6 +514,10 @@ class LevenbergMarquardtSolver(Solver):
     name = "lm"
     defaults: ClassVar[dict[str, Any]] = {"restarts": 10, "max_iter": 100, "jit": False}
     certifies_unreachable = False
+
+    def check_options(self) -> None:
+        """restarts >= 0 and max_iter >= 1 (integers), jit a bool."""
+        check_budget(self.options)
 
     def _solve(self, robot: Robot, target: Target, q0: Array | None,
                rng: np.random.Generator, tol: float) -> SolverOutput:

@@ -20,7 +20,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from scara_opt.errors import InputError
-from scara_opt.ik.base import LIMIT_SLACK, check_q0
+from scara_opt.ik.base import LIMIT_SLACK, check_q0, check_tol
 from scara_opt.ik.ipopt import nlp_params
 from scara_opt.ik.lm import (
     LAMBDA0,
@@ -29,6 +29,7 @@ from scara_opt.ik.lm import (
     STALL_CALLS,
     STEP_TOL,
     UNROLL,
+    check_budget,
     limits,
     phase_arrays,
     random_starts,
@@ -238,8 +239,8 @@ def solve_many(robot: Robot, targets: object, q0s: object | None = None, *,
         JointLimitError: a ``q0s`` row outside the joint limits.
     """
     clock = time.perf_counter()
-    if not (isinstance(tol, (int, float)) and math.isfinite(tol) and tol > 0):
-        raise InputError(f"tol must be a positive number [m, rad]; got {tol!r}")
+    tol = check_tol(tol)
+    check_budget({"restarts": restarts, "max_iter": max_iter, "jit": jit})
     stacked, ts = _targets(robot, targets)
     n = len(stacked.position)
     Q_ref = _q0s(robot, q0s, n)

@@ -10,7 +10,6 @@ state from the first, already costed population) and :meth:`PopulationSolver.adv
 
 from __future__ import annotations
 
-import math
 from abc import abstractmethod
 from dataclasses import dataclass
 from typing import Any, ClassVar, Generic, TypeVar
@@ -18,8 +17,7 @@ from typing import Any, ClassVar, Generic, TypeVar
 import numpy as np
 from numpy.typing import NDArray
 
-from scara_opt.errors import InputError
-from scara_opt.ik.base import Solver, SolverOutput
+from scara_opt.ik.base import Solver, SolverOutput, check_number
 from scara_opt.ik.task import config_errors, cost_batch, cost_of, wrap_angle
 from scara_opt.robot import Robot
 from scara_opt.target import Target
@@ -112,24 +110,6 @@ class Problem:
         return rng.uniform(self.lower, self.upper, (n, self.nq))
 
 
-def check_number(name: str, value: Any, low: float, high: float = math.inf, *,
-                 integer: bool = False, low_open: bool = False) -> None:
-    """Refuse an option value outside ``[low, high]`` (``(low, high]`` if ``low_open``).
-
-    Raises:
-        InputError: wrong type or out of range; the message names the option and range.
-    """
-    ok_type = isinstance(value, (int, np.integer)) if integer else isinstance(
-        value, (int, float, np.integer, np.floating))
-    ok = ok_type and not isinstance(value, bool) and not math.isnan(value)
-    if ok:
-        ok = (value > low if low_open else value >= low) and value <= high
-    if not ok:
-        kind = "an integer" if integer else "a number"
-        bracket = "(" if low_open else "["
-        raise InputError(f"option {name}={value!r} must be {kind} in {bracket}{low:g}, {high:g}]")
-
-
 S = TypeVar("S", bound=Population)
 
 
@@ -164,18 +144,11 @@ class PopulationSolver(Solver, Generic[S]):
     min_population: ClassVar[int] = 2
 
     def __init__(self, **options: Any) -> None:
-        super().__init__(**options)
-        check_number("population", self.options["population"], self.min_population,
+        check_number("population", options.get("population", self.defaults["population"]),
+                     self.min_population, integer=True)
+        check_number("iterations", options.get("iterations", self.defaults["iterations"]), 1,
                      integer=True)
-        check_number("iterations", self.options["iterations"], 1, integer=True)
-        self.check_options()
-
-    def check_options(self) -> None:
-        """Validate the algorithm's own options (override; called at construction).
-
-        Raises:
-            InputError: an option value outside its range.
-        """
+        super().__init__(**options)  # unknown names, then the algorithm's check_options
 
     def _solve(self, robot: Robot, target: Target, q0: Array | None,
                rng: np.random.Generator, tol: float) -> SolverOutput:
