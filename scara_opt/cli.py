@@ -82,6 +82,7 @@ def _result_dict(robot: Any, res: Any, deg: bool, mm: bool) -> dict[str, Any]:
         "robot": robot.name, "method": res.method, "status": res.status.value,
         "success": res.success, "q": (res.q * _joint_scale(robot, deg, mm)).tolist(),
         "q_units": _units(robot, deg, mm), "error": res.error,
+        "error_unit": "m" if res.yaw_error is None else "m and rad",
         "position_error": (res.position_error * L).tolist(),
         "position_error_unit": "mm" if mm else "m",
         "yaw_error_deg": None if res.yaw_error is None else math.degrees(res.yaw_error),
@@ -111,11 +112,38 @@ def cmd_ik(args: argparse.Namespace) -> int:
     for row in rows:
         q = ", ".join(f"{name}={v:.6g} {u}" for name, v, u in
                       zip(robot.joint_names, row["q"], row["q_units"], strict=True))
-        print(f"{row['status']}: {q}  (error {row['error']:.3g}, {row['method']}, "
+        print(f"{row['status']}: {q}  (error {row['error']:.3g} {row['error_unit']}, "
+              f"{row['method']}, "
               f"{row['time_s'] * 1e3:.2f} ms)")
         if not row["success"]:
             print(f"  {row['message']}")
     return 0
+
+
+def _int_at_least(low: int) -> Any:
+    """An argparse type: an integer >= ``low``."""
+    def parse(text: str) -> int:
+        try:
+            value = int(text)
+        except ValueError:
+            raise argparse.ArgumentTypeError(f"expected an integer, got {text!r}") from None
+        if value < low:
+            raise argparse.ArgumentTypeError(f"expected an integer >= {low}, got {value}")
+        return value
+    return parse
+
+
+def _out_dir(path: str) -> Any:
+    """The output folder, created before any work (an unwritable one fails at once)."""
+    from pathlib import Path
+
+    out = Path(path)
+    try:
+        out.mkdir(parents=True, exist_ok=True)
+    except OSError as exc:
+        raise ScaraOptError(f"cannot create the output folder {path!r}: {exc.strerror}; "
+                            "pass a writable --out") from None
+    return out
 
 
 def _int_list(text: str) -> list[int]:
@@ -137,7 +165,11 @@ def _executor(args: argparse.Namespace) -> Any:
         except ImportError:
             raise ScaraOptError(
                 "--dask needs dask.distributed: pip install 'scara-opt[dask]'") from None
-        return Client(args.dask).get_executor()
+        try:
+            return Client(args.dask, timeout=10).get_executor()
+        except (OSError, ValueError, TypeError) as exc:
+            raise ScaraOptError(f"cannot reach a dask scheduler at {args.dask!r} ({exc}); "
+                                "pass its address, e.g. --dask tcp://host:8786") from None
     if args.workers and args.workers > 1:
         from concurrent.futures import ProcessPoolExecutor
 
@@ -147,8 +179,6 @@ def _executor(args: argparse.Namespace) -> Any:
 
 def cmd_compare(args: argparse.Namespace) -> int:
     """Compare IK methods on one target: CSV table, summary and figures."""
-    from pathlib import Path
-
     import scara_opt as so
     from scara_opt.compare import compare, convergence, summarize
     from scara_opt.plots import plot_boxes, plot_convergence, plot_time_vs_population
@@ -156,6 +186,7 @@ def cmd_compare(args: argparse.Namespace) -> int:
     robot = so.load_robot(args.robot)
     L = 1000.0 if args.mm else 1.0
     methods = so.solvers() if args.methods == "all" else args.methods.split(",")
+    out = _out_dir(args.out)
     executor = _executor(args)
     try:
         table = compare(robot, [np.asarray(args.target, float) / L], methods=methods,
@@ -165,8 +196,6 @@ def cmd_compare(args: argparse.Namespace) -> int:
     finally:
         if executor is not None:
             executor.shutdown()
-    out = Path(args.out)
-    out.mkdir(parents=True, exist_ok=True)
     table.drop(columns=["history"]).to_csv(out / "runs.csv", index=False)
     summary = summarize(table, tol=args.tol)
     summary.to_csv(out / "summary.csv", index=False)
@@ -180,14 +209,11 @@ def cmd_compare(args: argparse.Namespace) -> int:
 
 def cmd_workspace(args: argparse.Namespace) -> int:
     """Monte Carlo workspace: areas, ranges and the XY/3-D figures."""
-    from pathlib import Path
-
     import scara_opt as so
 
     robot = so.load_robot(args.robot)
+    out = _out_dir(args.out)
     ws = so.workspace(robot, n=args.n, seed=args.seed, footprint=not args.no_footprint)
-    out = Path(args.out)
-    out.mkdir(parents=True, exist_ok=True)
     paths = [ws.plot_xy(out / f"{robot.name}_workspace_xy.png"),
              ws.plot_3d(out / f"{robot.name}_workspace_3d.png")]
     print(repr(ws))
@@ -236,19 +262,16 @@ def _write_joint_path(jp: Any, robot: Any, path: Any) -> None:
 
 def cmd_path(args: argparse.Namespace) -> int:
     """IK along a circle or a line, then time the joint path: CSV tables and a figure."""
-    from pathlib import Path
-
     import scara_opt as so
 
     robot = so.load_robot(args.robot)
+    out = _out_dir(args.out)
     q_start = None
     if args.q_start is not None:
         q_start = robot.check_q(args.q_start, "--q-start") / _joint_scale(robot, args.deg,
                                                                            args.mm)
     jp = so.ik_path(robot, _path_targets(args), method=args.method, q_start=q_start,
                     seed=args.seed, tol=args.tol)
-    out = Path(args.out)
-    out.mkdir(parents=True, exist_ok=True)
     _write_joint_path(jp, robot, out / "joint_path.csv")
     if not args.json:
         print(jp.summary())
@@ -274,7 +297,7 @@ def cmd_reproduce(args: argparse.Namespace) -> int:
     """Reproduce one paper or all: tables, figures and summary.md."""
     from scara_opt.reports import reproduce
 
-    reports = reproduce(args.paper, args.out, quick=args.quick)
+    reports = reproduce(args.paper, _out_dir(args.out), quick=args.quick)
     for rep in reports:
         verdicts = [f.verdict for f in rep.findings]
         counts = ", ".join(f"{verdicts.count(v)} {v}" for v in dict.fromkeys(verdicts))
@@ -324,7 +347,7 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--yaw", type=float, metavar="DEG", help="tool angle [deg]")
     p.add_argument("--method", default="auto",
                    help="IK method (see `scara-opt solvers`; default auto)")
-    p.add_argument("--seed", type=int, default=0, help="random seed (default 0)")
+    p.add_argument("--seed", type=_int_at_least(0), default=0, help="random seed (default 0)")
     p.add_argument("--tol", type=float, default=1e-9, help="residual counted as solved [m]")
     p.add_argument("--all", action="store_true", help="every closed-form branch (SCARA only)")
     p.set_defaults(func=cmd_ik)
@@ -337,12 +360,15 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--methods", default="all", help="comma-separated names, or all")
     p.add_argument("--populations", type=_int_list, default=[20, 40, 60, 80, 100],
                    help="comma-separated population sizes (default 20,40,60,80,100)")
-    p.add_argument("--iterations", type=int, default=200, help="iterations (default 200)")
-    p.add_argument("--seeds", type=int, default=10, help="number of seeds 0..N-1 (default 10)")
+    p.add_argument("--iterations", type=_int_at_least(1), default=200,
+                   help="iterations (default 200)")
+    p.add_argument("--seeds", type=_int_at_least(1), default=10,
+                   help="number of seeds 0..N-1 (default 10)")
     p.add_argument("--tol", type=float, default=1e-9, help="residual counted as solved [m]")
     p.add_argument("--out", required=True, help="output folder")
     group = p.add_mutually_exclusive_group()
-    group.add_argument("--workers", type=int, default=1, help="local worker processes")
+    group.add_argument("--workers", type=_int_at_least(1), default=1,
+                       help="local worker processes")
     group.add_argument("--dask", metavar="ADDRESS", help="dask scheduler address")
     p.set_defaults(func=cmd_compare)
 
@@ -366,7 +392,7 @@ def build_parser() -> argparse.ArgumentParser:
                    help="configuration the path starts from (units per --deg/--mm)")
     p.add_argument("--allow-jumps", action="store_true",
                    help="time the path even if the joints jump (elbow flip, wrist turn)")
-    p.add_argument("--seed", type=int, default=0, help="random seed (default 0)")
+    p.add_argument("--seed", type=_int_at_least(0), default=0, help="random seed (default 0)")
     p.add_argument("--tol", type=float, default=1e-9, help="residual counted as solved [m]")
     p.add_argument("--out", required=True, help="output folder")
     p.set_defaults(func=cmd_path)
@@ -374,7 +400,7 @@ def build_parser() -> argparse.ArgumentParser:
     p = sub.add_parser("workspace", help="Monte Carlo workspace with figures")
     p.add_argument("robot", metavar="ROBOT", help="bundled robot name or path to .urdf/.toml")
     p.add_argument("-n", type=int, default=60_000, help="samples (default 60000)")
-    p.add_argument("--seed", type=int, default=0, help="random seed (default 0)")
+    p.add_argument("--seed", type=_int_at_least(0), default=0, help="random seed (default 0)")
     p.add_argument("--no-footprint", action="store_true", help="ignore the base exclusion zone")
     p.add_argument("--out", required=True, help="output folder")
     p.set_defaults(func=cmd_workspace)
@@ -394,7 +420,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     args = parser.parse_args(argv)
     try:
         return int(args.func(args))
-    except ScaraOptError as exc:
+    except (ScaraOptError, OSError) as exc:  # bad input, or a file that cannot be written
         print(f"scara-opt: error: {exc}", file=sys.stderr)
         return 2
 

@@ -20,6 +20,7 @@ import numpy as np
 import pandas as pd
 
 from scara_opt.errors import InputError
+from scara_opt.ik.base import check_seed, check_tol
 from scara_opt.ik.registry import get_solver, solve_ik, solvers
 from scara_opt.ik.result import IKResult
 from scara_opt.robot import Robot
@@ -101,7 +102,8 @@ def compare(robot: Robot, targets: Iterable[Target | object], methods: Sequence[
     Args:
         robot: the robot.
         targets: :class:`Target` objects or (3,) positions [m].
-        methods: registry names, or ``"all"`` for every registered solver.
+        methods: registry names (a single name is one method), or ``"all"`` for every
+            registered solver.
         populations: population sizes for the population methods.
         iterations: iteration budget of the population methods.
         seeds: seeds of the population methods (the others run once, seed 0; see
@@ -118,40 +120,51 @@ def compare(robot: Robot, targets: Iterable[Target | object], methods: Sequence[
         status, time [s], evaluations, iterations, history length and the history itself.
 
     Raises:
-        InputError: no targets, empty populations or seeds, or a non-positive budget.
+        InputError: no targets, empty populations or seeds, a non-positive budget, a
+            negative seed, a bad ``tol`` or an option value a method refuses (checked for
+            every method and population before the first solve).
         UnknownSolverError: a method name that is not registered.
         SolverOptionError: an option a method does not accept.
     """
     target_list = [as_target(t) for t in targets]
     if not target_list:
         raise InputError("compare needs at least one target")
-    names = solvers() if methods == "all" else list(methods)
+    names = solvers() if methods == "all" else [methods] if isinstance(methods, str) \
+        else list(methods)
     if reference:
         names += [m for m in EXACT_METHODS if m not in names]
     names = [m for m in names if m != "analytic" or _analytic_applies(robot)]
-    for m in names:
-        get_solver(m, **(options or {}).get(m, {}))  # fail fast on names and options
+    tol = check_tol(tol)
     seed_list, pop_list = list(seeds), list(populations)
     if any(takes_budget(m) for m in names) and (not seed_list or not pop_list):
         raise InputError("compare needs at least one seed and one population size")
     if iterations <= 0 or any(p <= 0 for p in pop_list):
         raise InputError(f"iterations and populations must be positive; got {iterations}, "
                          f"{pop_list}")
+    for seed in seed_list:
+        check_seed(seed)
+    for m in names:  # fail fast on names and option values, before the first solve
+        budgets = [{"population": p, "iterations": iterations} for p in pop_list] \
+            if takes_budget(m) else [{}]
+        for budget in budgets:
+            get_solver(m, **(options or {}).get(m, {}), **budget)
     jobs = _jobs(target_list, names, pop_list, iterations, seed_list, options or {})
     results: dict[int, IKResult] = {}
     bar = _progress(len(jobs), progress)
-    if executor is None:
-        for job in jobs:
-            idx, res = _run(robot, job, tol)
-            results[idx] = res
-            bar.update()
-    else:
-        futures = [executor.submit(_run, robot, job, tol) for job in jobs]
-        for fut in as_completed(futures):
-            idx, res = fut.result()
-            results[idx] = res
-            bar.update()
-    bar.close()
+    try:
+        if executor is None:
+            for job in jobs:
+                idx, res = _run(robot, job, tol)
+                results[idx] = res
+                bar.update()
+        else:
+            futures = [executor.submit(_run, robot, job, tol) for job in jobs]
+            for fut in as_completed(futures):
+                idx, res = fut.result()
+                results[idx] = res
+                bar.update()
+    finally:
+        bar.close()
     return pd.DataFrame([_row(job, results[job.index]) for job in jobs], columns=COLUMNS)
 
 

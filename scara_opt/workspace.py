@@ -65,7 +65,7 @@ from numpy.typing import NDArray
 from scara_opt.dh import LENGTH_UNITS
 from scara_opt.errors import InputError, URDFError
 from scara_opt.ik.analytic import NotScaraError, scara_geometry, solve_batch
-from scara_opt.ik.base import default_q0
+from scara_opt.ik.base import check_seed, default_q0
 from scara_opt.robot import Array, Robot
 
 #: average samples per grid cell when the cell size is chosen automatically
@@ -618,12 +618,13 @@ def workspace(robot: Robot, n: int = 60_000, seed: int | np.random.Generator | N
         The :class:`Workspace`.
 
     Raises:
-        InputError: ``n`` <= 0 or not an integer, a bad ``grid`` or ``footprint``, or a
-            footprint that blocks every sample.
+        InputError: ``n`` <= 0 or not an integer, a negative ``seed``, a bad ``grid`` or
+            ``footprint``, or a footprint that blocks every sample.
         URDFError: a malformed ``[footprint]`` table in the robot file.
     """
     _check_args(robot, n, grid, footprint)
-    rng = seed if isinstance(seed, np.random.Generator) else np.random.default_rng(seed)
+    rng = seed if isinstance(seed, np.random.Generator) else np.random.default_rng(
+        check_seed(seed))
     Q = rng.uniform(robot.sampling_lower, robot.sampling_upper, (int(n), robot.nq))
     plane = workspace_plane(robot)
     zone = Footprint.from_robot(robot) if footprint is True else (footprint or None)

@@ -45,7 +45,7 @@ def test_fk_text_and_json():
 
 IK_KEYS = {"robot", "method", "status", "success", "q", "q_units", "error", "position_error",
            "position_error_unit", "yaw_error_deg", "iterations", "evaluations", "time_s",
-           "message"}
+           "message", "error_unit"}
 
 
 def test_ik_json_schema_and_unreachable_verdict():
@@ -79,6 +79,14 @@ def test_ik_all_lists_the_branches():
       "/tmp/scara_opt_path"), "10 of 10 path points were not reached"),
     (("path", "zavar2024", "--line", "0.25", "0", "-0.07", "0.25", "0", "-0.07", "--yaw",
       "tangent", "--out", "/tmp/scara_opt_path"), "no tangent direction"),
+    # checked for every (method, population) before the first solve, not halfway through
+    (("compare", "zavar2024", "--target", "-0.23", "0.20", "-0.07", "--methods", "pso,sfla",
+      "--populations", "10,2", "--iterations", "5", "--seeds", "1", "--out",
+      "/tmp/scara_opt_cmp"), "sfla"),
+    (("compare", "zavar2024", "--target", "-0.23", "0.20", "-0.07", "--methods", "pso",
+      "--out", "/proc/scara_opt_forbidden"), "cannot create the output folder"),
+    (("compare", "zavar2024", "--target", "-0.23", "0.20", "-0.07", "--methods", "pso",
+      "--dask", "notanaddress", "--out", "/tmp/scara_opt_cmp"), "cannot reach a dask scheduler"),
 ])
 def test_bad_input_is_one_line_and_exit_2(args, message):
     """Bad input: exit code 2, a one-line error on stderr, no traceback."""
@@ -100,6 +108,13 @@ def test_bad_usage_exits_2():
     out = run("path", "zavar2024", "--circle", "0.25", "0", "0.05", "-0.07", "--yaw", "north",
               "--out", "/tmp/x")
     assert out.returncode == 2 and "expected degrees or 'tangent'" in out.stderr
+    for command in (("ik", "zavar2024", "--xyz", "0.3", "0", "-0.07"),
+                    ("workspace", "zavar2024", "--out", "/tmp/x")):
+        out = run(*command, "--seed", "-1")
+        assert out.returncode == 2 and "expected an integer >= 0, got -1" in out.stderr
+    out = run("compare", "zavar2024", "--target", "0", "0", "0", "--workers", "-3", "--out",
+              "/tmp/x")
+    assert out.returncode == 2 and "expected an integer >= 1, got -3" in out.stderr
 
 
 def test_compare_writes_the_table_and_figures(tmp_path):

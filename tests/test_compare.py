@@ -83,6 +83,17 @@ def test_compare_refuses_bad_input(robots):
                 progress=False)
     with pytest.raises(so.InputError, match="positive"):
         compare(robot, TARGETS, methods=["ipopt"], iterations=0, progress=False)
+    with pytest.raises(so.InputError, match="seed must be a non-negative integer"):
+        compare(robot, TARGETS, methods="pso", seeds=[-1], progress=False)
+    with pytest.raises(so.InputError, match="memeplex"):  # before any solve, not halfway
+        compare(robot, TARGETS, methods=["pso", "sfla"], populations=[10, 2], progress=False)
+
+
+def test_a_single_method_name_is_one_method(robots):
+    """methods="pso" is the PSO method (plus the references), not the letters p, s, o."""
+    table = compare(robots["zavar2024"], TARGETS[:1], methods="pso", populations=[10],
+                    iterations=5, seeds=[0], progress=False)
+    assert sorted(table["method"].unique()) == ["analytic", "ipopt", "pso"]
 
 
 def test_all_methods_budgets_only_the_population_methods(robots):

@@ -172,6 +172,19 @@ def check_tol(tol: Any) -> float:
     return float(tol)
 
 
+def check_seed(seed: Any) -> int | None:
+    """``seed`` as given, if ``None`` or a non-negative integer (numpy's seeds).
+
+    Raises:
+        InputError: anything else.
+    """
+    ok = seed is None or (isinstance(seed, (int, np.integer))
+                          and not isinstance(seed, (bool, np.bool_)) and seed >= 0)
+    if not ok:
+        raise InputError(f"seed must be a non-negative integer or None; got {seed!r}")
+    return seed
+
+
 class LazyGenerator:
     """A ``numpy.random.Generator`` for ``seed``, created at its first use.
 
@@ -234,13 +247,14 @@ class Solver(ABC):
 
         Raises:
             TargetError: malformed target, or a yaw for a robot whose tool cannot turn.
-            InputError: malformed ``q0`` or ``tol``.
+            InputError: malformed ``q0``, ``tol`` or ``seed``.
             JointLimitError: ``q0`` outside the joint limits.
         """
         target = as_target(target)
         check_task(robot, target)
         q0a = check_q0(robot, q0)
         tol = check_tol(tol)
+        check_seed(seed)
         rng = cast(np.random.Generator, LazyGenerator(seed))
         start = time.perf_counter()
         out = self._solve(robot, target, q0a, rng, tol)
