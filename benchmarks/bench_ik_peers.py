@@ -8,6 +8,8 @@ within the joint limits (no library's own flag is trusted). In one run:
   (iterations compiled to C; needs a C compiler), ``solve_many`` (the batch entry point,
   time per target), ``auto`` (the default route), ``ipopt`` cold, IPOPT certifying the fast
   answer (``q0`` = that answer), ``analytic`` (the closed form);
+* the candidate the issue probed, casadi ``sqpmethod`` with ``qrqp`` on the same NLP (raw,
+  one start from the default ``q0``): it is why the fast solver is a bounded LM;
 * roboticstoolbox-python (the optional ``bench`` extra): ``ik_LM`` (C++) and ``ikine_LM``
   (Python), on a ``DHRobot`` built from the same DH table and limits, position-only mask,
   their own random start, and their tolerance tightened to 1e-13: their residual is
@@ -30,11 +32,13 @@ import time
 from collections.abc import Callable
 from itertools import chain
 
+import casadi as ca
 import numpy as np
 
 import scara_opt as so
 from scara_opt.dh import bundled_dir, load_dh
 from scara_opt.ik.base import default_q0
+from scara_opt.ik.ipopt import ik_objective, nlp_params
 from scara_opt.ik.lm import cached_step, lm_search, random_starts
 from scara_opt.ik.lm_batch import solve_many
 
@@ -111,7 +115,26 @@ def ours(robot: so.Robot, P: np.ndarray) -> dict[str, tuple[np.ndarray, np.ndarr
         lambda k: so.solve_ik(robot, P[k], method="ipopt", q0=fast[k]).q, len(P))
     rows["analytic (closed form)"] = timed(
         lambda k: so.solve_ik(robot, P[k], method="analytic").q, len(P))
+    sqp = sqp_candidate(robot)
+    rows["candidate: sqpmethod+qrqp"] = timed(
+        lambda k: sqp(x0=q_ref, p=nlp_params(targets[k], q_ref, 1e-8), lbx=robot.lower,
+                      ubx=robot.upper)["x"].full().ravel(), len(P))
     return rows
+
+
+def sqp_candidate(robot: so.Robot):
+    """The candidate the issue probed: casadi ``sqpmethod`` + ``qrqp`` on the IPOPT NLP.
+
+    One start from the default ``q0`` (the stretched arm, a singular start), no restarts and
+    no polish: the raw solver, to show why the fast solver is a bounded LM instead (measured:
+    ~2x slower per start than our whole ``lm`` solve, 4–16 % of targets to 1e-6 m).
+    """
+    quiet = {"print_iter": False, "print_header": False, "print_info": False,
+             "error_on_fail": False}
+    return ca.nlpsol("sqp", "sqpmethod", ik_objective(robot, "position"), {
+        "qpsol": "qrqp", "qpsol_options": quiet, "print_header": False,
+        "print_iteration": False, "print_time": False, "print_status": False,
+        "error_on_fail": False, "max_iter": 100, "tol_pr": 1e-12, "tol_du": 1e-12})
 
 
 def jit_available(robot: so.Robot) -> bool:

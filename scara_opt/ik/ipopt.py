@@ -74,10 +74,10 @@ def angle_error_expr(robot: Robot, kind: str, R: ca.SX, param: ca.SX) -> ca.SX:
     return ca.reshape(R - ca.reshape(param, 3, 3), 9, 1) / 2.0  # |.| = √2 sin(θ/2)
 
 
-def build_ik_nlp(robot: Robot, kind: str, max_iter: int = 100, verbose: bool = False) -> _NLP:
-    """The casadi NLP of a task kind (``position``, ``yaw``, ``rotation``) for ``robot``.
+def ik_objective(robot: Robot, kind: str) -> dict[str, ca.SX]:
+    """The NLP ``{"x": q, "p": par, "f": f}`` of a task kind, for any casadi ``nlpsol``.
 
-    Parameters of the NLP, in order: target position (3), angle target (2 for yaw: cos, sin;
+    Parameters ``par``, in order: target position (3), angle target (2 for yaw: cos, sin;
     9 for rotation), ``q0`` (nq), weights (2), regularisation (1).
     """
     nq = robot.nq
@@ -93,10 +93,16 @@ def build_ik_nlp(robot: Robot, kind: str, max_iter: int = 100, verbose: bool = F
         f += 0.5 * wa**2 * ca.sumsqr(angle_error_expr(robot, kind, R, ang))
     scale = ca.DM(np.where(np.isfinite(robot.upper - robot.lower), robot.upper - robot.lower, 1.0))
     f += 0.5 * lam * ca.sumsqr((q - q0) / scale)
+    return {"x": q, "p": par, "f": f}
+
+
+def build_ik_nlp(robot: Robot, kind: str, max_iter: int = 100, verbose: bool = False) -> _NLP:
+    """The IPOPT solver of :func:`ik_objective` (kind: ``position``, ``yaw``, ``rotation``)."""
+    nlp = ik_objective(robot, kind)
     ipopt = {**IPOPT_OPTIONS, "max_iter": int(max_iter), "print_level": 5 if verbose else 0}
-    solver = ca.nlpsol(f"ik_{robot.name}_{kind}", "ipopt", {"x": q, "p": par, "f": f},
+    solver = ca.nlpsol(f"ik_{robot.name}_{kind}", "ipopt", nlp,
                        {"ipopt": ipopt, "print_time": bool(verbose), "error_on_fail": False})
-    return _NLP(solver, int(par.shape[0]))
+    return _NLP(solver, int(nlp["p"].shape[0]))
 
 
 def cached_nlp(robot: Robot, kind: str, max_iter: int = 100, verbose: bool = False) -> _NLP:
