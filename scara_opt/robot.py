@@ -158,10 +158,63 @@ def _check_mimic(j: Any, joints: dict[str, Any], where: str) -> None:
                         f"mimic joint; make it follow {leader.mimic.joint!r} directly")
 
 
-def _tree(urdf: Any, where: str) -> tuple[dict[str, Any], str]:
-    """Joints by child link, and the root link; checks joint types, limits and mimics."""
-    joints = {j.name: j for j in urdf.robot.joints}
+def _unique(names: list[str], kind: str, where: str) -> None:
+    """No two links (or joints) share a name."""
+    dup = sorted({n for n in names if names.count(n) > 1})
+    if dup:
+        raise URDFError(f"{where}: {kind} name(s) {', '.join(map(repr, dup))} are used more than "
+                        f"once; give every <{kind}> its own name")
+
+
+def _cycle(joints: list[Any]) -> list[Any]:
+    """The joints of one cycle of the parent → child link graph, in order; ``[]`` if none."""
+    left = list(joints)
+    while True:  # drop joints whose parent link no remaining joint leads to
+        children = {j.child for j in left}
+        keep = [j for j in left if j.parent in children]
+        if len(keep) == len(left):
+            break
+        left = keep
+    if not left:
+        return []
+    into, j, seen = {j.child: j for j in left}, left[0], []
+    while j not in seen:  # every remaining parent is a remaining child: walk back to a repeat
+        seen.append(j)
+        j = into[j.parent]
+    return seen[seen.index(j):][::-1]
+
+
+def _check_structure(urdf: Any, where: str) -> dict[str, Any]:
+    """Unique names, declared links, no cycle, one parent joint per link: joints by child."""
+    links = [lk.name for lk in urdf.robot.links]
+    _unique(links, "link", where)
+    _unique([j.name for j in urdf.robot.joints], "joint", where)
+    declared = set(links)
+    for j in urdf.robot.joints:
+        for role, link in (("parent", j.parent), ("child", j.child)):
+            if link not in declared:
+                raise URDFError(f"{where}: joint {j.name!r} has {role} link {link!r}, which is "
+                                f"not declared; add <link name=\"{link}\"/> or fix its <{role}>")
+    cycle = _cycle(urdf.robot.joints)
+    if cycle:
+        loop = " -> ".join([cycle[0].parent, *(j.child for j in cycle)])
+        raise URDFError(f"{where}: joints {', '.join(repr(j.name) for j in cycle)} form a cycle "
+                        f"({loop}); a URDF must be a tree (closed loops are not supported): "
+                        "remove one of these joints or fix its <parent>/<child>")
     by_child: dict[str, Any] = {}
+    for j in urdf.robot.joints:
+        if j.child in by_child:
+            raise URDFError(f"{where}: link {j.child!r} is the child of two joints, "
+                            f"{by_child[j.child].name!r} and {j.name!r}; a URDF must be a tree: "
+                            "give each link at most one parent joint")
+        by_child[j.child] = j
+    return by_child
+
+
+def _tree(urdf: Any, where: str) -> tuple[dict[str, Any], str]:
+    """Joints by child link, and the root link; checks the tree, joint types, limits, mimics."""
+    by_child = _check_structure(urdf, where)
+    joints = {j.name: j for j in urdf.robot.joints}
     for j in urdf.robot.joints:
         if j.type not in (*_MOVABLE, "fixed"):
             raise URDFError(
@@ -173,7 +226,6 @@ def _tree(urdf: Any, where: str) -> tuple[dict[str, Any], str]:
             _check_limits(j, where)
         if j.mimic is not None and j.type != "fixed":
             _check_mimic(j, joints, where)
-        by_child[j.child] = j
     roots = [lk.name for lk in urdf.robot.links if lk.name not in by_child]
     if len(roots) != 1:
         raise URDFError(f"{where}: expected one root link, found {roots}; the URDF must be a tree")
@@ -227,12 +279,22 @@ def _reference(j: Any, joints: dict[str, Any]) -> float:
     return 0.5 * (j.limit.lower + j.limit.upper)
 
 
-def _split(urdf: Any, path: list[Any]) -> tuple[list[Any], dict[str, float]]:
-    """The movable joints kept (on the path, leader kept too) and the locked ones' references."""
-    on_path = {j.name for j in path}
+def _split(urdf: Any, path: list[Any], where: str) -> tuple[list[Any], dict[str, float]]:
+    """The movable joints kept (on the path, leader kept too) and the locked ones' references.
+
+    Pinocchio needs a kept mimic joint's leader before it on the path.
+    """
+    order = {j.name: k for k, j in enumerate(path)}
     joints = {j.name: j for j in urdf.robot.joints}
     kept = [j for j in path if j.type in _MOVABLE
-            and (j.mimic is None or j.mimic.joint in on_path)]
+            and (j.mimic is None or j.mimic.joint in order)]
+    for j in kept:
+        if j.mimic is not None and order[j.mimic.joint] > order[j.name]:
+            raise URDFError(
+                f"{where}: mimic joint {j.name!r} follows {j.mimic.joint!r}, which comes after "
+                f"it on the path from the root to {path[-1].child!r}; Pinocchio needs the "
+                f"leader joint before its mimic joint: swap their roles (put the <mimic> on "
+                f"{j.mimic.joint!r}, multiplier 1/m, offset -offset/m) or pick another tip=")
     kept_names = {j.name for j in kept}
     locked = {j.name: _reference(j, joints) for j in urdf.robot.joints
               if j.type in _MOVABLE and j.name not in kept_names}
@@ -269,7 +331,7 @@ def _pinocchio_text(text: str, drop_mimic: set[str]) -> str:
 def _build_model(text: str, urdf: Any, path: list[Any],
                  where: str) -> tuple[pin.Model, dict[str, float]]:
     """The Pinocchio model of the path's joints, the others locked; and the locked values."""
-    kept, locked = _split(urdf, path)
+    kept, locked = _split(urdf, path, where)
     on_path_mimic = any(j.mimic is not None for j in kept)
     xml = _pinocchio_text(text, drop_mimic=set(locked))
     try:  # the mimic flag only when needed: Pinocchio < 3.4 lacks it
@@ -427,16 +489,23 @@ class Robot:
                 when the URDF has several end links, logs a warning naming the one taken.
 
         Raises:
-            URDFError: missing file, malformed XML, several root links, an unsupported
-                joint type (floating, planar), a mimic joint that does not follow a movable
-                joint, or no movable joint on the path to the tip.
+            URDFError: missing or non-UTF-8 file, malformed XML, not a tree (duplicate
+                names, undeclared links, a cycle, a link with two parent joints, several
+                root links), an unsupported joint type (floating, planar), a mimic joint that
+                does not follow a movable joint (or follows one after it on the path), or no
+                movable joint on the path to the tip.
             FrameNotFoundError: ``tip`` is not a link of the URDF (the message lists them).
             JointLimitError: a joint's lower limit is not below its upper limit.
         """
         path = Path(path)
         if not path.is_file():
             raise URDFError(f"URDF file {str(path)!r} does not exist; check the path")
-        return cls(path.read_text(), tip, where=f"URDF {str(path)!r}", mesh_dir=str(path.parent))
+        try:
+            text = path.read_text(encoding="utf-8")
+        except UnicodeDecodeError as exc:
+            raise URDFError(f"URDF file {str(path)!r} is not UTF-8 text ({exc.reason} at byte "
+                            f"{exc.start}); pass a URDF (XML) file, saved as UTF-8") from None
+        return cls(text, tip, where=f"URDF {str(path)!r}", mesh_dir=str(path.parent))
 
     @classmethod
     def from_dh(cls, dh: DHRobot, tip: str | None = "tool") -> Robot:

@@ -181,6 +181,37 @@ def test_unknown_tip_lists_the_frames(tmp_path):
         so.Robot.from_urdf(_write(tmp_path, text), tip="tool")
 
 
+R = "revolute"
+
+
+@pytest.mark.parametrize("links, joints, match", [
+    (["a", "b", "c"], [("j1", R, "a", "b"), ("j2", R, "b", "c"), ("j3", R, "c", "b")],
+     r"joints 'j3', 'j2' form a cycle \(c -> b -> c\)"),
+    (["a", "b", "c"], [("j1", R, "a", "b"), ("j2", R, "a", "c"), ("j3", R, "b", "c")],
+     "link 'c' is the child of two joints, 'j2' and 'j3'.*at most one parent joint"),
+    (["a", "b"], [("j1", R, "a", "b"), ("j2", R, "b", "zz")],
+     "joint 'j2' has child link 'zz', which is not declared; add <link name=\"zz\"/>"),
+    (["a", "b"], [("j1", R, "a", "b"), ("j2", R, "zz", "b")],
+     "joint 'j2' has parent link 'zz', which is not declared"),
+    (["a", "b", "c"], [("j1", R, "a", "b"), ("j1", R, "b", "c")],
+     "joint name.*'j1' are used more than once"),
+    (["a", "b", "b"], [("j1", R, "a", "b")], "link name.*'b' are used more than once"),
+])
+@pytest.mark.parametrize("tip", [None, "b"])
+def test_broken_trees_raise_urdf_error(tmp_path, links, joints, match, tip):
+    """Cycles, two parents, undeclared links and duplicate names fail before Pinocchio."""
+    with pytest.raises(so.URDFError, match=match):  # the cycle with a tip used to hang
+        so.Robot.from_urdf(_write(tmp_path, _urdf(links, joints)), tip=tip)
+
+
+def test_non_utf8_file_raises_urdf_error(tmp_path):
+    """Binary junk is a URDFError, not a bare UnicodeDecodeError."""
+    path = tmp_path / "junk.urdf"
+    path.write_bytes(b"\xff\xfe\x00bad")
+    with pytest.raises(so.URDFError, match="'.*junk.urdf' is not UTF-8 text.*URDF"):
+        so.Robot.from_urdf(path)
+
+
 def test_inverted_urdf_limits_and_unsupported_joints(tmp_path):
     """lower >= upper is a JointLimitError; a floating joint is refused with a remedy."""
     text = _urdf(["b", "l1"], [("j1", "revolute", "b", "l1", 1, -1)])

@@ -196,6 +196,23 @@ def test_bad_mimic_raises_urdf_error(tmp_path, mimic_xml, match):
         so.Robot.from_urdf(path)
 
 
+def test_mimic_leader_after_its_follower_on_the_path_is_refused(tmp_path):
+    """Pinocchio needs the leader first: a clear URDFError; off the path the pair is locked."""
+    joint = ('<joint name="{n}" type="revolute"><parent link="{p}"/><child link="{c}"/>'
+             '<limit lower="-1" upper="1" effort="0" velocity="1"/>{m}</joint>')
+    text = ('<robot name="r"><link name="a"/><link name="b"/><link name="c"/><link name="d"/>'
+            + joint.format(n="j1", p="a", c="b", m='<mimic joint="j3" multiplier="2"/>')
+            + joint.format(n="j2", p="b", c="c", m="")
+            + joint.format(n="j3", p="c", c="d", m="") + "</robot>")
+    path = tmp_path / "late_leader.urdf"
+    path.write_text(text)
+    with pytest.raises(so.URDFError, match="'j1' follows 'j3', which comes after it.*leader "
+                                           "joint before its mimic joint.*swap their roles"):
+        so.Robot.from_urdf(path, tip="d")
+    robot = so.Robot.from_urdf(path, tip="c")  # j3 off the path: j1 locked with it
+    assert robot.joint_names == ["j2"] and robot.locked == {"j1": 0.0, "j3": 0.0}
+
+
 def test_floating_joint_is_refused(tmp_path):
     """A floating joint is not a serial-chain joint: URDFError naming it and the remedy."""
     path = tmp_path / "f.urdf"
