@@ -90,9 +90,20 @@ def animate(robot: Robot, joint_path: object, path_to_gif: str | Path, fps: int 
 
     Returns:
         The path of the saved GIF.
+
+    Raises:
+        InputError: a file name not ending in ``.gif``, ``fps`` not a positive integer,
+            or a malformed joint path.
     """
     from matplotlib.animation import FuncAnimation, PillowWriter
 
+    from scara_opt.errors import InputError
+
+    out = Path(path_to_gif)
+    if out.suffix.lower() != ".gif":
+        raise InputError(f"animate writes a GIF; name the file *.gif, not {out.name!r}")
+    if not (isinstance(fps, (int, np.integer)) and fps > 0):
+        raise InputError(f"fps must be a positive integer; got {fps!r}")
     Q = np.asarray(getattr(joint_path, "q", joint_path), dtype=float)
     pts = robot.joint_origins(robot.check_q_batch(Q)) * 1000.0
     fig = _figure(figsize=(6, 5))
@@ -117,7 +128,6 @@ def animate(robot: Robot, joint_path: object, path_to_gif: str | Path, fps: int 
         ax.set_title(f"{robot.name}: point {k + 1}/{len(pts)}")
         return arm, trace
 
-    out = Path(path_to_gif)
     out.parent.mkdir(parents=True, exist_ok=True)
     FuncAnimation(fig, frame, frames=len(pts), blit=False).save(out, writer=PillowWriter(fps=fps))
     return out

@@ -1,0 +1,40 @@
+"""Pictures of the robot: the stick figure through every joint origin, and path animations."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from PIL import Image
+
+import scara_opt as so
+from scara_opt.plots import animate, draw_robot
+
+
+def test_draw_robot_goes_through_every_joint_origin_to_the_tip(robots, tmp_path):
+    """The arm's polyline is the FK of each joint frame [mm], ending at the tool tip."""
+    robot = robots["zavar2024"]
+    q = np.array([0.3, -0.8, 0.02, 1.0])
+    ax = draw_robot(robot, q, path=tmp_path / "pose.png")
+    x, y, z = ax.lines[0].get_data_3d()
+    arm = np.column_stack([x, y, z])
+    np.testing.assert_allclose(arm, robot.joint_origins(q[None])[0] * 1000.0)
+    np.testing.assert_allclose(arm[-1], robot.position(q) * 1000.0, atol=1e-9)
+    assert (tmp_path / "pose.png").stat().st_size > 0
+
+
+def test_animate_writes_one_frame_per_path_point(robots, tmp_path):
+    """A GIF with one frame per configuration of the joint path."""
+    robot = robots["zavar2024"]
+    Q = np.linspace([0.0, -0.5, 0.0, 0.0], [1.0, 0.5, 0.03, 1.0], 5)
+    out = animate(robot, Q, tmp_path / "path.gif", fps=5)
+    with Image.open(out) as gif:
+        assert gif.format == "GIF" and gif.n_frames == 5
+
+
+@pytest.mark.parametrize("name, fps, match", [("path.png", 10, r"\*\.gif"),
+                                               ("path.gif", 0, "fps")])
+def test_animate_refuses_a_wrong_file_or_rate(robots, tmp_path, name, fps, match):
+    """A file that is not .gif, or a non-positive frame rate, is refused before drawing."""
+    with pytest.raises(so.InputError, match=match):
+        animate(robots["zavar2024"], np.zeros((3, 4)), tmp_path / name, fps=fps)
+    assert not (tmp_path / name).exists()
