@@ -72,7 +72,9 @@ def test_quintic_reproduces_fang_tables(fang, table):
     n = REFERENCE["samples"]
     rows = np.array(table["rows"])
     for duration in (1.0, None):  # positions at tau = k/35 do not depend on the duration
-        traj = time_parameterize(fang_move(table), fang, method="quintic", duration=duration)
+        # the paper's 1 s breaks the (assumed) limits of robots/fang.toml: opt in explicitly
+        traj = time_parameterize(fang_move(table), fang, method="quintic", duration=duration,
+                                 enforce_limits=False)
         ours = traj.sample(traj.duration * np.arange(n) / (n - 1))[0] / TO_SI
         assert np.abs(ours[:len(rows)] - rows).max() <= REFERENCE["tolerance"]
         assert np.allclose(ours[-1], table["end"], atol=1e-12)
@@ -356,22 +358,69 @@ def test_unknown_method_and_option(fang):
 
 
 @pytest.mark.parametrize("kwargs, error, match", [
-    ({"vmax": 0.0}, JointLimitError, "theta1"),
-    ({"vmax": [1, 1, -1, 1]}, JointLimitError, "d3"),
-    ({"amax": math.inf}, JointLimitError, "finite"),
+    ({"vmax": 0.0}, InputError, "vmax for joint 'theta1' is 0 "),
+    ({"vmax": [1, 1, -1, 1]}, InputError, "vmax for joint 'd3' is -1 "),
+    ({"amax": math.inf}, InputError, "amax for joint 'theta1' is inf .*finite and > 0"),
+    ({"amax": -math.inf}, InputError, "amax for joint 'theta1' is -inf "),
     ({"vmax": [1, math.nan, 1, 1]}, InputError, "NaN"),
     ({"amax": [1.0, 2.0]}, InputError, "shape"),
     ({"vmax": "fast"}, InputError, "vmax"),
-    ({"method": "ruckig", "jmax": [1, 1, 0, 1]}, JointLimitError, "jmax"),
+    ({"method": "ruckig", "jmax": [1, 1, 0, 1]}, InputError, "jmax for joint 'd3' is 0 "),
+    ({"method": "ruckig", "jmax": math.inf}, InputError, "jmax for joint 'theta1' is inf "),
     ({"method": "toppra", "jmax": 10.0}, InputError, "jerk"),
     ({"method": "toppra", "duration": 2.0}, InputError, "quintic"),
     ({"method": "quintic", "duration": -1.0}, InputError, "duration"),
+    ({"method": "quintic", "duration": True}, InputError, "duration"),
 ])
 def test_bad_limits_and_options(fang, kwargs, error, match):
     """Zero, negative, infinite, NaN or misshaped limits; options a method does not take."""
     Q = fang_move(REFERENCE["tables"][0])
-    with pytest.raises(error, match=match):
+    with pytest.raises(error, match=match) as info:
         time_parameterize(Q, fang, **{"method": "toppra", **kwargs})
+    assert type(info.value) is error  # not a subclass such as JointLimitError
+
+
+@pytest.mark.parametrize("method", METHODS)
+@pytest.mark.parametrize("limits", [{"vmax": 0.0}, {"amax": -2.0}, {"vmax": math.inf},
+                                    {"amax": [1.0, math.nan, 1.0, 1.0]}, {"vmax": [1.0, 2.0]}])
+def test_every_bad_limit_is_a_trajectory_or_input_error(fang, method, limits):
+    """The issue's contract: one ``except (TrajectoryError, InputError)`` catches them all."""
+    try:
+        time_parameterize(fang_move(REFERENCE["tables"][0]), fang, method=method, **limits)
+    except (TrajectoryError, InputError) as exc:
+        assert "vmax" in str(exc) or "amax" in str(exc)
+    else:
+        pytest.fail(f"{limits} was accepted by {method}")
+
+
+@pytest.mark.parametrize("method, options, match", [
+    ("toppra", {"max_refine": -1}, r"'toppra': option max_refine=-1 must be an integer in \[0, "),
+    ("toppra", {"max_refine": 11}, r"max_refine=11 must be an integer in \[0, 10\]"),
+    ("toppra", {"max_refine": 1.5}, r"max_refine=1.5 must be an integer"),
+    ("toppra", {"grid_per_segment": 0, "min_grid": 0}, r"grid_per_segment=0 must be .* >= 1"),
+    ("toppra", {"min_grid": 1}, r"min_grid=1 must be an integer >= 2; .*default 100"),
+    ("toppra", {"min_grid": 2.0}, r"min_grid=2.0 must be an integer"),
+    ("toppra", {"grid_per_segment": True}, r"grid_per_segment=True must be an integer"),
+    ("toppra", {"margin": 0.5}, r"margin=0.5 must be a number in \[0, 0.5\)"),
+    ("toppra", {"margin": -0.1}, r"margin=-0.1 must be a number in \[0, 0.5\)"),
+    ("toppra", {"margin": math.nan}, r"margin=nan must be a number"),
+    ("toppra", {"margin": "small"}, r"margin='small' must be a number"),
+    ("quintic", {"enforce_limits": "no"}, r"'quintic': option enforce_limits='no' must be True"),
+])
+def test_bad_backend_options_name_the_option_and_range(fang, method, options, match):
+    """Out-of-range, non-integer, NaN or bool options: InputError naming option and range."""
+    with pytest.raises(InputError, match=match):
+        time_parameterize(fang_move(REFERENCE["tables"][0]), fang, method=method, **options)
+
+
+def test_option_ranges_are_inclusive_where_documented(fang):
+    """The smallest valid toppra options still time within the limits; ruckig takes none."""
+    Q = fang_move(REFERENCE["tables"][0])
+    traj = time_parameterize(Q, fang, method="toppra", margin=0, grid_per_segment=1,
+                             min_grid=2, max_refine=0)
+    assert worst_ratio(traj) <= 1 + RATIO_TOL and "2 grid intervals" in traj.notes
+    with pytest.raises(SolverOptionError, match="enforce_limits"):
+        time_parameterize(Q, fang, method="ruckig", enforce_limits=False)
 
 
 @pytest.mark.parametrize("path, error, match", [
@@ -408,9 +457,42 @@ def test_limits_without_a_robot():
     assert traj.limits.joint_names == ("joint0", "joint1") and worst_ratio(traj) <= 1 + 1e-9
 
 
-def test_too_short_fixed_quintic_duration_is_logged(fang, caplog):
-    """A fixed duration below the shortest breaks the limits: allowed, logged, visible."""
+def test_too_short_fixed_quintic_duration_is_refused(fang):
+    """Below the shortest duration: TrajectoryError giving it; that duration then works."""
+    Q = fang_move(REFERENCE["tables"][0])
+    shortest = time_parameterize(Q, fang, method="quintic").duration
+    with pytest.raises(TrajectoryError, match="below .* the shortest that respects") as info:
+        time_parameterize(Q, fang, method="quintic", duration=0.01)
+    assert f"{shortest:.6g} s" in str(info.value) and "enforce_limits=False" in str(info.value)
+    suggested = float(str(info.value).split("pass duration >= ")[1].split()[0])
+    assert shortest <= suggested <= shortest + 1e-6
+    for duration in (suggested, shortest):
+        traj = time_parameterize(Q, fang, method="quintic", duration=duration)
+        assert worst_ratio(traj) <= 1 + RATIO_TOL and traj.duration == pytest.approx(duration)
+
+
+def test_too_short_fixed_quintic_duration_when_opted_in(fang, caplog):
+    """enforce_limits=False: timed anyway, logged, written in notes, visible in the ratios."""
     Q = fang_move(REFERENCE["tables"][0])
     with caplog.at_level(logging.WARNING, logger="scara_opt"):
-        traj = time_parameterize(Q, fang, method="quintic", duration=0.5)
+        traj = time_parameterize(Q, fang, method="quintic", duration=0.5, enforce_limits=False)
     assert "below the shortest" in caplog.text and worst_ratio(traj) > 1
+    assert "limits exceeded" in traj.notes and "enforce_limits=False" in traj.notes
+    assert f"largest ratio {worst_ratio(traj):.4g}" in traj.notes
+    caplog.clear()
+    with caplog.at_level(logging.WARNING, logger="scara_opt"):
+        slow = time_parameterize(Q, fang, method="quintic", duration=5.0, enforce_limits=False)
+    assert not caplog.text and "exceeded" not in slow.notes and worst_ratio(slow) < 1
+
+
+def test_toppra_refuses_a_grid_with_a_stalled_interval(fang):
+    """One grid interval from rest to rest would take forever: TrajectoryError, no inf."""
+    import toppra
+
+    from scara_opt.trajectory.toppra_backend import _solve
+
+    Q = fang_move(REFERENCE["tables"][0])
+    s = chord_parameter(Q, fang.velocity_limit)
+    limits = resolve_limits(fang, 4)
+    with pytest.raises(TrajectoryError, match="zero at both ends of grid interval 0 of 1"):
+        _solve(toppra.SplineInterpolator(s, Q), s, 1, limits, 1.0)

@@ -8,7 +8,7 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import NDArray
 
-from scara_opt.errors import InputError, JointLimitError, TrajectoryError
+from scara_opt.errors import InputError, TrajectoryError
 from scara_opt.robot import Robot
 
 Array = NDArray[np.float64]
@@ -52,7 +52,12 @@ class Limits:
 
 def _per_joint(value: object, nq: int, what: str, unit: str,
                names: tuple[str, ...]) -> Array:
-    """``value`` (scalar or (nq,)) as a checked (nq,) array of finite positive numbers."""
+    """``value`` (scalar or (nq,)) as a checked (nq,) array of finite positive numbers.
+
+    Raises:
+        InputError: not numeric, wrong shape, NaN, or a zero/negative/infinite entry (the
+            message names the joint and the value).
+    """
     try:
         arr = np.asarray(value, dtype=float)
     except (TypeError, ValueError):
@@ -68,9 +73,9 @@ def _per_joint(value: object, nq: int, what: str, unit: str,
         raise InputError(f"{what} is NaN for joints {bad}; give a positive number [{unit}]")
     for k, v in enumerate(arr):
         if not (v > 0 and math.isfinite(v)):
-            raise JointLimitError(
-                f"{what} for joint {names[k]!r} is {v:g} {unit}; each limit must be finite and "
-                f"> 0: pass a positive {what}= (scalar or one per joint)", joint=names[k])
+            raise InputError(
+                f"{what} for joint {names[k]!r} is {v:g} [{unit}]; each limit must be finite and "
+                f"> 0: pass a positive {what}= (scalar or one per joint)")
     return arr
 
 
@@ -90,8 +95,8 @@ def resolve_limits(robot: Robot | None, nq: int, vmax: object | None = None,
         need_jerk: whether the method uses a jerk limit.
 
     Raises:
-        InputError: wrong shape, non-numeric or NaN limits; path and robot joint counts differ.
-        JointLimitError: a zero, negative or infinite limit (names the joint).
+        InputError: wrong shape, non-numeric, NaN, zero, negative or infinite limits (the
+            message names the joint); path and robot joint counts differ.
         TrajectoryError: no limit given and the robot has none for some joint.
     """
     if robot is not None and robot.nq != nq:
@@ -105,7 +110,6 @@ def resolve_limits(robot: Robot | None, nq: int, vmax: object | None = None,
         names = tuple(f"joint{k}" for k in range(nq))
         types = ("joint",) * nq
         lower, upper = np.full(nq, -np.inf), np.full(nq, np.inf)
-    unit = "rad or m"
 
     def pick(value: object | None, own: str, what: str, u: str) -> Array:
         if value is not None:
@@ -120,10 +124,10 @@ def resolve_limits(robot: Robot | None, nq: int, vmax: object | None = None,
                                   f"pass {what}= (scalar or one per joint) [{u}]")
         return _per_joint(arr, nq, what, u, names)
 
-    v = pick(vmax, "velocity_limit", "vmax", f"{unit}/s")
-    a = pick(amax, "acceleration_limit", "amax", f"{unit}/s²")
+    v = pick(vmax, "velocity_limit", "vmax", "rad/s or m/s")
+    a = pick(amax, "acceleration_limit", "amax", "rad/s² or m/s²")
     j = None
     if need_jerk:
         j = (JERK_PER_ACCELERATION * a if jmax is None
-             else _per_joint(jmax, nq, "jmax", f"{unit}/s³", names))
+             else _per_joint(jmax, nq, "jmax", "rad/s³ or m/s³", names))
     return Limits(v, a, j, names, types, np.asarray(lower, float), np.asarray(upper, float))

@@ -13,6 +13,10 @@ duration within the limits is, over the joints,
           \sqrt{\frac{10 |Δq_j|}{\sqrt 3\, a_j}}\right).
 
 Through more than two waypoints the robot stops at each (a chain of segments).
+
+A fixed duration below the shortest one is refused (:class:`~scara_opt.errors.TrajectoryError`,
+which gives the shortest); with ``enforce_limits=False`` it is timed anyway, logged as a
+warning and recorded in :attr:`~scara_opt.trajectory.Trajectory.notes` with the worst ratio.
 """
 
 from __future__ import annotations
@@ -24,8 +28,9 @@ import numpy as np
 from numpy.typing import NDArray
 from scipy.interpolate import PPoly
 
+from scara_opt.errors import TrajectoryError
 from scara_opt.trajectory.limits import Limits
-from scara_opt.trajectory.registry import register_timing
+from scara_opt.trajectory.registry import check_option_flag, register_timing
 from scara_opt.trajectory.trajectory import Trajectory, concatenate
 
 log = logging.getLogger(__name__)
@@ -35,6 +40,9 @@ Array = NDArray[np.float64]
 #: peak of s'(τ) and of |s''(τ)| of the quintic blend
 PEAK_VELOCITY = 15.0 / 8.0
 PEAK_ACCELERATION = 10.0 / math.sqrt(3.0)
+
+#: a fixed duration may fall short of the shortest by this fraction (round-off)
+DURATION_SLACK = 1e-12
 
 
 def quintic_blend(tau: object) -> Array:
@@ -61,8 +69,9 @@ def quintic_segment(qa: Array, qb: Array, duration: float) -> list[PPoly]:
     return out
 
 
-@register_timing("quintic", takes_duration=True)
-def quintic_trajectory(Q: Array, limits: Limits, duration: float | None = None) -> Trajectory:
+@register_timing("quintic", options={"enforce_limits": True}, takes_duration=True)
+def quintic_trajectory(Q: Array, limits: Limits, duration: float | None = None, *,
+                       enforce_limits: bool = True) -> Trajectory:
     """Rest-to-rest quintic through the waypoints ``Q`` (n, nq) [rad or m].
 
     Args:
@@ -70,24 +79,41 @@ def quintic_trajectory(Q: Array, limits: Limits, duration: float | None = None) 
         limits: joint limits.
         duration: total duration [s]; the segments share it in proportion to their own
             shortest durations. ``None``: every segment as short as the limits allow.
-            A duration shorter than that breaks the limits (logged as a warning, and
-            visible in :meth:`~scara_opt.trajectory.Trajectory.check_limits`).
+        enforce_limits: refuse a ``duration`` below the shortest within the limits (default).
+            ``False`` times it anyway: the limits are exceeded, which is logged as a warning,
+            written in ``notes`` and visible in
+            :meth:`~scara_opt.trajectory.Trajectory.check_limits`.
 
     Returns:
         Trajectory: stops (zero velocity and acceleration) at every waypoint.
+
+    Raises:
+        TrajectoryError: ``duration`` below the shortest [s] (given in the message) while
+            ``enforce_limits``.
+        InputError: ``enforce_limits`` not True or False.
     """
+    check_option_flag("quintic", "enforce_limits", enforce_limits)
     shortest = np.array([shortest_duration(b - a, limits.vmax, limits.amax)
                          for a, b in zip(Q[:-1], Q[1:], strict=True)])
-    if duration is None:
-        durations = shortest
-    else:
-        durations = shortest * (duration / shortest.sum())
-        if duration < shortest.sum() * (1 - 1e-12):
-            log.warning("quintic duration %.6g s is below the shortest within the limits "
-                        "(%.6g s): the limits are exceeded", duration, shortest.sum())
+    total = float(shortest.sum())
+    too_short = duration is not None and duration < total * (1 - DURATION_SLACK)
+    if too_short and enforce_limits:
+        raise TrajectoryError(
+            f"quintic duration {duration:.6g} s is below {total:.6g} s, the shortest that "
+            f"respects the velocity/acceleration limits: pass duration >= "
+            f"{math.ceil(total * 1e6) / 1e6:.6f} or duration=None (the shortest), raise "
+            "vmax=/amax=, or pass enforce_limits=False to accept exceeding the limits")
+    durations = shortest if duration is None else shortest * (duration / total)
     segments = [quintic_segment(a, b, T) for a, b, T in zip(Q[:-1], Q[1:], durations,
                                                              strict=True)]
     pieces = tuple(concatenate([seg[k] for seg in segments]) for k in range(Q.shape[1]))
     times = np.concatenate([[0.0], np.cumsum(durations)])
     note = "shortest within the limits" if duration is None else f"fixed duration {duration} s"
-    return Trajectory(pieces, limits, "quintic", Q.copy(), times, notes=note)
+    traj = Trajectory(pieces, limits, "quintic", Q.copy(), times, notes=note)
+    if too_short:
+        worst = max(float(r.max()) for r in traj.check_limits().values())
+        excess = (f"below the shortest within the limits ({total:.6g} s): limits exceeded, "
+                  f"largest ratio {worst:.4g} (enforce_limits=False)")
+        log.warning("quintic duration %.6g s is %s", duration, excess)
+        traj = Trajectory(pieces, limits, "quintic", Q.copy(), times, notes=f"{note}, {excess}")
+    return traj

@@ -15,6 +15,7 @@ from dataclasses import dataclass, field, replace
 from typing import Any
 
 from scara_opt.errors import InputError, SolverOptionError, UnknownSolverError
+from scara_opt.ik.base import check_flag, check_number
 from scara_opt.robot import Robot
 from scara_opt.trajectory.limits import Limits, resolve_limits
 from scara_opt.trajectory.trajectory import Trajectory
@@ -91,6 +92,45 @@ def get_timing(method: str) -> TimingMethod:
     return _REGISTRY[method]
 
 
+def check_option(method: str, name: str, value: Any, low: float, high: float = math.inf, *,
+                 integer: bool = False, low_open: bool = False, high_open: bool = False,
+                 default: Any = None) -> None:
+    """Refuse a numeric option of timing ``method`` outside its range (bools refused).
+
+    The range is ``[low, high]``, opened at either end by ``low_open`` / ``high_open``.
+
+    Raises:
+        InputError: wrong type, NaN or out of range; names the method, option, value, range
+            and ``default``.
+    """
+    try:
+        check_number(name, value, low, high, integer=integer, low_open=low_open)
+        ok = not (high_open and value >= high)
+    except InputError:
+        ok = False
+    if not ok:
+        kind = "an integer" if integer else "a number"
+        if math.isinf(high):
+            span = f"{'>' if low_open else '>='} {low:g}"
+        else:
+            span = f"in {'(' if low_open else '['}{low:g}, {high:g}{')' if high_open else ']'}"
+        raise InputError(f"method {method!r}: option {name}={value!r} must be {kind} "
+                         f"{span}; pass one in that range, or omit {name}= for the default "
+                         f"{default!r}")
+
+
+def check_option_flag(method: str, name: str, value: Any) -> None:
+    """Refuse a flag option of timing ``method`` that is not True or False.
+
+    Raises:
+        InputError: names the method, the option and the value given.
+    """
+    try:
+        check_flag(name, value)
+    except InputError as exc:
+        raise InputError(f"method {method!r}: {exc}") from None
+
+
 def _check_duration(duration: object, entry: TimingMethod) -> float | None:
     if duration is None:
         return None
@@ -98,7 +138,8 @@ def _check_duration(duration: object, entry: TimingMethod) -> float | None:
         raise InputError(f"method {entry.name!r} computes the shortest duration within the "
                          "limits and takes no duration=; use method='quintic' for a fixed "
                          "duration")
-    if not (isinstance(duration, (int, float)) and math.isfinite(duration) and duration > 0):
+    if not (isinstance(duration, (int, float)) and not isinstance(duration, bool)
+            and math.isfinite(duration) and duration > 0):
         raise InputError(f"duration must be a positive number [s] or None; got {duration!r}")
     return float(duration)
 
@@ -123,10 +164,13 @@ def time_parameterize(path: object, robot: Robot | None = None, method: str = "t
         jmax: jerk limits [rad/s³ or m/s³] for jerk-limited methods; default
             ``JERK_PER_ACCELERATION × amax`` (10/s × amax).
         duration: fixed total duration [s] (``"quintic"`` only); ``None`` = the shortest
-            within the limits.
+            within the limits. A shorter one than that is refused unless the option
+            ``enforce_limits=False`` is passed too.
         allow_jumps: time a JointPath even if it reports joint jumps (logged as a warning).
         drop_duplicates: remove consecutive duplicate waypoints (logged) instead of refusing.
-        **options: method-specific options (an unknown one raises SolverOptionError).
+        **options: method-specific options (an unknown one raises SolverOptionError):
+            toppra ``margin``, ``grid_per_segment``, ``min_grid``, ``max_refine``; quintic
+            ``enforce_limits``; ruckig none.
 
     Returns:
         Trajectory: rest to rest, through every waypoint.
@@ -134,10 +178,12 @@ def time_parameterize(path: object, robot: Robot | None = None, method: str = "t
     Raises:
         UnknownSolverError: unknown ``method``.
         SolverOptionError: an option the method does not accept.
-        InputError: malformed path, limits or duration; ``jmax`` for a method without jerk.
-        JointLimitError: a zero/negative/infinite limit, or a waypoint outside the joint limits.
+        InputError: malformed path or duration; a zero, negative, infinite, NaN or misshaped
+            limit; an option value out of range; ``jmax`` for a method without jerk.
+        JointLimitError: a waypoint outside the joint limits.
         TrajectoryError: fewer than two waypoints, consecutive duplicates, a JointPath with
-            unreachable points or jumps, or a backend failure.
+            unreachable points or jumps, a fixed quintic duration below the shortest within
+            the limits (without ``enforce_limits=False``), or a backend failure.
     """
     entry = get_timing(method)
     unknown = set(options) - set(entry.options)

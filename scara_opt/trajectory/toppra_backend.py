@@ -33,9 +33,9 @@ import numpy as np
 from numpy.typing import NDArray
 from scipy.interpolate import CubicSpline, PPoly
 
-from scara_opt.errors import InputError, TrajectoryError
+from scara_opt.errors import TrajectoryError
 from scara_opt.trajectory.limits import Limits
-from scara_opt.trajectory.registry import register_timing
+from scara_opt.trajectory.registry import check_option, register_timing
 from scara_opt.trajectory.trajectory import Trajectory, stretch
 
 log = logging.getLogger(__name__)
@@ -46,6 +46,24 @@ Array = NDArray[np.float64]
 POSITION_SLACK = 1e-9
 
 OPTIONS = {"margin": 0.005, "grid_per_segment": 4, "min_grid": 100, "max_refine": 3}
+
+#: most grid doublings allowed (``max_refine``): 2**10 = 1024 times the first grid
+MAX_REFINE = 10
+
+
+def check_options(margin: Any, grid_per_segment: Any, min_grid: Any, max_refine: Any) -> None:
+    """Refuse toppra options outside their ranges (see :func:`toppra_trajectory`).
+
+    Raises:
+        InputError: names the option, the value, its range and the default.
+    """
+    check_option("toppra", "margin", margin, 0.0, 0.5, high_open=True,
+                 default=OPTIONS["margin"])
+    for name, value, low in (("grid_per_segment", grid_per_segment, 1),
+                             ("min_grid", min_grid, 2)):
+        check_option("toppra", name, value, low, integer=True, default=OPTIONS[name])
+    check_option("toppra", "max_refine", max_refine, 0, MAX_REFINE, integer=True,
+                 default=OPTIONS["max_refine"])
 
 
 def chord_parameter(Q: Array, vmax: Array) -> Array:
@@ -103,23 +121,26 @@ def toppra_trajectory(Q: Array, limits: Limits, duration: float | None = None, *
         Q: waypoints [rad or m], validated by :func:`~scara_opt.trajectory.time_parameterize`.
         limits: joint velocity and acceleration limits.
         duration: must be ``None`` (the registry refuses a fixed duration for toppra).
-        margin: fraction by which toppra's limits are tightened (see the module docstring).
-        grid_per_segment: TOPP-RA grid intervals per waypoint segment (first attempt).
-        min_grid: least number of grid intervals in all.
-        max_refine: how many times the grid may be doubled while the result still
-            exceeds a limit (see the module docstring).
+        margin: fraction in [0, 0.5) by which toppra's limits are tightened (see the module
+            docstring).
+        grid_per_segment: TOPP-RA grid intervals per waypoint segment (first attempt),
+            an integer >= 1.
+        min_grid: least number of grid intervals in all, an integer >= 2 (a rest-to-rest
+            profile needs an interior grid point).
+        max_refine: how many times (an integer in [0, 10]) the grid may be doubled while
+            the result still exceeds a limit (see the module docstring).
 
     Raises:
-        TrajectoryError: toppra could not parameterise the path (its return code is given).
-        InputError: a margin outside [0, 0.5).
+        TrajectoryError: toppra could not parameterise the path (its return code is given),
+            or the grid is so coarse that the path speed is zero on a whole interval.
+        InputError: an option outside its range (named in the message).
     """
+    check_options(margin, grid_per_segment, min_grid, max_refine)
     import toppra
 
-    if not (isinstance(margin, (int, float)) and 0 <= margin < 0.5):
-        raise InputError(f"margin must be a fraction in [0, 0.5); got {margin!r}")
     s = chord_parameter(Q, limits.vmax)
     path = toppra.SplineInterpolator(s, Q)
-    per_segment = max(int(grid_per_segment), math.ceil(min_grid / (len(Q) - 1)), 1)
+    per_segment = max(int(grid_per_segment), math.ceil(min_grid / (len(Q) - 1)))
     for attempt in range(int(max_refine) + 1):
         pieces, times = _solve(path, s, per_segment, limits, 1.0 - float(margin))
         factor = _overshoot(Trajectory(pieces, limits, "toppra", Q, times))
@@ -162,7 +183,15 @@ def _solve(path: Any, s: Array, per_segment: int, limits: Limits,
             f"toppra could not parameterise the path ({data.return_code}); check the "
             "waypoints (nearly duplicate ones make the spline degenerate) or try "
             "method='ruckig'")
-    t, coeffs = timed_pieces(path.cspl, grid, np.asarray(data.sd_vec))
+    sd = np.maximum(np.asarray(data.sd_vec, dtype=float), 0.0)
+    stalled = np.flatnonzero(sd[:-1] + sd[1:] <= 0.0)
+    if stalled.size:
+        raise TrajectoryError(
+            f"toppra's path speed is zero at both ends of grid interval {int(stalled[0])} of "
+            f"{len(grid) - 1}, so it would take forever: the grid is too coarse; raise "
+            f"grid_per_segment= or min_grid= (defaults {OPTIONS['grid_per_segment']} and "
+            f"{OPTIONS['min_grid']})")
+    t, coeffs = timed_pieces(path.cspl, grid, sd)
     pieces = tuple(PPoly(coeffs[:, :, k], t, extrapolate=False) for k in range(coeffs.shape[2]))
     return pieces, t[::per_segment].copy()
 
