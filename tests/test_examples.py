@@ -17,6 +17,7 @@ EXAMPLES = {
     "peng2025_workspace.py": [],
     "fang_trajectories.py": [],
     "nguyen_cutting_path.py": ["--quick"],
+    "inverted5_redundancy.py": [],
     "own_urdf.py": [],
     "panda.py": [],
 }

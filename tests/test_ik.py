@@ -8,6 +8,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 import scara_opt as so
+from scara_opt.compare import takes_budget
 from scara_opt.ik.analytic import NotScaraError, solve_batch
 from scara_opt.ik.ipopt import cached_nlp
 from scara_opt.reports.fang import paper_ik
@@ -241,9 +242,27 @@ def test_fk_ik_fk_round_trip(name, seed, method):
 
 
 # ------------------------------------------------------------------ registry and bad input
+REGISTERED = ["aco", "analytic", "auto", "ca", "fa", "ga", "gwo", "ipopt", "lm", "pso", "sfla"]
+
+
+@pytest.mark.parametrize("method", REGISTERED)
+def test_every_registered_solver_keeps_the_result_contract(robots, method):
+    """Every solver of the registry: same seed, same answer; q in limits; success iff solved
+    within tol; zavar2024's out-of-reach target (z) never solved, with its 0.102 m residual."""
+    robot = robots["zavar2024"]
+    budget = {"population": 20, "iterations": 30} if takes_budget(method) else {}
+    runs = [so.solve_ik(robot, target, method=method, seed=3, tol=1e-6, **budget)
+            for target in ([-0.23, 0.20, -0.07], [-0.23, 0.20, -0.07], [-0.23, 0.20, -0.20])]
+    assert np.array_equal(runs[0].q, runs[1].q) and runs[0].error == runs[1].error
+    for res in runs:
+        assert res.method == method
+        assert_invariants(robot, res)
+    assert runs[2].status == "unreachable" and runs[2].error >= 0.102 - 1e-9
+
+
 def test_registry_lists_and_refuses(robots):
-    """solvers() lists the exact methods; an unknown name lists the registered ones."""
-    assert {"ipopt", "analytic"} <= set(so.solvers())
+    """solvers() lists every method; an unknown name lists the registered ones."""
+    assert so.solvers() == REGISTERED
     with pytest.raises(so.UnknownSolverError, match="registered: .*ipopt"):
         so.solve_ik(robots["zavar2024"], [0.2, 0.1, -0.06], method="newton")
     with pytest.raises(so.SolverOptionError, match="restart.*accepted: .*restarts"):

@@ -28,6 +28,17 @@ def test_importing_the_package_registers_all_seven():
         assert isinstance(so.get_solver(name), PopulationSolver)
 
 
+def test_defaults_are_the_papers_settings():
+    """SFLA: nguyen Table 2 (N = 20 frogs in m = 10 memeplexes, iter = 10 leaps between G = 20
+    shuffles, C = 2, Dmax = inf); G-HA: zavar2024 switches to Nelder-Mead below cost 1e-3."""
+    sfla = so.get_solver("sfla").options
+    assert sfla == {"population": 200, "iterations": 200, "memeplexes": 10, "local_steps": 10,
+                    "leap": 2.0, "max_leap": np.inf}
+    assert so.get_solver("ga").options["polish_below"] == 1e-3
+    gwo = so.get_solver("gwo").options
+    assert gwo["a_start"] == 2.0 and gwo["greedy"] is False  # zavar2024 Algorithm 2: a 2 -> 0
+
+
 @pytest.mark.parametrize("method", METHODS)
 def test_contract(zavar, method):
     """Same seed gives the same answer, seeds differ, history never rises, q stays in limits."""

@@ -20,6 +20,10 @@ def test_zavar2024_table3_in_si_with_the_sign_typo_fixed():
     """The ten Table 3 points in metres at z = -0.06 m; point 7 is (0.14, -0.0775)."""
     P = positions(paths.zavar2024_circle())
     assert P.shape == (10, 3)
+    # ROBOTS.md / zavar2024 Table 3 [cm], point 7 with its sign fixed
+    table3 = [(-14, 7.75), (-8, 13.85), (0, 16), (8, 13.85), (14, 7.75), (16, 0),
+              (14, -7.75), (8, -13.85), (0, -16), (-8, -13.85)]
+    np.testing.assert_allclose(P[:, :2], np.array(table3) / 100.0, atol=1e-15)
     assert np.allclose(P[6], (0.14, -0.0775, -0.06))
     assert np.allclose(P[:, 2], -0.06)
     assert np.allclose(np.hypot(P[:, 0], P[:, 1]), 0.16, atol=2e-4)

@@ -92,6 +92,22 @@ def test_limits_and_properties_of_zavar2024(robots):
     assert np.all(robot.velocity_limit > 0) and np.all(np.isfinite(robot.acceleration_limit))
 
 
+@pytest.mark.parametrize(("name", "lower", "upper"), [
+    # zavar2024 Table 1: theta +-120 deg, d3 0-48 mm
+    ("zavar2024", [-120, -120, 0, -120], [120, 120, 48, 120]),
+    # peng2025 Sec. 2: J0 stroke 0-40 mm, J1 +-90 deg, J2 +-164 deg, J3 +-360 deg
+    ("peng2025", [0, -90, -164, -360], [40, 90, 164, 360]),
+    # fang Sec. 2: J1 +-120 deg, J2 +-150 deg, J3 about +-48 mm, J4 +-360 deg
+    ("fang", [-120, -150, -48, -360], [120, 150, 48, 360]),
+])
+def test_joint_limits_are_the_papers(robots, name, lower, upper):
+    """The bundled limits are the papers' (ROBOTS.md), in degrees and millimetres here."""
+    robot = robots[name]
+    scale = np.where(np.array(robot.joint_types) == "revolute", 180 / np.pi, 1000.0)
+    np.testing.assert_allclose(robot.lower * scale, lower, atol=1e-9)
+    np.testing.assert_allclose(robot.upper * scale, upper, atol=1e-9)
+
+
 def test_yaw_axis_and_tool_angle(robots, arm6):
     """SCARAs turn about +z, nguyen's tool about -y (A = theta2+theta3+theta5); arm6 has none."""
     np.testing.assert_allclose(robots["zavar2024"].yaw_axis, [0, 0, 1], atol=1e-12)
