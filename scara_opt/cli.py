@@ -180,7 +180,7 @@ def _executor(args: argparse.Namespace) -> Any:
 def cmd_compare(args: argparse.Namespace) -> int:
     """Compare IK methods on one target: CSV table, summary and figures."""
     import scara_opt as so
-    from scara_opt.compare import compare, convergence, summarize
+    from scara_opt.compare import compare, convergence, summarize, with_units
     from scara_opt.plots import plot_boxes, plot_convergence, plot_time_vs_population
 
     robot = so.load_robot(args.robot)
@@ -196,9 +196,9 @@ def cmd_compare(args: argparse.Namespace) -> int:
     finally:
         if executor is not None:
             executor.shutdown()
-    table.drop(columns=["history"]).to_csv(out / "runs.csv", index=False)
+    with_units(table.drop(columns=["history"])).to_csv(out / "runs.csv", index=False)
     summary = summarize(table, tol=args.tol)
-    summary.to_csv(out / "summary.csv", index=False)
+    with_units(summary).to_csv(out / "summary.csv", index=False)
     plot_convergence(convergence(table), out / "convergence.png")
     plot_time_vs_population(summary, out / "time_vs_population.png")
     plot_boxes(table, ["error", "time_s"], out / "error_time_boxes.png")
@@ -252,7 +252,7 @@ def _write_joint_path(jp: Any, robot: Any, path: Any) -> None:
     for i, (t, res) in enumerate(zip(jp.targets, jp.results, strict=True)):
         row: dict[str, Any] = {"point": i, "x_m": t.position[0], "y_m": t.position[1],
                                "z_m": t.position[2], "status": res.status.value,
-                               "error": res.error}
+                               "error_m_rad": res.error}
         units = _units(robot, False, False)
         row.update({f"{n}_{u}": v for n, u, v in zip(robot.joint_names, units, res.q,
                                                      strict=True)})

@@ -200,6 +200,18 @@ def summarize(table: pd.DataFrame, tol: float = 1e-6) -> pd.DataFrame:
     return out.reset_index()
 
 
+#: unit suffixes for CSV files (SI; ``error`` and ``cost`` are in m, or m and rad together
+#: when the target has a tool angle)
+UNIT_NAMES = {"x": "x_m", "y": "y_m", "z": "z_m", "abs_err_x": "abs_err_x_m",
+              "abs_err_y": "abs_err_y_m", "abs_err_z": "abs_err_z_m",
+              "yaw_error": "yaw_error_rad", "error": "error_m_rad", "cost": "cost_m_rad"}
+
+
+def with_units(table: pd.DataFrame) -> pd.DataFrame:
+    """``table`` (of :func:`compare` or :func:`summarize`) with units in its column names."""
+    return table.rename(columns=UNIT_NAMES)
+
+
 def rank_methods(summary: pd.DataFrame) -> pd.DataFrame:
     """Methods of a :func:`summarize` table, best first: one row each (index: method).
 

@@ -125,6 +125,8 @@ def test_compare_writes_the_table_and_figures(tmp_path):
     for name in ("runs.csv", "summary.csv", "convergence.png", "time_vs_population.png",
                  "error_time_boxes.png"):
         assert (tmp_path / name).is_file(), name
+    header = (tmp_path / "runs.csv").read_text().splitlines()[0].split(",")
+    assert {"x_m", "abs_err_z_m", "error_m_rad", "time_s"} <= set(header)  # units in the names
 
 
 PATH_KEYS = {"robot", "method", "timing", "points", "solved", "max_error", "jumps", "duration_s",

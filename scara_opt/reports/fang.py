@@ -22,6 +22,8 @@ from scara_opt.trajectory.plot import plot_trajectories
 METHODS = ("quintic", "toppra", "ruckig")
 #: paper units (deg, deg, mm, deg) -> SI (rad, rad, m, rad)
 TO_SI = np.array([math.pi / 180, math.pi / 180, 1e-3, math.pi / 180])
+#: column suffixes of the paper's units, per joint
+PAPER_UNITS = ("deg", "deg", "mm", "deg")
 
 
 def table_check(robot: so.Robot) -> pd.DataFrame:
@@ -38,9 +40,9 @@ def table_check(robot: so.Robot) -> pd.DataFrame:
         printed = np.array(table["rows"])
         for k, row in enumerate(printed):
             rows.append({"table": table["table"], "row": k + 1, "tau": f"{k}/35",
-                         **{f"paper_j{j + 1}": row[j] for j in range(4)},
-                         **{f"ours_j{j + 1}": ours[k, j] for j in range(4)},
-                         "max_abs_diff": float(np.abs(ours[k] - row).max())})
+                         **{f"paper_j{j + 1}_{u}": row[j] for j, u in enumerate(PAPER_UNITS)},
+                         **{f"ours_j{j + 1}_{u}": ours[k, j] for j, u in enumerate(PAPER_UNITS)},
+                         "max_abs_diff_deg_or_mm": float(np.abs(ours[k] - row).max())})
     return pd.DataFrame(rows)
 
 
@@ -88,7 +90,7 @@ def run(out: Path, quick: bool = False) -> PaperReport:
     rep.add_table("tables2_3_check", check, out)
     tol = reference_data("fang")["tolerance"]
     for table, grp in check.groupby("table"):
-        dev = grp["max_abs_diff"].max()
+        dev = grp["max_abs_diff_deg_or_mm"].max()
         rep.findings.append(Finding(
             f"Table {table}: {len(grp)} printed rows (deg, mm)", "jtraj quintic, 4 decimals",
             f"largest deviation {dev:.1e}", "matched" if dev <= tol else "differs",
