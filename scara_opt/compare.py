@@ -134,6 +134,8 @@ def compare(robot: Robot, targets: Iterable[Target | object], methods: Sequence[
     if reference:
         names += [m for m in EXACT_METHODS if m not in names]
     names = [m for m in names if m != "analytic" or _analytic_applies(robot)]
+    if not names:
+        raise InputError("compare needs at least one method; pass methods= or reference=True")
     tol = check_tol(tol)
     seed_list, pop_list = list(seeds), list(populations)
     if any(takes_budget(m) for m in names) and (not seed_list or not pop_list):

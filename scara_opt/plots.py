@@ -86,14 +86,15 @@ def animate(robot: Robot, joint_path: object, path_to_gif: str | Path, fps: int 
         joint_path: a :class:`~scara_opt.trajectory.path.JointPath` or an (n, nq) array.
         path_to_gif: output file (``.gif``).
         fps: frames per second.
-        targets: optional (m, 3) Cartesian points [m] drawn as the path to follow.
+        targets: optional path to follow, drawn dotted: :class:`~scara_opt.Target` objects
+            or an (m, 3) array of points [m].
 
     Returns:
         The path of the saved GIF.
 
     Raises:
         InputError: a file name not ending in ``.gif``, ``fps`` not a positive integer,
-            or a malformed joint path.
+            or a malformed joint path or ``targets``.
     """
     from matplotlib.animation import FuncAnimation, PillowWriter
 
@@ -117,7 +118,9 @@ def animate(robot: Robot, joint_path: object, path_to_gif: str | Path, fps: int 
     ax.set_ylabel("y [mm]")
     ax.set_zlabel("z [mm]")
     if targets is not None:
-        T = np.asarray(targets, float) * 1000.0
+        from scara_opt.paths import as_targets
+
+        T = np.array([t.position for t in as_targets(targets)]) * 1000.0
         ax.plot(T[:, 0], T[:, 1], T[:, 2], ":", color="0.5")
     (arm,) = ax.plot([], [], [], "-o", lw=3, color="C0")
     (trace,) = ax.plot([], [], [], "-", color="C3")
@@ -170,6 +173,19 @@ def plot_time_vs_population(summary: pd.DataFrame, path: str | Path | None = Non
     return fig
 
 
+def _unit_of(column: str) -> str:
+    """The SI unit of a :func:`scara_opt.compare.compare` column (for axis labels)."""
+    if column.endswith("_s"):
+        return "s"
+    if column.startswith("yaw"):
+        return "rad"
+    if column.startswith("abs_err"):
+        return "m"
+    if column in ("error", "cost"):
+        return "m, or m and rad"
+    return "-"
+
+
 def plot_boxes(table: pd.DataFrame, columns: Sequence[str], path: str | Path | None = None,
                by: str = "method", log: bool = True) -> Figure:
     """Box plots of ``columns`` grouped by ``by`` (zavar2024 Fig. 7: errors, cost, time)."""
@@ -182,6 +198,7 @@ def plot_boxes(table: pd.DataFrame, columns: Sequence[str], path: str | Path | N
         if log:
             ax.set_yscale("log")
         ax.set_title(col)
+        ax.set_ylabel(f"{col} [{_unit_of(col)}]")
         ax.tick_params(axis="x", labelrotation=45)
     fig.tight_layout()
     _save(fig, path)

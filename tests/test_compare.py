@@ -83,6 +83,8 @@ def test_compare_refuses_bad_input(robots):
                 progress=False)
     with pytest.raises(so.InputError, match="positive"):
         compare(robot, TARGETS, methods=["ipopt"], iterations=0, progress=False)
+    with pytest.raises(so.InputError, match="at least one method"):
+        compare(robot, TARGETS, methods=[], reference=False, progress=False)
     with pytest.raises(so.InputError, match="seed must be a non-negative integer"):
         compare(robot, TARGETS, methods="pso", seeds=[-1], progress=False)
     with pytest.raises(so.InputError, match="memeplex"):  # before any solve, not halfway

@@ -328,6 +328,17 @@ def test_bad_option_values_are_refused(robots, method, options, match):
         so.solve_ik(robots["zavar2024"], [-0.23, 0.20, -0.07], method=method, **options)
 
 
+def test_ik_all_and_solve_ik_refuse_bad_arguments(robots):
+    """ik_all with a NaN/negative tol is an error, not an empty (\"unreachable\") list; a robot
+    that is not a Robot is named."""
+    robot = robots["zavar2024"]
+    for tol in (np.nan, -1.0):
+        with pytest.raises(so.InputError, match="tol"):
+            so.ik_all(robot, [-0.23, 0.20, -0.07], tol=tol)
+    with pytest.raises(so.InputError, match="robot must be a scara_opt.Robot"):
+        so.solve_ik(None, [-0.23, 0.20, -0.07])
+
+
 def test_tol_may_be_a_numpy_scalar(robots):
     """tol=np.float32(1e-6) is a number like any other."""
     res = so.solve_ik(robots["zavar2024"], [-0.23, 0.20, -0.07], tol=np.float32(1e-6))

@@ -247,5 +247,8 @@ def test_solve_many_bad_input(robots, arm6):
         solve_many(arm6, [[0.3, 0.1, 0.4, 0.1]])
     with pytest.raises(so.InputError, match="max_iter=-1"):
         solve_many(robot, P, max_iter=-1)
+    for seed in (-1, 1.5):
+        with pytest.raises(so.InputError, match="seed"):
+            solve_many(robot, P, seed=seed)
     with pytest.raises(so.InputError, match="tol"):
         solve_many(robot, P, tol=np.inf)

@@ -23,12 +23,15 @@ def test_draw_robot_goes_through_every_joint_origin_to_the_tip(robots, tmp_path)
 
 
 def test_animate_writes_one_frame_per_path_point(robots, tmp_path):
-    """A GIF with one frame per configuration of the joint path."""
+    """A GIF with one frame per configuration of the joint path (targets drawn too)."""
     robot = robots["zavar2024"]
     Q = np.linspace([0.0, -0.5, 0.0, 0.0], [1.0, 0.5, 0.03, 1.0], 5)
-    out = animate(robot, Q, tmp_path / "path.gif", fps=5)
+    targets = [so.Target(p) for p in robot.positions(Q)]
+    out = animate(robot, Q, tmp_path / "path.gif", fps=5, targets=targets)
     with Image.open(out) as gif:
         assert gif.format == "GIF" and gif.n_frames == 5
+    with pytest.raises(so.InputError, match="NaN"):
+        animate(robot, Q, tmp_path / "bad.gif", targets=[[np.nan, 0.0, 0.0]])
 
 
 @pytest.mark.parametrize("name, fps, match", [("path.png", 10, r"\*\.gif"),

@@ -164,6 +164,17 @@ def test_ruckig_point_to_point_respects_jerk(fang):
     assert set(ratios) == {"velocity", "acceleration", "jerk"}
     assert np.isclose(ratios["jerk"].max(), 1.0) and worst_ratio(traj) <= 1 + RATIO_TOL
     assert np.allclose(traj.limits.jmax, 50.0)
+    with pytest.raises(TrajectoryError, match="no move to time"):
+        ruckig_point_to_point(Q[0], Q[0], fang)
+
+
+def test_evaluate_refuses_a_bad_derivative_order(fang):
+    """order is a derivative count: -1 (an antiderivative) or 1.5 is refused, not computed."""
+    traj = time_parameterize(fang_move(REFERENCE["tables"][0]), fang, method="quintic")
+    np.testing.assert_allclose(traj.evaluate(0.1, order=1), traj.sample(0.1)[1])
+    for order in (-1, 1.5, True):
+        with pytest.raises(InputError, match="order must be an integer >= 0"):
+            traj.evaluate(0.1, order=order)
 
 
 # ---------------------------------------------------------------- the Trajectory object

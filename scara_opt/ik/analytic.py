@@ -30,7 +30,15 @@ import numpy as np
 import pinocchio as pin
 
 from scara_opt.errors import InputError, ScaraOptError
-from scara_opt.ik.base import LIMIT_SLACK, Solver, SolverOutput, check_q0, default_q0, make_result
+from scara_opt.ik.base import (
+    LIMIT_SLACK,
+    Solver,
+    SolverOutput,
+    check_q0,
+    check_tol,
+    default_q0,
+    make_result,
+)
 from scara_opt.ik.registry import register_solver
 from scara_opt.ik.result import IKResult, Status
 from scara_opt.ik.task import check_task
@@ -298,9 +306,11 @@ def ik_all(robot: Robot, target: Target | object, q0: object | None = None, tol:
     Raises:
         NotScaraError: the robot is not SCARA-type.
         TargetError: a malformed target, or a rotation target.
+        InputError: a malformed ``q0`` or ``tol``.
     """
     target = as_target(target)
     check_task(robot, target)
+    tol = check_tol(tol)
     q_ref = check_q0(robot, q0)
     q_ref = default_q0(robot) if q_ref is None else q_ref
     results = []

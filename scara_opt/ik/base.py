@@ -250,6 +250,9 @@ class Solver(ABC):
             InputError: malformed ``q0``, ``tol`` or ``seed``.
             JointLimitError: ``q0`` outside the joint limits.
         """
+        if not isinstance(robot, Robot):
+            raise InputError(f"robot must be a scara_opt.Robot (so.load_robot(name) or "
+                             f"Robot.from_urdf(path)); got {type(robot).__name__}")
         target = as_target(target)
         check_task(robot, target)
         q0a = check_q0(robot, q0)

@@ -20,7 +20,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from scara_opt.errors import InputError
-from scara_opt.ik.base import LIMIT_SLACK, check_q0, check_tol
+from scara_opt.ik.base import LIMIT_SLACK, check_q0, check_seed, check_tol
 from scara_opt.ik.ipopt import nlp_params
 from scara_opt.ik.lm import (
     LAMBDA0,
@@ -240,6 +240,7 @@ def solve_many(robot: Robot, targets: object, q0s: object | None = None, *,
     """
     clock = time.perf_counter()
     tol = check_tol(tol)
+    check_seed(seed)
     check_budget({"restarts": restarts, "max_iter": max_iter, "jit": jit})
     stacked, ts = _targets(robot, targets)
     n = len(stacked.position)

@@ -131,8 +131,13 @@ class Trajectory:
         """``order``-th time derivative of ``q`` at ``t``: (nq,) for a scalar, (m, nq) for (m,).
 
         Raises:
-            InputError: a time outside [0, duration] or not finite.
+            InputError: a time outside [0, duration] or not finite; ``order`` not an
+                integer >= 0.
         """
+        if not (isinstance(order, (int, np.integer)) and not isinstance(order, bool)
+                and order >= 0):
+            raise InputError(f"order must be an integer >= 0 (0: q, 1: qd, 2: qdd, ...); "
+                             f"got {order!r}")
         ts = self._times(t)
         flat = ts.reshape(-1)
         out = np.stack([self._derivative(k, order)(flat) for k in range(self.nq)], axis=-1)
