@@ -17,6 +17,7 @@ offset of a revolute row, ``d`` of a prismatic row, and ``sign = -1`` models a
 
 from __future__ import annotations
 
+import difflib
 import math
 import tomllib
 from dataclasses import dataclass, field
@@ -32,6 +33,13 @@ LENGTH_UNITS = {"m": 1.0, "cm": 0.01, "mm": 0.001, "in": 0.0254}
 ANGLE_UNITS = {"rad": 1.0, "deg": math.pi / 180.0}
 JOINT_TYPES = ("revolute", "prismatic", "fixed")
 CONVENTIONS = ("standard", "modified")
+#: the keys a robot file may hold: top level (``footprint`` is read by scara_opt.workspace),
+#: each ``[[joints]]`` row and the ``[tool]`` table
+FILE_KEYS = ("name", "title", "source", "notes", "convention", "length_unit", "angle_unit",
+             "joints", "tool", "footprint")
+JOINT_KEYS = ("name", "type", "a", "alpha", "d", "theta", "sign", "lower", "upper", "velocity",
+              "acceleration")
+TOOL_KEYS = ("xyz", "rpy")
 
 
 @dataclass(frozen=True)
@@ -209,11 +217,38 @@ def dh_to_urdf(robot: DHRobot) -> str:
     return "\n".join(lines) + "\n"
 
 
-def _number(row: dict, key: str, name: str, default: float = 0.0) -> float:
+def _check_keys(table: dict, accepted: tuple[str, ...], where: str) -> None:
+    """Refuse keys a robot file does not know (a misspelt key would silently be ignored)."""
+    unknown = [k for k in table if k not in accepted]
+    if unknown:
+        hints = "".join(f" ({k!r}: did you mean {m[0]!r}?)" for k in unknown
+                        if (m := difflib.get_close_matches(k, accepted, 1)))
+        raise URDFError(f"{where} has unknown key(s) {', '.join(map(repr, unknown))}{hints}; "
+                        f"accepted keys: {', '.join(accepted)}; fix or remove them")
+
+
+def _finite(value: object) -> bool:
+    return isinstance(value, (int, float)) and not isinstance(value, bool) and math.isfinite(value)
+
+
+def _number(row: dict, key: str, where: str, default: float = 0.0) -> float:
     value = row.get(key, default)
-    if isinstance(value, bool) or not isinstance(value, (int, float)):
-        raise URDFError(f"joint {name!r}: {key} must be a number, got {value!r}")
+    if not _finite(value):
+        raise URDFError(f"{where}: {key} must be a finite number, got {value!r}")
     return float(value)
+
+
+def _vector(table: dict, key: str, where: str) -> np.ndarray:
+    value = table.get(key, [0, 0, 0])
+    if not (isinstance(value, list) and len(value) == 3 and all(map(_finite, value))):
+        raise URDFError(f"{where}: {key} must be a list of 3 finite numbers, got {value!r}")
+    return np.array(value, float)
+
+
+def _table(value: object, where: str) -> dict:
+    if not isinstance(value, dict):
+        raise URDFError(f"{where} must be a TOML table (key = value lines), got {value!r}")
+    return value
 
 
 def load_dh(path: str | Path) -> DHRobot:
@@ -221,55 +256,62 @@ def load_dh(path: str | Path) -> DHRobot:
 
     Args:
         path: a ``.toml`` file with ``length_unit``, ``angle_unit``, ``convention``,
-            ``[[joints]]`` rows and optional ``[tool]`` (``xyz``, ``rpy``).
+            ``[[joints]]`` rows and optional ``[tool]`` (``xyz``, ``rpy``); the keys allowed
+            are :data:`FILE_KEYS`, :data:`JOINT_KEYS` and :data:`TOOL_KEYS`.
 
     Raises:
-        URDFError: missing file, TOML syntax, unknown unit or joint type, bad entries.
+        URDFError: missing file, TOML syntax, unknown key, unit or joint type, bad or
+            non-finite entries.
         JointLimitError: a lower limit not below its upper limit, or a limit <= 0.
     """
     path = Path(path)
+    where = f"robot file {str(path)!r}"
     try:
         data = tomllib.loads(path.read_text())
     except FileNotFoundError:
-        raise URDFError(f"robot file {str(path)!r} does not exist; check the path") from None
+        raise URDFError(f"{where} does not exist; check the path") from None
     except tomllib.TOMLDecodeError as exc:
-        raise URDFError(f"robot file {str(path)!r} is not valid TOML: {exc}") from None
+        raise URDFError(f"{where} is not valid TOML: {exc}") from None
+    _check_keys(data, FILE_KEYS, where)
     lu, au = data.get("length_unit"), data.get("angle_unit")
     if lu not in LENGTH_UNITS or au not in ANGLE_UNITS:
         raise URDFError(
-            f"robot file {str(path)!r}: length_unit must be one of {sorted(LENGTH_UNITS)} and "
+            f"{where}: length_unit must be one of {sorted(LENGTH_UNITS)} and "
             f"angle_unit one of {sorted(ANGLE_UNITS)}; got {lu!r} and {au!r}"
         )
     L, A = LENGTH_UNITS[lu], ANGLE_UNITS[au]
     rows = data.get("joints")
     if not isinstance(rows, list) or not rows:
-        raise URDFError(f"robot file {str(path)!r} has no [[joints]] rows")
+        raise URDFError(f"{where} has no [[joints]] rows")
     joints = []
     for i, row in enumerate(rows):
+        row = _table(row, f"{where}: joints entry {i + 1}")
         name = str(row.get("name", f"joint{i + 1}"))
+        at = f"{where}: joint {name!r}"
+        _check_keys(row, JOINT_KEYS, at)
         jtype = row.get("type")
         unit = A if jtype == "revolute" else L  # unit of the joint variable
         joints.append(
             DHJoint(
                 name=name,
                 type=str(jtype),
-                a=_number(row, "a", name) * L,
-                alpha=_number(row, "alpha", name) * A,
-                d=_number(row, "d", name) * L,
-                theta=_number(row, "theta", name) * A,
-                sign=_number(row, "sign", name, 1.0),
-                lower=_number(row, "lower", name) * unit,
-                upper=_number(row, "upper", name) * unit,
-                velocity=_number(row, "velocity", name, 1.0) * unit,
-                acceleration=_number(row, "acceleration", name, 1.0) * unit,
+                a=_number(row, "a", at) * L,
+                alpha=_number(row, "alpha", at) * A,
+                d=_number(row, "d", at) * L,
+                theta=_number(row, "theta", at) * A,
+                sign=_number(row, "sign", at, 1.0),
+                lower=_number(row, "lower", at) * unit,
+                upper=_number(row, "upper", at) * unit,
+                velocity=_number(row, "velocity", at, 1.0) * unit,
+                acceleration=_number(row, "acceleration", at, 1.0) * unit,
             )
         )
     tool = np.eye(4)
     if "tool" in data:
-        xyz = np.asarray(data["tool"].get("xyz", [0, 0, 0]), float) * L
-        rpy = np.asarray(data["tool"].get("rpy", [0, 0, 0]), float) * A
-        tool[:3, :3] = pin.rpy.rpyToMatrix(rpy)
-        tool[:3, 3] = xyz
+        table = _table(data["tool"], f"{where}: [tool]")
+        _check_keys(table, TOOL_KEYS, f"{where}: [tool]")
+        tool[:3, :3] = pin.rpy.rpyToMatrix(_vector(table, "rpy", f"{where}: [tool]") * A)
+        tool[:3, 3] = _vector(table, "xyz", f"{where}: [tool]") * L
     return DHRobot(
         name=str(data.get("name", path.stem)),
         joints=tuple(joints),

@@ -147,6 +147,18 @@ def _check_limits(j: Any, where: str) -> None:
         )
 
 
+def _check_axis(j: Any, where: str) -> None:
+    """A movable joint needs three finite axis numbers, not all zero (any length: normalised)."""
+    axis = np.asarray(j.axis, float)
+    text = " ".join(map(str, axis.tolist()))
+    if axis.shape != (3,) or not np.isfinite(axis).all():
+        raise URDFError(f"{where}: joint {j.name!r} has axis xyz=\"{text}\", not three finite "
+                        'numbers; give a unit axis, e.g. <axis xyz="0 0 1"/>')
+    if not np.linalg.norm(axis) > 0:
+        raise URDFError(f"{where}: joint {j.name!r} has a zero-length axis xyz=\"{text}\"; "
+                        'give a unit axis, e.g. <axis xyz="0 0 1"/>')
+
+
 def _check_mimic(j: Any, joints: dict[str, Any], where: str) -> None:
     """A mimic joint must follow an existing movable joint that is not itself a mimic."""
     leader = joints.get(j.mimic.joint)
@@ -212,7 +224,7 @@ def _check_structure(urdf: Any, where: str) -> dict[str, Any]:
 
 
 def _tree(urdf: Any, where: str) -> tuple[dict[str, Any], str]:
-    """Joints by child link, and the root link; checks the tree, joint types, limits, mimics."""
+    """Joints by child link, and the root link; checks tree, joint types, axes, limits, mimics."""
     by_child = _check_structure(urdf, where)
     joints = {j.name: j for j in urdf.robot.joints}
     for j in urdf.robot.joints:
@@ -223,6 +235,7 @@ def _tree(urdf: Any, where: str) -> tuple[dict[str, Any], str]:
                 "joint as fixed, or as a chain of prismatic and revolute joints)"
             )
         if j.type != "fixed":
+            _check_axis(j, where)
             _check_limits(j, where)
         if j.mimic is not None and j.type != "fixed":
             _check_mimic(j, joints, where)
@@ -491,9 +504,9 @@ class Robot:
         Raises:
             URDFError: missing or non-UTF-8 file, malformed XML, not a tree (duplicate
                 names, undeclared links, a cycle, a link with two parent joints, several
-                root links), an unsupported joint type (floating, planar), a mimic joint that
-                does not follow a movable joint (or follows one after it on the path), or no
-                movable joint on the path to the tip.
+                root links), an unsupported joint type (floating, planar), a zero-length or
+                non-finite joint axis, a mimic joint that does not follow a movable joint (or
+                follows one after it on the path), or no movable joint on the path to the tip.
             FrameNotFoundError: ``tip`` is not a link of the URDF (the message lists them).
             JointLimitError: a joint's lower limit is not below its upper limit.
         """

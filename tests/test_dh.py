@@ -91,3 +91,44 @@ def test_load_robot_accepts_a_dh_toml_path(tmp_path):
     assert robot.name == "mine" and robot.nq == 1
     np.testing.assert_allclose(robot.position([0.0]), [0.25, 0, 0], atol=1e-15)
     np.testing.assert_allclose(robot.upper, [math.pi / 2])
+
+
+HEAD = 'length_unit = "mm"\nangle_unit = "deg"\n'
+ROW = '[[joints]]\nname = "q1"\ntype = "revolute"\na = 250\nlower = -90\nupper = 90\n'
+
+
+@pytest.mark.parametrize("text, match", [
+    (HEAD + ROW + "[tool]\nxyz = [nan, 0, 0]\n", r"\[tool\]: xyz must be a list of 3 finite"),
+    (HEAD + ROW + "[tool]\nrpy = [inf, 0, 0]\n", r"\[tool\]: rpy must be a list of 3 finite"),
+    (HEAD + ROW + "[tool]\nxyz = [0, 0]\n", r"xyz must be a list of 3 finite.*got \[0, 0\]"),
+    (HEAD + ROW + '[tool]\nxyz = [0, "1", 0]\n', "xyz must be a list of 3 finite"),
+    (HEAD + "tool = 5\n" + ROW, r"\[tool\] must be a TOML table"),
+    (HEAD + "joints = [1, 2]\n", "joints entry 1 must be a TOML table"),
+    (HEAD + ROW + "alpha = nan\n", "joint 'q1': alpha must be a finite number, got nan"),
+    (HEAD + ROW + "velocity = inf\n", "joint 'q1': velocity must be a finite number"),
+    (HEAD + ROW + "alfa = 180\n",
+     "joint 'q1' has unknown key.*'alfa'.*did you mean 'alpha'.*accepted keys: name, type, a,"),
+    ('lenght_unit = "mm"\n' + HEAD + ROW,
+     "unknown key.*'lenght_unit'.*did you mean 'length_unit'.*accepted keys: name, title"),
+    (HEAD + ROW + "[tool]\nxyz = [0, 0, 1]\nrp = [0, 0, 0]\n",
+     r"\[tool\] has unknown key.*'rp'.*accepted keys: xyz, rpy"),
+])
+def test_bad_entries_in_a_robot_file_raise_urdf_error(tmp_path, text, match):
+    """Non-finite or mis-shaped values, non-table entries and misspelt keys: URDFError."""
+    path = tmp_path / "bad.toml"
+    path.write_text(text)
+    with pytest.raises(so.URDFError, match=match):
+        load_dh(path)
+
+
+def test_a_robot_file_with_a_tool_and_every_key_loads(tmp_path):
+    """title, source, notes, convention, [tool] and [footprint] are all accepted keys."""
+    path = tmp_path / "ok.toml"
+    path.write_text('name = "ok"\ntitle = "t"\nsource = "s"\nnotes = "n"\n'
+                    'convention = "standard"\n' + HEAD + ROW + "sign = -1\nalpha = 0\nd = 0\n"
+                    "theta = 0\nvelocity = 90\nacceleration = 360\n"
+                    "[tool]\nxyz = [0, 0, -10]\nrpy = [0, 0, 90]\n"
+                    '[footprint]\nshape = "circle"\ncenter = [0, 0]\nradius = 50\n')
+    dh = load_dh(path)
+    np.testing.assert_allclose(dh.tool[:3, 3], [0, 0, -0.01])
+    np.testing.assert_allclose(dh.tool[:3, :3], [[0, -1, 0], [1, 0, 0], [0, 0, 1]], atol=1e-15)

@@ -252,3 +252,26 @@ def test_general_arm_loads_with_its_tip(arm6):
     assert arm6.joint_types.count("prismatic") == 1
     assert np.isinf(arm6.acceleration_limit).all()  # URDF carries none
     assert so.Robot.from_urdf(DATA / "arm6.urdf", tip="wrist3").tip == "wrist3"
+
+
+@pytest.mark.parametrize("axis, match", [
+    ("0 0 0", "joint 'j1' has a zero-length axis.*give a unit axis"),
+    ("nan 0 1", "joint 'j1' has axis.*not three finite numbers; give a unit axis"),
+    ("0 inf 0", "joint 'j1' has axis.*not three finite numbers"),
+    ("1 0", "joint 'j1' has axis.*not three finite numbers"),
+])
+@pytest.mark.parametrize("kind", ["revolute", "prismatic", "continuous"])
+def test_zero_or_non_finite_axis_raises_urdf_error(tmp_path, axis, match, kind):
+    """A movable joint's axis of 0 0 0 (FK would not be a rotation) or NaN/inf is refused."""
+    text = _urdf(["b", "l1"], [("j1", kind, "b", "l1")]).replace('"0 0 1"', f'"{axis}"')
+    with pytest.raises(so.URDFError, match=match):
+        so.Robot.from_urdf(_write(tmp_path, text))
+
+
+def test_non_unit_axis_is_normalised(tmp_path):
+    """A non-zero axis of any length is a direction (URDF parsers normalise it)."""
+    text = _urdf(["b", "l1"], [("j1", "revolute", "b", "l1")]).replace('"0 0 1"', '"0 0 2"')
+    robot = so.Robot.from_urdf(_write(tmp_path, text))
+    np.testing.assert_allclose(robot.chain[0].axis, [0, 0, 1])
+    np.testing.assert_allclose(robot.fk([0.5])[:3, :3] @ robot.fk([0.5])[:3, :3].T, np.eye(3),
+                               atol=1e-12)
