@@ -33,6 +33,7 @@ import logging
 import math
 import tomllib
 import xml.etree.ElementTree as ET
+from collections import Counter
 from dataclasses import dataclass
 from functools import cached_property
 from pathlib import Path
@@ -172,7 +173,7 @@ def _check_mimic(j: Any, joints: dict[str, Any], where: str) -> None:
 
 def _unique(names: list[str], kind: str, where: str) -> None:
     """No two links (or joints) share a name."""
-    dup = sorted({n for n in names if names.count(n) > 1})
+    dup = sorted(n for n, count in Counter(names).items() if count > 1)
     if dup:
         raise URDFError(f"{where}: {kind} name(s) {', '.join(map(repr, dup))} are used more than "
                         f"once; give every <{kind}> its own name")

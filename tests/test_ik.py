@@ -309,7 +309,7 @@ def test_bad_input_raises_specific_errors(robots, call, error, match):
 
 
 @pytest.mark.parametrize("method, options, match", [
-    ("ipopt", {"restarts": -1}, "restarts=-1 must be an integer in \\[0"),
+    ("ipopt", {"restarts": -1}, "restarts=-1 must be an integer >= 0"),
     ("ipopt", {"restarts": "x"}, "restarts='x'"),
     ("ipopt", {"max_iter": -5}, "max_iter=-5"),
     ("ipopt", {"regularization": np.nan}, "regularization=nan"),

@@ -133,8 +133,10 @@ def make_result(robot: Robot, target: Target, out: SolverOutput, *, tol: float, 
 
 
 def check_number(name: str, value: Any, low: float, high: float = math.inf, *,
-                 integer: bool = False, low_open: bool = False) -> None:
-    """Refuse an option value outside ``[low, high]`` (``(low, high]`` if ``low_open``).
+                 integer: bool = False, low_open: bool = False, high_open: bool = False) -> None:
+    """Refuse an option value outside ``[low, high]`` (ends opened by ``*_open``).
+
+    Bools and NaN are refused too.
 
     Raises:
         InputError: wrong type or out of range; the message names the option and range.
@@ -143,11 +145,15 @@ def check_number(name: str, value: Any, low: float, high: float = math.inf, *,
         value, (int, float, np.integer, np.floating))
     ok = ok_type and not isinstance(value, bool) and not math.isnan(value)
     if ok:
-        ok = (value > low if low_open else value >= low) and value <= high
+        ok = ((value > low if low_open else value >= low)
+              and (value < high if high_open else value <= high))
     if not ok:
         kind = "an integer" if integer else "a number"
-        bracket = "(" if low_open else "["
-        raise InputError(f"option {name}={value!r} must be {kind} in {bracket}{low:g}, {high:g}]")
+        if math.isinf(high):
+            span = f"{'>' if low_open else '>='} {low:g}"
+        else:
+            span = f"in {'(' if low_open else '['}{low:g}, {high:g}{')' if high_open else ']'}"
+        raise InputError(f"option {name}={value!r} must be {kind} {span}")
 
 
 def check_flag(name: str, value: Any) -> None:

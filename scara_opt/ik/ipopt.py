@@ -183,8 +183,8 @@ class IpoptSolver(Solver):
         q_ref = default_q0(robot) if q0 is None else q0
         lam = float(opts["regularization"])
         lbx, ubx = robot.lower.copy(), robot.upper.copy()
-        idx = list((held or {}).keys())
-        vals = np.array([held[k] for k in idx]) if held else np.zeros(0)
+        held = held or {}
+        idx, vals = list(held), np.array(list(held.values()), dtype=float)
         lbx[idx] = ubx[idx] = vals
         q_ref = q_ref.copy()
         q_ref[idx] = vals

@@ -7,7 +7,7 @@ from typing import Any, ClassVar
 
 import numpy as np
 
-from scara_opt.errors import InputError
+from scara_opt.ik.base import check_flag
 from scara_opt.ik.registry import register_solver
 from scara_opt.metaheuristics.base import (
     Array,
@@ -64,10 +64,9 @@ class GreyWolfSolver(PopulationSolver[Pack]):
     min_population = 3
 
     def check_options(self) -> None:
-        """Validate ``a_start`` (a positive number, at most 4)."""
+        """Validate ``a_start`` (a positive number, at most 4) and ``greedy`` (a bool)."""
         check_number("a_start", self.options["a_start"], 0.0, 4.0, low_open=True)
-        if not isinstance(self.options["greedy"], bool):
-            raise InputError(f"gwo: greedy must be True or False; got {self.options['greedy']!r}")
+        check_flag("greedy", self.options["greedy"])
 
     def initialize(self, problem: Problem, population: Population,
                    rng: np.random.Generator) -> Pack:

@@ -23,6 +23,7 @@ from __future__ import annotations
 
 import logging
 import math
+from dataclasses import replace
 
 import numpy as np
 from numpy.typing import NDArray
@@ -115,5 +116,5 @@ def quintic_trajectory(Q: Array, limits: Limits, duration: float | None = None, 
         excess = (f"below the shortest within the limits ({total:.6g} s): limits exceeded, "
                   f"largest ratio {worst:.4g} (enforce_limits=False)")
         log.warning("quintic duration %.6g s is %s", duration, excess)
-        traj = Trajectory(pieces, limits, "quintic", Q.copy(), times, notes=f"{note}, {excess}")
+        traj = replace(traj, notes=f"{note}, {excess}")
     return traj

@@ -95,28 +95,18 @@ def get_timing(method: str) -> TimingMethod:
 def check_option(method: str, name: str, value: Any, low: float, high: float = math.inf, *,
                  integer: bool = False, low_open: bool = False, high_open: bool = False,
                  default: Any = None) -> None:
-    """Refuse a numeric option of timing ``method`` outside its range (bools refused).
-
-    The range is ``[low, high]``, opened at either end by ``low_open`` / ``high_open``.
+    """:func:`~scara_opt.ik.base.check_number` for an option of timing ``method``.
 
     Raises:
         InputError: wrong type, NaN or out of range; names the method, option, value, range
             and ``default``.
     """
     try:
-        check_number(name, value, low, high, integer=integer, low_open=low_open)
-        ok = not (high_open and value >= high)
-    except InputError:
-        ok = False
-    if not ok:
-        kind = "an integer" if integer else "a number"
-        if math.isinf(high):
-            span = f"{'>' if low_open else '>='} {low:g}"
-        else:
-            span = f"in {'(' if low_open else '['}{low:g}, {high:g}{')' if high_open else ']'}"
-        raise InputError(f"method {method!r}: option {name}={value!r} must be {kind} "
-                         f"{span}; pass one in that range, or omit {name}= for the default "
-                         f"{default!r}")
+        check_number(name, value, low, high, integer=integer, low_open=low_open,
+                     high_open=high_open)
+    except InputError as exc:
+        raise InputError(f"method {method!r}: {exc}; pass one in that range, or omit {name}= "
+                         f"for the default {default!r}") from None
 
 
 def check_option_flag(method: str, name: str, value: Any) -> None:

@@ -130,14 +130,6 @@ def ruckig_point_to_point(q_start: object, q_goal: object, robot: Robot | None =
         ``q_goal`` equals ``q_start`` (there is no move to time).
     """
     from scara_opt.trajectory.registry import time_parameterize
-    from scara_opt.trajectory.waypoints import DUPLICATE_TOL
 
-    try:
-        same = bool(np.max(np.abs(np.subtract(q_goal, q_start, dtype=float))) <= DUPLICATE_TOL)
-    except (TypeError, ValueError):
-        same = False  # malformed input: time_parameterize says what is wrong
-    if same:
-        raise TrajectoryError(f"q_goal equals q_start (within {DUPLICATE_TOL:g}): there is no "
-                              "move to time; the robot just stays at q_start")
     return time_parameterize([q_start, q_goal], robot, method="ruckig", vmax=vmax, amax=amax,
                              jmax=jmax)

@@ -84,15 +84,16 @@ def _without_duplicates(Q: Array, drop: bool) -> Array:
     same = np.flatnonzero(np.abs(np.diff(Q, axis=0)).max(axis=1) <= DUPLICATE_TOL) + 1
     if not same.size:
         return Q
+    keep = np.ones(len(Q), dtype=bool)
+    keep[same] = False
+    if keep.sum() < 2:  # no advice helps: dropping the duplicates leaves a single point
+        raise TrajectoryError(f"fewer than two distinct waypoints (all equal within "
+                              f"{DUPLICATE_TOL:g}): the path does not move, there is no move "
+                              "to time; the robot just stays at its first waypoint")
     if not drop:
         raise TrajectoryError(
             f"waypoints {[(int(i) - 1, int(i)) for i in same[:10]]} are consecutive "
             f"duplicates (equal within {DUPLICATE_TOL:g}); a zero-length segment cannot be "
             "timed: remove them or pass drop_duplicates=True")
-    keep = np.ones(len(Q), dtype=bool)
-    keep[same] = False
     log.info("dropped %d consecutive duplicate waypoint(s): %s", same.size, same.tolist())
-    if keep.sum() < 2:
-        raise TrajectoryError("after dropping duplicates fewer than two distinct waypoints are "
-                              "left: the path does not move")
     return Q[keep]
