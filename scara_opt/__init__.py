@@ -20,7 +20,16 @@ from scara_opt.errors import (
     UnknownSolverError,
     URDFError,
 )
-from scara_opt.ik import IKResult, Status, get_solver, ik_all, register_solver, solve_ik, solvers
+from scara_opt.ik import (
+    IKResult,
+    Reason,
+    Status,
+    get_solver,
+    ik_all,
+    register_solver,
+    solve_ik,
+    solvers,
+)
 from scara_opt.ik.lm_batch import BatchResult, solve_many
 from scara_opt.robot import Robot, list_robots, load_robot
 from scara_opt.target import Target
@@ -55,6 +64,7 @@ __all__ = [
     "paths",
     "register_solver",
     "Robot",
+    "Reason",
     "RobotNotFoundError",
     "ScaraOptError",
     "solve_ik",

@@ -194,11 +194,13 @@ def test_analytic_holds_the_redundant_joint(robots):
     assert res.success and res.q[0] == 0.025 and res.q[4] == pytest.approx(0.015, abs=1e-12)
     with pytest.raises(so.InputError, match="redundant joints"):
         so.solve_ik(robot, p, method="analytic", fixed={"theta1": 0.1})
-    # out of reach with P1 held at 0: unreachable, and the closest configuration holds it too
+    # infeasible with P1 held at 0, reachable with P1 free: "failed" for the held joint,
+    # never "unreachable"; the closest configuration holds P1 too
     far = robot.position(np.array([0.07, 0.7, 1.4, -0.2, 0.08]))
     miss = so.solve_ik(robot, far, method="analytic", fixed={"P1": 0.0})
-    assert miss.status == "unreachable" and miss.q[0] == 0.0 and "P1 = 0 held" in miss.message
-    assert so.solve_ik(robot, far, method="ipopt").success  # P1 free: reachable
+    assert miss.status == "failed" and miss.reason == "held_joints"
+    assert miss.q[0] == 0.0 and "P1 = 0 held" in miss.message
+    assert so.solve_ik(robot, far, method="analytic").success  # P1 free: reachable
 
 
 def test_analytic_refuses_a_non_scara_chain(arm6):
@@ -309,7 +311,8 @@ def test_bad_input_raises_specific_errors(robots, call, error, match):
 
 
 @pytest.mark.parametrize("method, options, match", [
-    ("ipopt", {"restarts": -1}, "restarts=-1 must be an integer >= 0"),
+    ("ipopt", {"restarts": -1}, r"restarts=-1 must be an integer in \[0, "),
+        ("ipopt", {"max_iter": 10**12}, r"max_iter=1000000000000 must be an integer in \[1, "),
     ("ipopt", {"restarts": "x"}, "restarts='x'"),
     ("ipopt", {"max_iter": -5}, "max_iter=-5"),
     ("ipopt", {"regularization": np.nan}, "regularization=nan"),

@@ -1,312 +1,59 @@
-r"""Closed-form IK of SCARA-type chains: every branch, atan2 forms valid in every quadrant.
+"""The closed form as a solver (``method="analytic"``) and :func:`ik_all`, every branch.
 
-A chain is SCARA-type when every revolute axis is parallel to one axis ``n`` (the robot's
-:attr:`~scara_opt.Robot.yaw_axis`) and exactly two revolute joints move the tip in the plane
-normal to ``n`` (shoulder and elbow); later revolute joints sit on the tip's axis (wrists),
-prismatic joints slide along ``n`` (height) or, before the shoulder, in the plane (a rail).
-The geometry (link lengths, zero angles, axis signs, heights) is read from the robot's FK,
-not assumed, and checked against it on random configurations.
-
-With ``α₁ = φ₁ + s₁θ₁`` and ``γ = α₂ − α₁`` the in-plane link angles,
-
-.. math:: \cos γ = \frac{r^2 - l_1^2 - l_2^2}{2 l_1 l_2}, \qquad
-          α_1 = \operatorname{atan2}(v, u) - \operatorname{atan2}(l_2 \sin γ, l_1 + l_2 \cos γ)
-
-for both signs of ``γ`` (elbow branches); each angle is then taken modulo 2π wherever it
-fits within the joint limits (wrists such as peng2025's ±360° give two turns).
-
-Redundant joints (a rail, all but the last height joint, all but the last wrist) are not
-solved for: they keep the value given in ``fixed`` (by joint name), else ``q0``'s value, else
-the default start (zero, or mid-range when zero is outside the limits).
+The mathematics lives in :mod:`scara_opt.ik.geometry` (the SCARA structure read from the
+FK) and :mod:`scara_opt.ik.closed_form` (every branch, over the whole range of the
+redundant joints); this module wraps it in the solver interface.
 """
 
 from __future__ import annotations
 
-import math
-from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
-import pinocchio as pin
 
-from scara_opt.errors import InputError, ScaraOptError
-from scara_opt.ik.base import (
-    LIMIT_SLACK,
-    Solver,
-    SolverOutput,
-    check_q0,
-    check_tol,
-    default_q0,
-    make_result,
+from scara_opt.ik.base import Solver, SolverOutput, check_q0, check_tol, default_q0
+from scara_opt.ik.closed_form import solve_all
+from scara_opt.ik.geometry import (  # noqa: F401  (re-exported: the closed form's names)
+    NotScaraError,
+    ScaraGeometry,
+    held_values,
+    scara_geometry,
+    solve_batch,
 )
+from scara_opt.ik.ipopt import IpoptSolver
 from scara_opt.ik.registry import register_solver
-from scara_opt.ik.result import IKResult, Status
+from scara_opt.ik.result import IKResult
 from scara_opt.ik.task import check_task
+from scara_opt.ik.verdict import judge
 from scara_opt.robot import Array, Robot
 from scara_opt.target import Target, as_target
-
-_EPS = 1e-9
-
-
-class NotScaraError(ScaraOptError, ValueError):
-    """The closed form does not apply to this robot (not a SCARA-type chain)."""
-
-
-@dataclass(frozen=True)
-class ScaraGeometry:
-    """The planar 2R + heights + wrist structure of a SCARA-type chain, read from its FK.
-
-    Attributes:
-        n: (3,) the common revolute axis; ``e1``, ``e2`` span the plane normal to it.
-        shoulder, elbow: indices of the two positioning revolute joints.
-        wrist: index of the solved wrist joint (last revolute on the tip axis), or -1.
-        height: index of the solved height joint (last prismatic along n), or -1.
-        redundant: indices of joints held at given values.
-        s: (nq,) sign of each revolute axis along n (0 for prismatic joints).
-        sigma: (nq,) for prismatic joints along n, their sign along n (else 0).
-        rail: (nq, 2) in-plane direction of each rail joint (else 0).
-        base: (2,) shoulder axis in plane coordinates at q = 0.
-        l1, l2: link lengths [m]; phi1, phi2: link angles at q = 0 [rad].
-        h0: tip height along n at q = 0 [m]; yaw0: tool angle at q = 0 [rad].
-    """
-
-    n: Array
-    e1: Array
-    e2: Array
-    shoulder: int
-    elbow: int
-    wrist: int
-    height: int
-    redundant: tuple[int, ...]
-    s: Array
-    sigma: Array
-    rail: Array
-    base: Array
-    l1: float
-    l2: float
-    phi1: float
-    phi2: float
-    h0: float
-    yaw0: float
-
-    def plane(self, v: Array) -> Array:
-        """Plane coordinates (..., 2) of world vectors (..., 3)."""
-        return np.stack([v @ self.e1, v @ self.e2], axis=-1)
-
-    def fk(self, Q: Array) -> tuple[Array, Array]:
-        """Tip positions (n, 3) [m] and tool angles (n,) [rad] from the planar model."""
-        a1 = self.phi1 + self.s[self.shoulder] * Q[:, self.shoulder]
-        a2 = self.phi2 - self.phi1 + a1 + self.s[self.elbow] * Q[:, self.elbow]
-        xy = (self.base + Q @ self.rail
-              + self.l1 * np.stack([np.cos(a1), np.sin(a1)], -1)
-              + self.l2 * np.stack([np.cos(a2), np.sin(a2)], -1))
-        h = self.h0 + Q @ self.sigma
-        pos = np.outer(xy[:, 0], self.e1) + np.outer(xy[:, 1], self.e2) + np.outer(h, self.n)
-        return pos, self.yaw0 + Q @ self.s
-
-
-def scara_geometry(robot: Robot) -> ScaraGeometry:
-    """The :class:`ScaraGeometry` of ``robot``, computed once and cached on it.
-
-    Raises:
-        NotScaraError: the chain is not SCARA-type (the message says why).
-    """
-    cache = robot.__dict__
-    if "_scara_geometry" not in cache:
-        try:
-            cache["_scara_geometry"] = _extract(robot)
-        except NotScaraError as exc:
-            cache["_scara_geometry"] = exc
-    geom = cache["_scara_geometry"]
-    if isinstance(geom, NotScaraError):
-        raise geom
-    return geom
-
-
-def _extract(robot: Robot) -> ScaraGeometry:
-    def refuse(why: str) -> NotScaraError:
-        return NotScaraError(f"closed-form IK needs a SCARA-type chain; robot {robot.name!r} "
-                             f"{why}; use method='ipopt' instead")
-
-    n = robot.yaw_axis
-    if n is None:
-        raise refuse("has revolute axes that are not all parallel")
-    if any(j.mimic for j in robot.chain):
-        raise refuse("has mimic joints on its path")
-    e1, e2 = robot.yaw_basis()
-    nq = robot.nq
-    q_zero = np.zeros(nq)
-    pin.forwardKinematics(robot.model, robot.data, q_zero)
-    origins = [robot.data.oMi[k + 1].translation.copy() for k in range(nq)]
-    axes = [robot.data.oMi[k + 1].rotation @ j.axis for k, j in enumerate(robot.chain)]
-    tip = robot.fk(q_zero)[:3, 3]
-    s, sigma, rail = np.zeros(nq), np.zeros(nq), np.zeros((nq, 2))
-    revolute = [k for k, j in enumerate(robot.chain) if j.kind == "revolute"]
-    verticals = []
-    for k, j in enumerate(robot.chain):
-        a = axes[k]
-        if j.kind == "revolute":
-            s[k] = float(np.sign(a @ n))
-        elif np.linalg.norm(np.cross(a, n)) < _EPS:
-            sigma[k] = float(a @ n)
-            verticals.append(k)
-        elif abs(a @ n) < _EPS and (not revolute or k < revolute[0]):
-            rail[k] = [a @ e1, a @ e2]
-        else:
-            raise refuse(f"has prismatic joint {j.name!r} neither along the axis nor a rail "
-                         "before the shoulder")
-
-    def plane(v: Array) -> Array:
-        return np.array([v @ e1, v @ e2])
-
-    # in-plane link vectors: each revolute axis to the next one, the last one to the tip
-    stops = [plane(origins[k]) for k in revolute] + [plane(tip)]
-    links = [b - a for a, b in zip(stops[:-1], stops[1:], strict=True)]
-    arms = [k for k, v in zip(revolute, links, strict=True) if np.linalg.norm(v) > _EPS]
-    if len(arms) != 2 or arms != revolute[:2]:
-        raise refuse(f"moves the tip in the plane with {len(arms)} revolute joints (need the "
-                     "first two, the rest on the tip axis)")
-    sh, el = arms
-    v1, v2 = links[0], stops[-1] - stops[1]
-    l1, l2 = float(np.linalg.norm(v1)), float(np.linalg.norm(v2))
-    wrists = revolute[2:]
-    geom = ScaraGeometry(
-        n=n, e1=e1, e2=e2, shoulder=sh, elbow=el, wrist=wrists[-1] if wrists else -1,
-        height=verticals[-1] if verticals else -1,
-        redundant=tuple(sorted([k for k in range(nq) if rail[k].any()] + verticals[:-1]
-                               + wrists[:-1])),
-        s=s, sigma=sigma, rail=rail, base=stops[0], l1=l1, l2=l2,
-        phi1=math.atan2(v1[1], v1[0]), phi2=math.atan2(v2[1], v2[0]),
-        h0=float(tip @ n), yaw0=robot.yaw(q_zero),
-    )
-    # the model must reproduce the robot's FK everywhere, not only at q = 0
-    Q = np.random.default_rng(0).uniform(-3, 3, (64, nq))
-    pos, yaw = geom.fk(Q)
-    T = robot.fk_batch(Q)
-    e1_, e2_ = e1, e2
-    yaw_fk = np.arctan2(T[:, :3, 0] @ e2_, T[:, :3, 0] @ e1_)
-    if (np.abs(pos - T[:, :3, 3]).max() > 1e-9
-            or np.abs(np.angle(np.exp(1j * (yaw - yaw_fk)))).max() > 1e-9):
-        raise refuse("does not follow the planar SCARA model (check with method='ipopt')")
-    return geom
-
-
-def _turns(values: Array, lo: float, hi: float) -> list[float]:
-    """Every ``v + 2πk`` within [lo, hi] (finite: one turn for a continuous joint)."""
-    out = []
-    for v in np.atleast_1d(values):
-        k0 = math.ceil((lo - LIMIT_SLACK - v) / (2 * math.pi))
-        k1 = math.floor((hi + LIMIT_SLACK - v) / (2 * math.pi))
-        out.extend(float(np.clip(v + 2 * math.pi * k, lo, hi)) for k in range(k0, k1 + 1))
-    return out
-
-
-def _held_values(robot: Robot, geom: ScaraGeometry, q_ref: Array,
-                 fixed: dict[str, float] | None) -> Array:
-    """``q_ref`` with the ``fixed`` overrides applied to redundant joints (validated)."""
-    q = q_ref.copy()
-    for name, value in (fixed or {}).items():
-        if name not in robot.joint_names:
-            raise InputError(f"fixed: no joint named {name!r}; joints: {robot.joint_names}")
-        k = robot.joint_names.index(name)
-        if k not in geom.redundant:
-            redundant = [robot.joint_names[i] for i in geom.redundant]
-            raise InputError(f"fixed: joint {name!r} is solved by the closed form; only the "
-                             f"redundant joints {redundant} can be held")
-        v = float(value)
-        if not (math.isfinite(v) and robot.lower[k] <= v <= robot.upper[k]):
-            raise InputError(f"fixed: {name} = {value!r} is not within "
-                             f"[{robot.lower[k]:.4g}, {robot.upper[k]:.4g}]")
-        q[k] = v
-    return q
-
-
-def solve_all(robot: Robot, target: Target, q_ref: Array,
-              fixed: dict[str, float] | None = None) -> list[Array]:
-    """Every closed-form solution (nq,) within the joint limits, redundant joints held.
-
-    Args:
-        robot: a SCARA-type robot.
-        target: position, with or without yaw (a rotation target is refused).
-        q_ref: (nq,) reference: values for held joints and for the wrist when no yaw is asked.
-        fixed: values of redundant joints by name [rad or m], overriding ``q_ref``.
-    """
-    geom = scara_geometry(robot)
-    if target.kind == "rotation":
-        raise NotScaraError("the closed form takes position and yaw targets; for a full "
-                            "rotation use method='ipopt'")
-    lo, hi = robot.lower, robot.upper
-    slo, shi = robot.sampling_lower, robot.sampling_upper  # a continuous joint: one turn
-    held = _held_values(robot, geom, q_ref, fixed)
-    p = target.position
-    # heights: the solved prismatic joint takes up the rest of n·p
-    h_rest = geom.h0 + sum(geom.sigma[k] * held[k] for k in geom.redundant)
-    if geom.height >= 0:
-        d = (p @ geom.n - h_rest) / geom.sigma[geom.height]
-        if not lo[geom.height] - LIMIT_SLACK <= d <= hi[geom.height] + LIMIT_SLACK:
-            return []
-        d = float(np.clip(d, lo[geom.height], hi[geom.height]))
-    elif abs(p @ geom.n - h_rest) > 1e-12:
-        return []
-    # planar 2R
-    uv = geom.plane(p) - geom.base - held @ geom.rail
-    r2 = float(uv @ uv)
-    c = (r2 - geom.l1**2 - geom.l2**2) / (2 * geom.l1 * geom.l2)
-    if abs(c) > 1 + 1e-12:
-        return []
-    g = math.acos(max(-1.0, min(1.0, c)))
-    sols = []
-    for gamma in {g, -g}:
-        a1 = math.atan2(uv[1], uv[0]) - math.atan2(geom.l2 * math.sin(gamma),
-                                                   geom.l1 + geom.l2 * math.cos(gamma))
-        t1 = geom.s[geom.shoulder] * (a1 - geom.phi1)
-        t2 = geom.s[geom.elbow] * (gamma - (geom.phi2 - geom.phi1))
-        for v1 in _turns(t1, slo[geom.shoulder], shi[geom.shoulder]):
-            for v2 in _turns(t2, slo[geom.elbow], shi[geom.elbow]):
-                q = held.copy()
-                q[geom.shoulder], q[geom.elbow] = v1, v2
-                if geom.height >= 0:
-                    q[geom.height] = d
-                sols.extend(_with_wrist(robot, geom, target, q))
-    return sols
-
-
-def _with_wrist(robot: Robot, geom: ScaraGeometry, target: Target, q: Array) -> list[Array]:
-    if target.yaw is None:
-        return [q]
-    w = geom.wrist
-    if w < 0:  # no wrist: the arm's own yaw must match
-        yaw = geom.yaw0 + q @ geom.s
-        return [q] if abs(math.remainder(yaw - target.yaw, 2 * math.pi)) <= 1e-12 else []
-    rest = geom.yaw0 + q @ geom.s - geom.s[w] * q[w]
-    out = []
-    for v in _turns(geom.s[w] * (target.yaw - rest), robot.sampling_lower[w],
-                    robot.sampling_upper[w]):
-        qw = q.copy()
-        qw[w] = v
-        out.append(qw)
-    return out
 
 
 def ik_all(robot: Robot, target: Target | object, q0: object | None = None, tol: float = 1e-9,
            fixed: dict[str, float] | None = None) -> list[IKResult]:
     """Every closed-form IK solution within the limits, nearest to ``q0`` first.
 
+    What is enumerated: both elbow branches, and every turn of each revolute joint that
+    fits its limits (a ±360° wrist gives two). Redundant joints are not enumerated (they
+    have a continuum of values): those named in ``fixed`` keep that value; the others
+    keep ``q0``'s value (or the default start's) when some branch exists there, else they
+    take the nearest values at which one does (see :mod:`scara_opt.ik.closed_form`).
+
     Args:
         robot: a SCARA-type robot.
         target: a :class:`Target` (position, optional yaw) or a (3,) position [m].
         q0: (nq,) reference for sorting, held joints and the wrist of position-only targets.
-        tol: residual [m, rad] each solution is checked against.
-        fixed: values of redundant joints by name (e.g. ``{"P1": 0.02}``).
+        tol: residual [m, rad] each solution is checked against (>= the tol floor).
+        fixed: values of redundant joints by name (e.g. ``{"P1": 0.02}``), never moved.
 
     Returns:
-        One :class:`IKResult` per branch (elbow up/down, wrist turns), each ``solved``;
-        an empty list when the target is out of reach.
+        One :class:`IKResult` per branch, each ``solved``; an empty list when the target
+        is out of reach (with the ``fixed`` joints held).
 
     Raises:
         NotScaraError: the robot is not SCARA-type.
         TargetError: a malformed target, or a rotation target.
-        InputError: a malformed ``q0`` or ``tol``.
+        InputError: a malformed ``q0``, ``tol`` or ``fixed``.
     """
     target = as_target(target)
     check_task(robot, target)
@@ -315,27 +62,12 @@ def ik_all(robot: Robot, target: Target | object, q0: object | None = None, tol:
     q_ref = default_q0(robot) if q_ref is None else q_ref
     results = []
     for q in solve_all(robot, target, q_ref, fixed):
-        out = SolverOutput(q=q, iterations=0, evaluations=1, status=Status.FAILED)
-        res = make_result(robot, target, out, tol=tol, method="analytic", seed=None, time_s=0.0,
-                          certified=True)
+        res = judge(robot, target, SolverOutput(q=q, evaluations=1), tol=tol,
+                    method="analytic", seed=None, time_s=0.0)
         if res.success:
             results.append(res)
     results.sort(key=lambda r: float(np.linalg.norm(r.q - q_ref)))
     return results
-
-
-def analytic_reachable(robot: Robot, target: Target, tol: float = 1e-9) -> bool | None:
-    """Whether the closed form reaches ``target``; ``None`` where it cannot decide.
-
-    It cannot decide for non-SCARA chains, rotation targets, and redundant robots (the
-    closed form holds their redundant joints at one value; another value may reach).
-    """
-    try:
-        if scara_geometry(robot).redundant or target.kind == "rotation":
-            return None
-        return bool(ik_all(robot, target, tol=tol))
-    except NotScaraError:
-        return None
 
 
 @register_solver("analytic")
@@ -343,97 +75,42 @@ class AnalyticSolver(Solver):
     """Closed-form SCARA IK: the branch nearest to ``q0`` (see :func:`ik_all`).
 
     Options:
-        fixed: values of the redundant joints by name [rad or m] (default: ``q0``'s).
+        fixed: values of the redundant joints by name [rad or m], never moved (default:
+            none; the redundant joints then start at ``q0``'s values and move, over their
+            whole range, only when no branch exists there).
 
-    An out-of-reach target is ``unreachable`` (the closed form proves it, with the
-    redundant joints held); its ``q`` and residual then come from IPOPT's least-squares
-    solve with the same joints held, the closest configuration found.
+    On a miss, ``q`` comes from IPOPT's least-squares solve (the ``fixed`` joints held):
+    the closest configuration found. The verdict then certifies ``unreachable`` (the
+    closed form over the whole range found nothing), or reports ``failed`` with reason
+    ``held_joints`` when only the ``fixed`` values make it infeasible.
     """
 
     name = "analytic"
+    label = "closed form"
     defaults: dict[str, Any] = {"fixed": None}
-    certifies_unreachable = True
+
+    def prepare(self, robot: Robot, kind: str) -> None:
+        """Read the robot's SCARA geometry once, and build IPOPT's NLP for a miss (cached)."""
+        scara_geometry(robot)
+        IpoptSolver().prepare(robot, kind)
 
     def _solve(self, robot: Robot, target: Target, q0: Array | None,
                rng: np.random.Generator, tol: float) -> SolverOutput:
         q_ref = default_q0(robot) if q0 is None else q0
-        sols = solve_all(robot, target, q_ref, self.options["fixed"])
+        fixed = self.options["fixed"]
+        sols = solve_all(robot, target, q_ref, fixed)
         if sols:
             best = min(sols, key=lambda q: float(np.linalg.norm(q - q_ref)))
             return SolverOutput(q=best, iterations=0, evaluations=1)
-        from scara_opt.ik.ipopt import IpoptSolver
-
         geom = scara_geometry(robot)
-        values = _held_values(robot, geom, q_ref, self.options["fixed"])
-        held = {k: float(values[k]) for k in geom.redundant}
+        values = held_values(robot, geom, q_ref, fixed)
+        held = {robot.joint_names.index(name): float(values[robot.joint_names.index(name)])
+                for name in (fixed or {})}
         closest = IpoptSolver()._solve(robot, target, q_ref, rng, tol, held=held)
         names = ", ".join(f"{robot.joint_names[k]} = {v:.4g}" for k, v in held.items())
+        infeasible_held = bool(held) and bool(solve_all(robot, target, q_ref))
         return SolverOutput(q=closest.q, iterations=closest.iterations,
-                            evaluations=closest.evaluations, status=Status.UNREACHABLE,
+                            evaluations=closest.evaluations, held=infeasible_held,
                             message="no closed-form branch within the limits"
                                     + (f" with {names} held" if held else "")
                                     + "; q from IPOPT's closest configuration")
-
-
-def solve_batch(robot: Robot, positions: object, yaws: object | None = None,
-                fixed: dict[str, float] | None = None) -> tuple[Array, Array]:
-    """Closed-form IK of many targets at once, vectorised with numpy.
-
-    Args:
-        robot: a SCARA-type robot.
-        positions: (n, 3) target positions [m].
-        yaws: (n,) tool angles [rad], or ``None`` (the wrist then stays at its default).
-        fixed: values of redundant joints by name (default: zero, or mid-range).
-
-    Returns:
-        ``(Q, valid)``: ``Q`` (n, 2, nq) the two elbow branches (γ ≥ 0 first), each angle
-        taken as the turn nearest to the middle of its range; ``valid`` (n, 2) whether that
-        branch lies within the joint limits. Invalid rows hold NaN-free placeholders that
-        must not be used; check ``valid``.
-
-    Raises:
-        InputError: wrong shapes or non-finite values.
-        NotScaraError: the robot is not SCARA-type.
-    """
-    geom = scara_geometry(robot)
-    P = np.asarray(positions, dtype=float)
-    if P.ndim != 2 or P.shape[1] != 3 or not np.isfinite(P).all():
-        raise InputError(f"positions must be a finite (n, 3) array [m]; got shape {P.shape}")
-    n = P.shape[0]
-    if yaws is not None:
-        Y = np.asarray(yaws, dtype=float)
-        if Y.shape != (n,) or not np.isfinite(Y).all():
-            raise InputError(f"yaws must be a finite ({n},) array [rad]; got shape {Y.shape}")
-        if geom.wrist < 0:
-            raise InputError(f"robot {robot.name!r} has no wrist joint to set a yaw")
-    lo, hi = robot.lower, robot.upper
-    held = _held_values(robot, geom, default_q0(robot), fixed)
-    h_rest = geom.h0 + sum(geom.sigma[k] * held[k] for k in geom.redundant)
-    Q = np.tile(held, (n, 2, 1))
-    ok = np.ones(n, dtype=bool)
-    if geom.height >= 0:
-        d = (P @ geom.n - h_rest) / geom.sigma[geom.height]
-        ok &= (d >= lo[geom.height] - LIMIT_SLACK) & (d <= hi[geom.height] + LIMIT_SLACK)
-        Q[:, :, geom.height] = np.clip(d, lo[geom.height], hi[geom.height])[:, None]
-    else:
-        ok &= np.abs(P @ geom.n - h_rest) <= 1e-12
-    uv = geom.plane(P) - geom.base - held @ geom.rail
-    c = (np.einsum("ij,ij->i", uv, uv) - geom.l1**2 - geom.l2**2) / (2 * geom.l1 * geom.l2)
-    ok &= np.abs(c) <= 1 + 1e-12
-    g = np.arccos(np.clip(c, -1.0, 1.0))
-    gamma = np.stack([g, -g], axis=1)  # (n, 2)
-    a1 = np.arctan2(uv[:, 1], uv[:, 0])[:, None] - np.arctan2(
-        geom.l2 * np.sin(gamma), geom.l1 + geom.l2 * np.cos(gamma))
-    Q[:, :, geom.shoulder] = geom.s[geom.shoulder] * (a1 - geom.phi1)
-    Q[:, :, geom.elbow] = geom.s[geom.elbow] * (gamma - (geom.phi2 - geom.phi1))
-    if yaws is not None:
-        w = geom.wrist
-        rest = geom.yaw0 + Q @ geom.s - geom.s[w] * Q[:, :, w]
-        Q[:, :, w] = geom.s[w] * (Y[:, None] - rest)
-    # each revolute angle: the 2π turn nearest the middle of its range
-    for k in (geom.shoulder, geom.elbow, geom.wrist if yaws is not None else -1):
-        if k >= 0:
-            mid = 0.5 * (robot.sampling_lower[k] + robot.sampling_upper[k])
-            Q[:, :, k] = Q[:, :, k] - 2 * np.pi * np.round((Q[:, :, k] - mid) / (2 * np.pi))
-    valid = ok[:, None] & np.all((Q >= lo - LIMIT_SLACK) & (Q <= hi + LIMIT_SLACK), axis=2)
-    return np.clip(Q, lo, hi), valid

@@ -1,4 +1,4 @@
-"""The fast route with a certified verdict: Levenberg–Marquardt first, IPOPT before "unreachable".
+"""The default route: Levenberg–Marquardt first, closed-form starts, then IPOPT's multi-start.
 
 ``method="auto"`` tries, in order, until a start reaches the target:
 
@@ -8,9 +8,9 @@
    closed-form branch (:func:`scara_opt.ik.analytic.solve_all`), nearest to ``q0`` first:
    each is already a solution, polished and slid toward ``q0`` in a few iterations;
 3. ``restarts`` seeded random starts of the fast solver;
-4. IPOPT's multi-start (:class:`~scara_opt.ik.ipopt.IpoptSolver`, ``ipopt_restarts``),
-   whose verdict, checked against the closed form where it applies, is the only way this
-   method reports ``"unreachable"``; ``q`` is then the closer of the two solvers' answers.
+4. IPOPT's multi-start (:class:`~scara_opt.ik.ipopt.IpoptSolver`, ``ipopt_restarts``);
+   ``q`` is then the closer of the two solvers' answers, judged by the verdict
+   (:mod:`scara_opt.ik.verdict`: ``unreachable`` only with a certificate).
 
 On reachable targets step 1 decides almost always (see ``benchmarks/bench_ik_peers.py``),
 so the cost is that of the fast solver; IPOPT runs only for the rare misses and for
@@ -25,10 +25,12 @@ from typing import Any, ClassVar
 
 import numpy as np
 
-from scara_opt.ik.analytic import NotScaraError, solve_all
 from scara_opt.ik.base import Solver, SolverOutput, check_number
+from scara_opt.ik.closed_form import solve_all
+from scara_opt.ik.geometry import NotScaraError
 from scara_opt.ik.ipopt import IpoptSolver
 from scara_opt.ik.lm import (
+    LevenbergMarquardtSolver,
     Search,
     check_budget,
     limits,
@@ -56,7 +58,7 @@ def closed_form_starts(robot: Robot, target: Target, q_ref: Array) -> Iterator[A
 
 @register_solver("auto")
 class AutoSolver(Solver):
-    """Fast exact IK with a certified verdict (see the module docstring for the order).
+    """Fast exact IK, IPOPT as the last resort (see the module docstring for the order).
 
     Options:
         restarts: random starts of the fast solver after ``q0`` and the closed-form
@@ -69,9 +71,9 @@ class AutoSolver(Solver):
     """
 
     name = "auto"
+    label = "auto (LM + IPOPT)"
     defaults: ClassVar[dict[str, Any]] = {"restarts": 10, "max_iter": 100,
                                           "ipopt_restarts": 10, "jit": False}
-    certifies_unreachable = True
 
     def check_options(self) -> None:
         """restarts, ipopt_restarts >= 0 and max_iter >= 1 (integers), jit a bool."""
@@ -89,9 +91,14 @@ class AutoSolver(Solver):
                           jit=bool(opts["jit"]), box=box)
         if found.converged:
             return search_output(found)
-        return self._certify(robot, target, q0, rng, tol, found)
+        return self._fallback(robot, target, q0, rng, tol, found)
 
-    def _certify(self, robot: Robot, target: Target, q0: Array | None,
+    def prepare(self, robot: Robot, kind: str) -> None:
+        """Build the fast solver's iterations and IPOPT's NLPs of this task kind."""
+        LevenbergMarquardtSolver(jit=self.options["jit"]).prepare(robot, kind)
+        IpoptSolver(restarts=int(self.options["ipopt_restarts"])).prepare(robot, kind)
+
+    def _fallback(self, robot: Robot, target: Target, q0: Array | None,
                  rng: np.random.Generator, tol: float, found: Search) -> SolverOutput:
         """IPOPT's multi-start after the fast solver missed; the closer answer is kept."""
         ipopt = IpoptSolver(restarts=int(self.options["ipopt_restarts"]))
@@ -104,7 +111,7 @@ class AutoSolver(Solver):
         return SolverOutput(q=closer.q, iterations=fast.iterations + out.iterations,
                             evaluations=fast.evaluations + out.evaluations,
                             history=np.concatenate([fast.history, out.history]),
-                            status=out.status, message=message)
+                            message=message)
 
 
 def _error(robot: Robot, target: Target, q: Array) -> float:

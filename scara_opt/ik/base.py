@@ -1,13 +1,13 @@
-"""The solver contract (template method): the base checks, seeds, times and judges.
+"""The solver contract (template method): the base checks, seeds and times; the verdict judges.
 
-The base checks input, seeds, times and assembles the :class:`IKResult`; a subclass
-implements :meth:`Solver._solve` only.
+The base checks input, seeds, builds the solver's one-off pieces (:meth:`Solver.prepare`,
+timed apart as ``setup_s``), times the search and hands the answer to
+:func:`scara_opt.ik.verdict.judge`; a subclass implements :meth:`Solver._solve` (and, if it
+builds something once, :meth:`Solver.prepare`).
 
-Every solver's answer is judged here, the same way: the final ``q`` goes through the robot's
-FK, the residual is recomputed, and ``solved`` is granted only when it is within ``tol``.
-A solver that cannot prove a target unreachable (a metaheuristic) has its failures checked
-by an exact solver, so ``"unreachable"`` always means outside the workspace and
-``"max_iter"`` means the budget ran out on a reachable target.
+Every solver's answer is judged by the verdict, the same way: the final ``q`` goes through
+the robot's FK, the residual is recomputed, ``solved`` is granted only within ``tol`` and
+``unreachable`` only with a certificate (see :mod:`scara_opt.ik.verdict`).
 """
 
 from __future__ import annotations
@@ -16,44 +16,26 @@ import math
 import numbers
 import time
 from abc import ABC, abstractmethod
-from dataclasses import dataclass, field
 from typing import Any, ClassVar, cast
 
 import numpy as np
 from numpy.typing import NDArray
 
 from scara_opt.errors import InputError, JointLimitError, SolverOptionError
-from scara_opt.ik.result import STATUS_MESSAGES, IKResult, Status
-from scara_opt.ik.task import check_task, config_errors, cost_of, error_from
+from scara_opt.ik.result import IKResult, SolverOutput
+from scara_opt.ik.task import LIMIT_SLACK, check_task, default_q0
+from scara_opt.ik.verdict import judge
 from scara_opt.robot import Robot
 from scara_opt.target import Target, as_target
 
 Array = NDArray[np.float64]
 
-#: joint values may leave the limits by this much through floating-point round-off [rad or m]
-LIMIT_SLACK = 1e-10
+#: the smallest tol [m, rad] a residual can be certified against: round-off of the FK of a
+#: metre-scale arm is ~1e-16 m, so a tol below this floor could refuse an exact solution
+TOL_FLOOR = 1e-15
 
-
-@dataclass
-class SolverOutput:
-    """What a solver's ``_solve`` hands back to the base.
-
-    Attributes:
-        q: (nq,) the best configuration found.
-        iterations: iterations (generations) run.
-        evaluations: FK evaluations used.
-        history: best cost per iteration.
-        status: the solver's own verdict when the residual is above ``tol``
-            (``UNREACHABLE`` only from solvers that can certify it).
-        message: specifics to append to the standard message.
-    """
-
-    q: Array
-    iterations: int = 0
-    evaluations: int = 0
-    history: Array = field(default_factory=lambda: np.zeros(0))
-    status: Status = Status.MAX_ITER
-    message: str = ""
+__all__ = ["LIMIT_SLACK", "TOL_FLOOR", "LazyGenerator", "Solver", "SolverOutput", "check_flag",
+           "check_number", "check_q0", "check_seed", "check_tol", "default_q0"]
 
 
 def check_q0(robot: Robot, q0: object | None) -> Array | None:
@@ -74,62 +56,6 @@ def check_q0(robot: Robot, q0: object | None) -> Array | None:
                 f"q0: joint {name!r} = {v:.4g} {unit} is outside [{lo:.4g}, {hi:.4g}] {unit}; "
                 "pass q0 inside the limits or q0=None", joint=name)
     return np.clip(q, robot.lower, robot.upper)
-
-
-def default_q0(robot: Robot) -> Array:
-    """The start used when ``q0`` is None: zero where within the limits, else mid-range."""
-    mid = 0.5 * (robot.sampling_lower + robot.sampling_upper)
-    zero_ok = (robot.lower <= 0) & (robot.upper >= 0)
-    return np.where(zero_ok, 0.0, mid)
-
-
-def _describe_miss(dp: Array, dang: float | None, tol: float) -> str:
-    """Which coordinates miss, e.g. "misses along z (dz = +0.102 m)"."""
-    axes = [axis for axis, v in zip("xyz", dp, strict=True) if abs(v) > tol]
-    parts = [f"d{axis} = {dp['xyz'.index(axis)]:+.4g} m" for axis in axes]
-    if dang is not None and abs(dang) > tol:
-        axes.append("the tool angle")
-        parts.append(f"dangle = {dang:+.4g} rad")
-    if not axes:
-        return "no single coordinate above tol"
-    return f"misses along {', '.join(axes)} ({', '.join(parts)})"
-
-
-def make_result(robot: Robot, target: Target, out: SolverOutput, *, tol: float, method: str,
-                seed: int | None, time_s: float, certified: bool) -> IKResult:
-    """Judge a solver's output and build the :class:`IKResult` (see module docstring)."""
-    lower, upper = robot.lower, robot.upper
-    q_out = np.asarray(out.q, dtype=float)
-    q = np.clip(q_out, lower, upper)
-    over = float(np.max(np.abs(q - q_out)))  # NaN if q_out has NaN
-    status_if_miss, extra = out.status, out.message
-    if not over <= LIMIT_SLACK:
-        # a solver bug must not leak: report failure at the closest in-limit point
-        status_if_miss = Status.FAILED
-        extra = f"solver returned q outside the limits by {over:.3g}; " + extra
-        q = np.clip(np.nan_to_num(q_out), lower, upper)
-        certified = True  # nothing to certify: this is a failure, not a verdict on the target
-    dp, dang = config_errors(robot, target, q)
-    error = error_from(dp, dang)
-    if error <= tol:
-        status = Status.SOLVED
-    elif status_if_miss == Status.FAILED or certified:
-        status = status_if_miss
-    else:
-        from scara_opt.ik.reach import is_reachable
-
-        status = Status.MAX_ITER if is_reachable(robot, target, tol) else Status.UNREACHABLE
-    message = STATUS_MESSAGES[status]
-    if status != Status.SOLVED:
-        message += f"; residual {error:.4g} ({_describe_miss(dp, dang, tol)}), tol {tol:g}"
-    if extra:
-        message += f"; {extra}"
-    return IKResult(q=q, success=status == Status.SOLVED, status=status, message=message,
-                    position_error=dp, yaw_error=dang, error=error,
-                    cost=cost_of(target, dp, dang), iterations=int(out.iterations),
-                    evaluations=int(out.evaluations), time_s=time_s,
-                    history=np.asarray(out.history, dtype=float), method=method, seed=seed,
-                    tol=tol)
 
 
 def check_number(name: str, value: Any, low: float, high: float = math.inf, *,
@@ -167,14 +93,18 @@ def check_flag(name: str, value: Any) -> None:
 
 
 def check_tol(tol: Any) -> float:
-    """``tol`` as a float: a finite positive number [m, rad] (numpy scalars included).
+    """``tol`` as a float: a finite number >= :data:`TOL_FLOOR` [m, rad] (numpy scalars too).
 
     Raises:
-        InputError: not a number, not finite, or not positive.
+        InputError: not a number, not finite, or below the floor (the message says why).
     """
     ok = isinstance(tol, numbers.Real) and not isinstance(tol, (bool, np.bool_))
     if not (ok and math.isfinite(tol) and tol > 0):
         raise InputError(f"tol must be a positive number [m, rad]; got {tol!r}")
+    if tol < TOL_FLOOR:
+        raise InputError(f"tol={tol:g} is below {TOL_FLOOR:g} [m, rad], the round-off of the "
+                         "forward kinematics: an exact solution could not be told from a miss; "
+                         f"pass tol >= {TOL_FLOOR:g}")
     return float(tol)
 
 
@@ -217,13 +147,12 @@ class Solver(ABC):
     """Base of every IK solver.
 
     Subclasses set ``name``, ``defaults`` (every accepted option with its default) and
-    ``certifies_unreachable`` (True for exact solvers whose failure proves unreachability),
-    and implement :meth:`_solve`.
+    optionally ``label`` (the name tables and figures show), and implement :meth:`_solve`.
     """
 
     name: ClassVar[str] = ""
+    label: ClassVar[str] = ""
     defaults: ClassVar[dict[str, Any]] = {}
-    certifies_unreachable: ClassVar[bool] = False
 
     def __init__(self, **options: Any) -> None:
         unknown = set(options) - set(self.defaults)
@@ -266,10 +195,32 @@ class Solver(ABC):
         check_seed(seed)
         rng = cast(np.random.Generator, LazyGenerator(seed))
         start = time.perf_counter()
+        self.prepare(robot, target.kind)
+        setup = time.perf_counter() - start
+        start = time.perf_counter()
         out = self._solve(robot, target, q0a, rng, tol)
         elapsed = time.perf_counter() - start
-        return make_result(robot, target, out, tol=tol, method=self.name, seed=seed,
-                           time_s=elapsed, certified=self.certifies_unreachable)
+        return judge(robot, target, out, tol=tol, method=self.name, seed=seed, time_s=elapsed,
+                     setup_s=setup, search=lambda: self.witness(robot, target, q0a, seed, tol))
+
+    def prepare(self, robot: Robot, kind: str) -> None:
+        """Build what the solver builds once per robot and task kind (cached on the robot).
+
+        Called before the timed search, so ``time_s`` never includes it (``setup_s`` does).
+        The default builds nothing.
+        """
+        return None
+
+    def witness(self, robot: Robot, target: Target, q0: Array | None, seed: int | None,
+                tol: float) -> Array | None:
+        """A configuration reaching a target this solver missed, or ``None``.
+
+        The verdict asks for one (after the closed form) before it reports a miss as
+        ``max_iter`` rather than ``failed``. The exact solvers return ``None`` (their own
+        search was the search); the metaheuristics run the exact ``auto`` method with the
+        caller's ``seed`` and ``q0``.
+        """
+        return None
 
     @abstractmethod
     def _solve(self, robot: Robot, target: Target, q0: Array | None,

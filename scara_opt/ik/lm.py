@@ -33,9 +33,8 @@ a batch of targets.
 A start that stalls (a local minimum, usually at a joint limit: no progress for
 ``STALL_CALLS`` calls) is followed by up to ``restarts`` starts drawn
 uniformly within the limits from the seeded generator; the best configuration is kept.
-The solver cannot prove a target unreachable: the base then asks the exact solvers
-whether a miss is ``"max_iter"`` or ``"unreachable"``; ``method="auto"``
-(:mod:`scara_opt.ik.auto`) adds the IPOPT multi-start itself.
+A miss is judged by :mod:`scara_opt.ik.verdict` (``unreachable`` only with a certificate);
+``method="auto"`` (:mod:`scara_opt.ik.auto`) adds the IPOPT multi-start itself.
 """
 
 from __future__ import annotations
@@ -54,7 +53,7 @@ import numpy as np
 
 from scara_opt.errors import InputError
 from scara_opt.ik.base import Solver, SolverOutput, check_flag, check_number, default_q0
-from scara_opt.ik.ipopt import angle_error_expr, nlp_params
+from scara_opt.ik.problem import ANGLE_SIZE, n_params, nlp_params, task_residual
 from scara_opt.ik.registry import register_solver
 from scara_opt.robot import Array, Robot
 from scara_opt.symbolic import FunctionArrays
@@ -62,8 +61,12 @@ from scara_opt.target import Target
 
 #: damping factor λ of μ = λ‖r‖²: start, floor, ceiling (a start has stalled at the ceiling)
 LAMBDA0, LAMBDA_MIN, LAMBDA_MAX = 1.0, 1e-6, 1e8
-#: added to μ [weighted m²]: keeps the damped pseudo-inverse regular at exact solutions
-MU_FLOOR = 1e-14
+#: μ never falls below this multiple of ‖J‖²_F (a hundred machine epsilons): the damped
+#: pseudo-inverse stays regular at exact solutions, and on a rank-deficient J its step in
+#: the null directions stays bounded instead of amplifying round-off
+MU_REL = 100 * float(np.finfo(float).eps)
+#: and never below this [weighted m²] (a J of zeros)
+MU_FLOOR = 1e-300
 #: slide lengths tried, as fractions of the full tangent step toward q0 (and one to a bound)
 SLIDES = (1.0, 0.5, 0.25, 0.125)
 #: Gauss–Newton steps that bring a slid configuration back onto the solution set
@@ -82,7 +85,6 @@ UNROLL = 3
 ITERATIONS = {"lm": UNROLL, "slide": 1}
 EVALS = {"lm": 2 * UNROLL, "slide": 1 + (2 + RETRACTION_STEPS) * (len(SLIDES) + 1)}
 
-_ANGLE_SIZE = {"position": 0, "yaw": 2, "rotation": 9}
 
 
 # ---------------------------------------------------------------------- casadi iterations
@@ -100,9 +102,9 @@ class _Symbols:
 
     @classmethod
     def make(cls, robot: Robot, kind: str) -> _Symbols:
-        nq, n_ang = robot.nq, _ANGLE_SIZE[kind]
+        nq, n_ang = robot.nq, ANGLE_SIZE[kind]
         q, box = ca.SX.sym("q", nq), ca.SX.sym("box", 3 * nq)
-        par = ca.SX.sym("par", 3 + n_ang + nq + 3)
+        par = ca.SX.sym("par", n_params(robot, kind))
         return cls(q, par, box, box[:nq], box[nq:2 * nq], box[2 * nq:],
                    par[3 + n_ang:3 + n_ang + nq])
 
@@ -115,31 +117,15 @@ class _Symbols:
         return ca.sumsqr((q - self.q_ref) / self.s)
 
 
-def _residual(robot: Robot, kind: str, q: ca.SX, par: ca.SX) -> ca.SX:
-    """Weighted task residual r(q) (m,), zero exactly where the NLP's task cost is.
-
-    Position and rotation rows are the NLP's (``ipopt.angle_error_expr``). For a yaw the row
-    is the wrapped angle itself rather than the NLP's 2-row chord (whose length is
-    2 sin(|Δ|/2)): the same solutions, but a residual whose Jacobian has full row rank,
-    which the damped minimum-norm solve needs on redundant robots.
-    """
-    nq, n_ang = robot.nq, _ANGLE_SIZE[kind]
-    wp, wa = par[3 + n_ang + nq], par[4 + n_ang + nq]
-    p, R = robot.symbolic_fk(q)
-    r = wp * (p - par[:3])
-    if kind == "position":
-        return r
-    chord = angle_error_expr(robot, kind, R, par[3:3 + n_ang])
-    if kind == "yaw":  # heading h = chord + (c, s): angle from (c, s) to h
-        c, s = par[3], par[4]
-        h1, h2 = chord[0] + c, chord[1] + s
-        return ca.vertcat(r, wa * ca.atan2(c * h2 - s * h1, c * h1 + s * h2))
-    return ca.vertcat(r, wa * chord)
-
-
 def _damped_pinv(J: ca.SX, mu: ca.SX | float) -> ca.SX:
-    """:math:`J^T (J J^T + μI)^{-1}` (nq, m), solved in the smaller of its two forms."""
+    r""":math:`J^T (J J^T + μ'I)^{-1}` (nq, m), solved in the smaller of its two forms.
+
+    :math:`μ' = μ + ` ``MU_REL`` :math:`\|J\|_F^2 +` ``MU_FLOOR``: the floor scales with
+    ``J``, so the step is sound on rank-deficient Jacobians too (more residual rows than
+    joints, singular poses).
+    """
     m, nq = J.shape
+    mu = mu + MU_REL * ca.sumsqr(J) + MU_FLOOR
     if m <= nq:
         return ca.solve(J @ J.T + mu * ca.SX.eye(m), J).T
     return ca.solve(J.T @ J + mu * ca.SX.eye(nq), J.T)
@@ -149,7 +135,7 @@ def _scaled(sym: _Symbols, robot: Robot, kind: str, q: ca.SX,
             free: ca.SX) -> tuple[ca.SX, ca.SX]:
     """Residual r (m,) at an expression ``q`` and its Jacobian in scaled free coordinates."""
     x = ca.SX.sym("x", robot.nq)
-    r = _residual(robot, kind, x, sym.par)
+    r = task_residual(robot, kind, x, sym.par)
     rj = ca.Function("rj", [x, sym.par], [r, ca.densify(ca.jacobian(r, x))])
     r_q, J_q = rj(q, sym.par)
     return r_q, J_q @ ca.diag(sym.s * free)
@@ -165,21 +151,21 @@ def _tangent(sym: _Symbols, J: ca.SX) -> tuple[ca.SX, ca.SX, ca.SX]:
     q, t = sym.q, (sym.q_ref - sym.q) / sym.s
     free = 1 - ca.logic_or(ca.logic_and(q <= sym.lo, t < 0), ca.logic_and(q >= sym.hi, t > 0))
     Js = J @ ca.diag(sym.s * free)
-    return free, Js, free * t - _damped_pinv(Js, MU_FLOOR) @ (Js @ (free * t))
+    return free, Js, free * t - _damped_pinv(Js, 0.0) @ (Js @ (free * t))
 
 
 def _lm_iteration(robot: Robot, kind: str) -> ca.Function:
     """One Levenberg–Marquardt iteration (see the module docstring and :func:`build_lm_step`)."""
     sym = _Symbols.make(robot, kind)
     q, lam = sym.q, ca.SX.sym("lam")
-    r = _residual(robot, kind, q, sym.par)
+    r = task_residual(robot, kind, q, sym.par)
     J = ca.densify(ca.jacobian(r, q))
     g = J.T @ r
     free = 1 - ca.logic_or(ca.logic_and(q <= sym.lo, g > 0), ca.logic_and(q >= sym.hi, g < 0))
     e0 = ca.sumsqr(r)
-    pinv = _damped_pinv(J @ ca.diag(sym.s * free), lam * e0 + MU_FLOOR)
+    pinv = _damped_pinv(J @ ca.diag(sym.s * free), lam * e0)
     cand = sym.clip(q - sym.s * (pinv @ r))
-    e_c = ca.sumsqr(_residual(robot, kind, cand, sym.par))
+    e_c = ca.sumsqr(task_residual(robot, kind, cand, sym.par))
     ok = e_c < e0
     q_next = ca.if_else(ok, cand, q)
     return ca.Function(
@@ -230,9 +216,9 @@ def build_slide_step(robot: Robot, kind: str) -> ca.Function:
     """
     sym = _Symbols.make(robot, kind)
     q = sym.q
-    r = _residual(robot, kind, q, sym.par)
+    r = task_residual(robot, kind, q, sym.par)
     free, Js, tangent = _tangent(sym, ca.densify(ca.jacobian(r, q)))
-    fix = -_damped_pinv(Js, MU_FLOOR) @ r
+    fix = -_damped_pinv(Js, 0.0) @ r
     e0 = ca.sumsqr(r)
     q_next, e_next, d_next = q, e0, sym.distance(q)
     for alpha in (*SLIDES, _room(sym, q, tangent)):
@@ -241,8 +227,8 @@ def build_slide_step(robot: Robot, kind: str) -> ca.Function:
         c2 = c1
         for _ in range(RETRACTION_STEPS):
             r1, Js1 = _scaled(sym, robot, kind, c2, free * inside)
-            c2 = sym.clip(c2 - sym.s * (_damped_pinv(Js1, MU_FLOOR) @ r1))
-        e2, d2 = ca.sumsqr(_residual(robot, kind, c2, sym.par)), sym.distance(c2)
+            c2 = sym.clip(c2 - sym.s * (_damped_pinv(Js1, 0.0) @ r1))
+        e2, d2 = ca.sumsqr(task_residual(robot, kind, c2, sym.par)), sym.distance(c2)
         ok = ca.logic_and(e2 <= ca.fmax(e0, SLIDE_SLACK**2), d2 < d_next)
         q_next, e_next = ca.if_else(ok, c2, q_next), ca.if_else(ok, e2, e_next)
         d_next = ca.if_else(ok, d2, d_next)
@@ -502,7 +488,7 @@ class LevenbergMarquardtSolver(Solver):
 
     Solves the IPOPT reference's problem (:mod:`scara_opt.ik.ipopt`) to round-off,
     nearest to ``q0`` on the branch reached from it, typically in 5–15 iterations of a
-    few µs each. It cannot certify ``"unreachable"`` (``method="auto"`` adds IPOPT).
+    few µs each (``method="auto"`` adds closed-form starts and IPOPT).
 
     Options:
         restarts: further seeded random starts after a start stalls (default 10).
@@ -512,12 +498,16 @@ class LevenbergMarquardtSolver(Solver):
     """
 
     name = "lm"
+    label = "LM"
     defaults: ClassVar[dict[str, Any]] = {"restarts": 10, "max_iter": 100, "jit": False}
-    certifies_unreachable = False
 
     def check_options(self) -> None:
         """restarts >= 0 and max_iter >= 1 (integers), jit a bool."""
         check_budget(self.options)
+
+    def prepare(self, robot: Robot, kind: str) -> None:
+        """Build the phases' Functions and this thread's arrays (cached on the robot)."""
+        phase_arrays(robot, kind, 1, bool(self.options["jit"]))
 
     def _solve(self, robot: Robot, target: Target, q0: Array | None,
                rng: np.random.Generator, tol: float) -> SolverOutput:

@@ -21,7 +21,6 @@ from numpy.typing import NDArray
 
 from scara_opt.errors import InputError
 from scara_opt.ik.base import LIMIT_SLACK, check_q0, check_seed, check_tol
-from scara_opt.ik.ipopt import nlp_params
 from scara_opt.ik.lm import (
     LAMBDA0,
     LAMBDA_MAX,
@@ -35,6 +34,7 @@ from scara_opt.ik.lm import (
     random_starts,
     residual_tol,
 )
+from scara_opt.ik.problem import nlp_params
 from scara_opt.ik.task import check_task, errors_from_poses
 from scara_opt.robot import Array, Robot
 from scara_opt.target import Target, as_target
@@ -121,7 +121,7 @@ def _q0s(robot: Robot, q0s: object | None, n: int) -> Array:
 
 
 def _params_rows(stacked: _Stacked, ts: list[Target] | None, Q_ref: Array) -> Array:
-    """The NLP parameter rows (n, n_par) of every target (see ``ipopt.nlp_params``)."""
+    """The NLP parameter rows (n, n_par) of every target (see ``problem.nlp_params``)."""
     if ts is not None:
         return np.array([nlp_params(t, q, 0.0) for t, q in zip(ts, Q_ref, strict=True)])
     n = len(Q_ref)

@@ -13,6 +13,16 @@ from scara_opt.target import Target
 
 Array = NDArray[np.float64]
 
+#: joint values may leave the limits by this much through floating-point round-off [rad or m]
+LIMIT_SLACK = 1e-10
+
+
+def default_q0(robot: Robot) -> Array:
+    """The start used when ``q0`` is None: zero where within the limits, else mid-range."""
+    mid = 0.5 * (robot.sampling_lower + robot.sampling_upper)
+    zero_ok = (robot.lower <= 0) & (robot.upper >= 0)
+    return np.where(zero_ok, 0.0, mid)
+
 
 def check_task(robot: Robot, target: Target) -> None:
     """Refuse a yaw target on a robot whose tool has no single turning axis.

@@ -12,12 +12,13 @@ from __future__ import annotations
 
 from abc import abstractmethod
 from dataclasses import dataclass
-from typing import Any, ClassVar, Generic, TypeVar
+from typing import Any, ClassVar, Generic, TypeVar, cast
 
 import numpy as np
 from numpy.typing import NDArray
 
-from scara_opt.ik.base import Solver, SolverOutput, check_number
+from scara_opt.ik.auto import AutoSolver
+from scara_opt.ik.base import LazyGenerator, Solver, SolverOutput, check_number, default_q0
 from scara_opt.ik.task import config_errors, cost_batch, cost_of, wrap_angle
 from scara_opt.robot import Robot
 from scara_opt.target import Target
@@ -149,6 +150,22 @@ class PopulationSolver(Solver, Generic[S]):
         check_number("iterations", options.get("iterations", self.defaults["iterations"]), 1,
                      integer=True)
         super().__init__(**options)  # unknown names, then the algorithm's check_options
+
+    def prepare(self, robot: Robot, kind: str) -> None:
+        """Build the batch FK of one population (cached on the robot per size and thread)."""
+        probe = {"position": Target(np.zeros(3)), "yaw": Target(np.zeros(3), yaw=0.0),
+                 "rotation": Target(np.zeros(3), rotation=np.eye(3))}[kind]
+        cost_batch(robot, probe, np.tile(default_q0(robot), (int(self.options["population"]), 1)))
+
+    def witness(self, robot: Robot, target: Target, q0: Array | None, seed: int | None,
+                tol: float) -> Array | None:
+        """The exact ``auto`` method's answer with the caller's ``seed`` and ``q0``.
+
+        The verdict asks for it when this metaheuristic missed and neither a certificate
+        nor the closed form decides: ``max_iter`` needs a configuration that reaches.
+        """
+        rng = cast(np.random.Generator, LazyGenerator(seed))
+        return AutoSolver()._solve(robot, target, q0, rng, tol).q
 
     def _solve(self, robot: Robot, target: Target, q0: Array | None,
                rng: np.random.Generator, tol: float) -> SolverOutput:

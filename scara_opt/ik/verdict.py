@@ -1,0 +1,139 @@
+"""The verdict: every solver's answer is judged here, the same way, with its evidence.
+
+A solver returns its best configuration (:class:`SolverOutput`); :func:`judge` recomputes
+the residual from the robot's FK and grants a status only with evidence:
+
+1. ``solved`` (``reached``): the residual is within ``tol``;
+2. ``unreachable``: a :class:`~scara_opt.ik.result.Certificate` proves that no
+   configuration within the limits reaches the target within ``tol``
+   (:func:`scara_opt.ik.certificates.certify`; its reason and numbers go into the result);
+3. ``failed`` (``held_joints``): the solver reports that the joints the caller held make
+   the target infeasible (and no certificate says it is out of reach anyway);
+4. ``max_iter`` (``budget``): a witness shows the target is reachable: the closed form's
+   exact solution where it applies, else the solver's own ``search`` for one (the
+   metaheuristics run the exact ``auto`` method with the caller's seed and ``q0``);
+5. ``failed`` (``no_certificate``): neither proof exists; the best residual is reported.
+
+A configuration outside the joint limits is a solver bug: it is reported as ``failed``
+(``solver_error``) at the nearest in-limit configuration, never passed on. Everything here
+is deterministic, so the same call gives the same verdict.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+
+import numpy as np
+
+from scara_opt.ik.certificates import certify
+from scara_opt.ik.closed_form import witness
+from scara_opt.ik.result import (
+    STATUS_MESSAGES,
+    IKResult,
+    Reason,
+    SolverOutput,
+    Status,
+)
+from scara_opt.ik.task import LIMIT_SLACK, config_errors, cost_of, error_from
+from scara_opt.robot import Array, Robot
+from scara_opt.target import Target
+
+#: a solver's search for a witness: q (nq,) reaching the target, or None
+WitnessSearch = Callable[[], "Array | None"]
+
+
+def _describe_miss(dp: Array, dang: float | None, tol: float) -> str:
+    """Which coordinates miss, e.g. "misses along z (dz = +0.102 m)"."""
+    axes = [axis for axis, v in zip("xyz", dp, strict=True) if abs(v) > tol]
+    parts = [f"d{axis} = {dp['xyz'.index(axis)]:+.4g} m" for axis in axes]
+    if dang is not None and abs(dang) > tol:
+        axes.append("the tool angle")
+        parts.append(f"dangle = {dang:+.4g} rad")
+    if not axes:
+        return "no single coordinate above tol"
+    return f"misses along {', '.join(axes)} ({', '.join(parts)})"
+
+
+def residual(robot: Robot, target: Target, q: Array) -> float:
+    """The honest residual max(|Δp| [m], |Δangle| [rad]) of ``q`` by the robot's FK."""
+    return error_from(*config_errors(robot, target, q))
+
+
+def classify_miss(robot: Robot, target: Target, tol: float, *, held: bool = False,
+                  search: WitnessSearch | None = None) -> tuple[Status, Reason, str]:
+    """Status, reason and evidence for a target a solver did not reach within ``tol``.
+
+    Args:
+        robot: the robot.
+        target: the checked target.
+        tol: the tolerance [m, rad].
+        held: the solver found the target infeasible with the caller's held joints.
+        search: the solver's own witness search (see the module docstring), or ``None``.
+    """
+    cert = certify(robot, target, tol)
+    if cert is not None:
+        return Status.UNREACHABLE, cert.reason, f"proof: {cert.detail}"
+    if held:
+        return Status.FAILED, Reason.HELD_JOINTS, (
+            "not reachable with the joints held by the caller; it is reachable with them "
+            "free (release fixed= or choose other values)")
+    q = witness(robot, target)
+    if q is not None and residual(robot, target, q) <= tol:
+        return Status.MAX_ITER, Reason.BUDGET, (
+            "reachable: the closed form reaches it (q = "
+            f"{np.array2string(q, precision=4, separator=', ')})")
+    if search is not None:
+        q = search()
+        if q is not None and (err := residual(robot, target, q)) <= tol:
+            return Status.MAX_ITER, Reason.BUDGET, (
+                f"reachable: the exact method 'auto' reaches it to {err:.2g} (q = "
+                f"{np.array2string(q, precision=4, separator=', ')})")
+    return Status.FAILED, Reason.NO_CERTIFICATE, (
+        "no configuration within tol was found, and no proof that none exists (the "
+        "target is within the chain's reach bound); try more restarts or another q0")
+
+
+def judge(robot: Robot, target: Target, out: SolverOutput, *, tol: float, method: str,
+          seed: int | None, time_s: float, setup_s: float = 0.0,
+          search: WitnessSearch | None = None) -> IKResult:
+    """The :class:`IKResult` of a solver's output: residual, status and evidence.
+
+    Args:
+        robot: the robot.
+        target: the checked target.
+        out: what the solver returned.
+        tol: residual [m, rad] below which the target counts as reached.
+        method: the solver's registry name.
+        seed: the seed it used.
+        time_s: its search time [s].
+        setup_s: its one-off setup time in this call [s].
+        search: its witness search for a missed target (see :func:`classify_miss`).
+    """
+    lower, upper = robot.lower, robot.upper
+    q_out = np.asarray(out.q, dtype=float)
+    q = np.clip(q_out, lower, upper)
+    over = float(np.max(np.abs(q - q_out)))  # NaN if q_out has NaN
+    extra = out.message
+    bug = not over <= LIMIT_SLACK
+    if bug:  # a solver bug must not leak: report failure at the closest in-limit point
+        extra = f"solver returned q outside the limits by {over:.3g}; " + extra
+        q = np.clip(np.nan_to_num(q_out), lower, upper)
+    dp, dang = config_errors(robot, target, q)
+    error = error_from(dp, dang)
+    if error <= tol:
+        status, reason, evidence = Status.SOLVED, Reason.REACHED, ""
+    elif bug:
+        status, reason, evidence = Status.FAILED, Reason.SOLVER_ERROR, ""
+    else:
+        status, reason, evidence = classify_miss(robot, target, tol, held=out.held,
+                                                 search=search)
+    message = STATUS_MESSAGES[status]
+    if status != Status.SOLVED:
+        message += f"; residual {error:.4g} ({_describe_miss(dp, dang, tol)}), tol {tol:g}"
+    message += "".join(f"; {part}" for part in (evidence, extra) if part)
+    return IKResult(q=q, success=status == Status.SOLVED, status=status, message=message,
+                    position_error=dp, yaw_error=dang, error=error,
+                    cost=cost_of(target, dp, dang), iterations=int(out.iterations),
+                    evaluations=int(out.evaluations), time_s=time_s,
+                    history=np.asarray(out.history, dtype=float), method=method, seed=seed,
+                    tol=tol, reason=reason, setup_s=setup_s)
