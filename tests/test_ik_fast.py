@@ -38,9 +38,9 @@ def test_lm_agrees_with_ipopt_from_a_nearby_q0(robots, name):
     elbow branches nearly coincide and "nearest to q0, on the branch reached" may pick
     either: there both must be solutions equally near q0 (to 1e-5 in range units).
     IPOPT runs both as the default (polished by the fast solver's phases) and on its own
-    (``polish=False``). Mutations: IPOPT without its nearest NLP (the regulariser's offset
-    stays in q); the nearest NLP pulling toward the start instead of q0; the fast solver
-    without its slide toward q0 -> q differs by > 1e-7 and the test fails.
+    (``polish=False``). Mutations caught: IPOPT without its nearest NLP (the regulariser's
+    offset stays in q); the nearest NLP pulling toward zero instead of q0; the fast solver
+    skipping its slide toward q0 -> q differs by > 1e-7.
     """
     robot = robots[name]
     geom = scara_geometry(robot)

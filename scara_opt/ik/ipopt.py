@@ -53,13 +53,8 @@ from scara_opt.ik.task import config_errors, error_from
 from scara_opt.robot import Array, Robot
 from scara_opt.target import Target
 
-#: IPOPT options of the nearest NLP, whose answer is final: the task residual met to 1e-13
-#: [weighted m, rad], no early exit at an "acceptable" level (pinocchio's casadi examples
-#: read the return status; so do we)
-NEAREST_OPTIONS: dict[str, Any] = {
-    "tol": 1e-10,
-    "constr_viol_tol": 1e-13,
-    "acceptable_iter": 0,
+#: IPOPT options of both NLPs (pinocchio's casadi examples read the return status; so do we)
+_COMMON: dict[str, Any] = {
     "hessian_approximation": "exact",
     "honor_original_bounds": "yes",
     "mu_strategy": "monotone",
@@ -69,12 +64,18 @@ NEAREST_OPTIONS: dict[str, Any] = {
     "print_level": 0,
     "sb": "yes",
 }
+#: IPOPT options of the nearest NLP, whose answer is final: the task residual met to 1e-13
+#: [weighted m, rad], no early exit at an "acceptable" level; its objective (a distance in
+#: joint ranges, ~1e-6 near the answer) scaled up so that IPOPT's tolerance reaches joints
+#: that end on a bound (unscaled they stop ~3e-5 rad inside it)
+NEAREST_OPTIONS: dict[str, Any] = {**_COMMON, "tol": 1e-10, "constr_viol_tol": 1e-13,
+                                   "obj_scaling_factor": 1e6, "acceptable_iter": 0}
 #: IPOPT options of the closest NLP: it locates the branch and the nearest NLP finishes, or,
 #: where the target is out of reach, its answer is the closest configuration found. An
 #: iterate at IPOPT's "acceptable" level 1e-6 ends it: along a redundant robot's solution
 #: set its pull toward q0 is too weak a curvature for IPOPT to converge fast (nguyen: 48
 #: iterations to 1e-8, 18 with the early end; the nearest NLP is not affected)
-IPOPT_OPTIONS: dict[str, Any] = {**NEAREST_OPTIONS, "tol": 1e-8, "acceptable_tol": 1e-6,
+IPOPT_OPTIONS: dict[str, Any] = {**_COMMON, "tol": 1e-8, "acceptable_tol": 1e-6,
                                  "acceptable_iter": 1}
 #: the nearest NLP runs from a closest-NLP answer at least this close to the target [m, rad]
 NEAREST_FROM = 1e-3
