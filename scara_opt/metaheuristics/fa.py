@@ -74,7 +74,7 @@ class FireflySolver(PopulationSolver[Population]):
     Where it departs from Yang's code: the per-coordinate weight :math:`u` and keeping
     a firefly's old position when its new one is not brighter (greedy) are those of the
     common implementations (Yarpiz, mealpy); Yang scales by :math:`β` alone and always
-    moves; the brightest firefly walks (in Yang's code it stays); a move that leaves the
+    moves; the brightest firefly walks (in Yang's 2008 code it stays); a move that leaves the
     joint limits is brought back once, after the sweep (reflect, then clip; Yang clips).
 
     Options:
