@@ -1,17 +1,19 @@
 """Metaheuristic IK: time per solve and median error at population 100 / 200 iterations.
 
-For each of the seven metaheuristics on zavar2024 (reachable target (-0.23, 0.20, -0.07) m),
+For each of the eight metaheuristics on zavar2024 (reachable target (-0.23, 0.20, -0.07) m),
 over a few seeds, in one run: our time per solve, the part of it spent in the batch cost
 (FK), evaluations and the median residual; then mealpy's implementation of the same
-algorithm at the same population and epochs, where mealpy has one (it has no SFLA), and
-the ratios ours/mealpy. Goal (issue 4): every algorithm <= 50 ms per solve on the 4-joint
-robots: fang and peng2025 follow (ours only, a reachable target each).
+algorithm at the same population and epochs, where mealpy has one (it has no SFLA and no
+G-HA: mealpy's GA is compared with our plain ``ga``), and the ratios ours/mealpy. Goal
+(issue 4): every algorithm <= 50 ms per solve on the 4-joint robots: fang and peng2025
+follow (ours only, a reachable target each).
 
 Equal budgets: both sides run all 200 generations (our tol is set to 1e-300, so the early
 stop at tol never fires). mealpy evaluates one configuration per call, so it is given the
 toolkit's fastest single-configuration cost: Pinocchio FK (``robot.position``) and eq. 8.
 
-Usage: python benchmarks/bench_meta.py [--seeds N] [--skip-slow]
+Usage: python benchmarks/bench_meta.py [--seeds N] [--skip-slow] [--population P]
+[--iterations T] (defaults 100 and 200; smaller for a quick check that it runs)
 (--skip-slow skips mealpy's firefly, whose epoch costs ~pop² evaluations: ~3 min a solve.)
 
 Install mealpy with ``pip install --no-deps mealpy opfunu``: mealpy 3.0.3 pins
@@ -35,9 +37,9 @@ POP, ITERS = 100, 200
 TARGET = np.array([-0.23, 0.20, -0.07])
 FULL_BUDGET_TOL = 1e-300
 GOAL_S = 0.050
-METHODS = ["ca", "gwo", "gwo+greedy", "pso", "ga", "fa", "aco", "sfla"]
+METHODS = ["ca", "gwo", "gwo+greedy", "pso", "ga", "gha", "fa", "fa+nearest", "aco", "sfla"]
 # rows with options: label -> (method, options)
-VARIANTS = {"gwo+greedy": ("gwo", {"greedy": True})}
+VARIANTS = {"gwo+greedy": ("gwo", {"greedy": True}), "fa+nearest": ("fa", {"sweep": "nearest"})}
 # our name -> (mealpy module, class, options matching ours, note)
 MEALPY = {
     "ca": ("human_based.CA", "OriginalCA", {"accepted_rate": 0.35},
@@ -47,8 +49,9 @@ MEALPY = {
     "gwo+greedy": ("swarm_based.GWO", "OriginalGWO", {}, "both greedy: the same algorithm"),
     "pso": ("swarm_based.PSO", "OriginalPSO", {"c1": 1.49618, "c2": 1.49618, "w": 0.7298}, ""),
     "ga": ("evolutionary_based.GA", "BaseGA", {"pc": 0.8, "pm": 0.2},
-           "no Nelder-Mead polish"),
-    "fa": ("swarm_based.FFA", "OriginalFFA", {}, "~pop^2 evaluations per epoch"),
+           "both without Nelder-Mead; operators differ"),
+    "fa": ("swarm_based.FFA", "OriginalFFA", {},
+           "mealpy costs every move: ~pop^2 evaluations per epoch"),
     "aco": ("swarm_based.ACOR", "OriginalACOR",
             {"sample_count": POP, "intent_factor": 0.1, "zeta": 0.85}, ""),
 }
@@ -123,10 +126,15 @@ def run_mealpy(robot: so.Robot, method: str, seeds: range) -> dict[str, float]:
 
 
 def main() -> None:
+    global POP, ITERS
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--seeds", type=int, default=3, help="seeds per algorithm (default 3)")
     parser.add_argument("--skip-slow", action="store_true", help="skip mealpy's firefly")
+    parser.add_argument("--population", type=int, default=POP, help=f"default {POP}")
+    parser.add_argument("--iterations", type=int, default=ITERS, help=f"default {ITERS}")
     args = parser.parse_args()
+    POP, ITERS = args.population, args.iterations
+    MEALPY["aco"][2]["sample_count"] = POP
     seeds = range(args.seeds)
     robot = so.load_robot("zavar2024")
     try:

@@ -244,7 +244,8 @@ def test_fk_ik_fk_round_trip(name, seed, method):
 
 
 # ------------------------------------------------------------------ registry and bad input
-REGISTERED = ["aco", "analytic", "auto", "ca", "fa", "ga", "gwo", "ipopt", "lm", "pso", "sfla"]
+REGISTERED = ["aco", "analytic", "auto", "ca", "fa", "ga", "gha", "gwo", "ipopt", "lm", "pso",
+              "sfla"]
 
 
 @pytest.mark.parametrize("method", REGISTERED)

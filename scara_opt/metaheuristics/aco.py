@@ -21,7 +21,19 @@ from scara_opt.metaheuristics.base import (
 
 @register_solver("aco")
 class AntColonySolver(PopulationSolver[Population]):
-    r"""Continuous ant colony ACO_R, zavar2024 Algorithm 6 (Socha & Dorigo 2008, Sec. 3).
+    r"""Continuous ant colony ACO_R (Socha & Dorigo 2008, Sec. 3), standing in for zavar2024's ACO.
+
+    **Not the paper's Algorithm 6.** zavar2024's Algorithm 6 is a pheromone-trail ACO in
+    the manner of Ant System (Dorigo et al. 1996): ants build solutions step by step,
+    choosing among discrete options with probabilities weighted by pheromone (exponent
+    α) and a heuristic desirability (exponent β); the trails evaporate at rate ρ and are
+    reinforced by good solutions. That scheme needs a finite set of choices per step
+    and a heuristic, and the paper gives neither for a continuous joint space (a joint
+    grid would also cap the accuracy at its step). ACO_R is the standard continuous
+    counterpart: the "pheromone" is an archive of good solutions and the ants sample
+    Gaussian kernels around them. So this solver is labelled ``"ACO (ACO_R)"`` and takes
+    ``q`` and ``ξ``, not ρ, α, β; its numbers are ACO_R's, not a reproduction of the
+    paper's ACO.
 
     The pheromone is a **solution archive** of :math:`k` = ``population`` configurations
     sorted by cost, :math:`s_1` the best. Rank :math:`l` has the weight (eq. 3 of Socha &
@@ -53,6 +65,7 @@ class AntColonySolver(PopulationSolver[Population]):
     """
 
     name = "aco"
+    label = "ACO (ACO_R)"
     defaults: ClassVar[dict[str, Any]] = {"population": 60, "iterations": 200, "q": 0.1,
                                           "xi": 0.85}
 

@@ -63,6 +63,7 @@ class CulturalSolver(PopulationSolver[Culture]):
     """
 
     name = "ca"
+    label = "CA"
     defaults: ClassVar[dict[str, Any]] = {"population": 60, "iterations": 200, "accept": 0.35,
                                           "step": 0.3}
 

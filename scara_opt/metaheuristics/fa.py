@@ -2,18 +2,31 @@
 
 from __future__ import annotations
 
-from typing import Any, ClassVar
+from typing import Any, ClassVar, Protocol
 
 import numpy as np
 
+from scara_opt.errors import InputError
 from scara_opt.ik.registry import register_solver
 from scara_opt.metaheuristics.base import (
+    Array,
     Population,
     PopulationSolver,
     Problem,
     check_number,
     greedy,
 )
+
+#: the values of the ``sweep`` option: every brighter firefly in turn, or the nearest one
+SWEEPS = ("all", "nearest")
+
+
+class UniformSource(Protocol):
+    """What the sweeps draw from: ``random(shape)``, uniform on [0, 1) (a numpy Generator)."""
+
+    def random(self, size: tuple[int, int]) -> Array:
+        """Uniform draws of shape ``size``."""
+        ...
 
 
 @register_solver("fa")
@@ -25,24 +38,44 @@ class FireflySolver(PopulationSolver[Population]):
     Firefly :math:`i` is attracted by a brighter (cheaper) firefly :math:`j` with an
     attractiveness that decays with their distance :math:`r_{ij}` (measured in units of
     each joint's range, so revolute and prismatic joints weigh alike), and walks at
-    random, with :math:`u, v \sim U(0, 1)^{nq}`:
+    random; one **move** of :math:`i` toward :math:`j` is, with
+    :math:`u, v \sim U(0, 1)^{nq}`:
 
     .. math::
         β_{ij} = β_0 e^{-γ r_{ij}^2}, \qquad
         x_i \leftarrow x_i + β_{ij}\, u \odot (x_j - x_i)
             + α_t\,(v - \tfrac12) \odot (\text{upper} - \text{lower})
 
-    Yang sweeps :math:`i` toward every brighter :math:`j` in turn; with :math:`β_0 = 1`
-    a move toward a near firefly is nearly a jump onto it, so the sweep ends close to
-    the brightest fireflies near :math:`i`. Here every firefly makes one move, toward
-    the brighter firefly that attracts it most (:math:`\max_j β_{ij}`, i.e. its nearest
-    brighter neighbour), all fireflies at once: the pairwise distances are one numpy
-    broadcast (n × n, from the Gram matrix) and the generation one batch of costs. The
-    per-coordinate weight :math:`u` is that of the common implementations (Yarpiz,
-    mealpy); so is keeping the old position when the new one is not brighter.
-    The brightest firefly only walks. The walk cools geometrically over the budget,
-    :math:`α_t = α_0 (α_{end}/α_0)^{t/T}` (Yang's own code cools the same way, to a
-    fixed fraction at the last generation :math:`T`), so it ends below the tolerance.
+    **Sweep** (option ``sweep``):
+
+    * ``"all"`` (default; the paper's Algorithm 5 and Yang's own 2008 code,
+      ``firefly_simple.m`` / ``ffa_move``): every firefly :math:`i` moves toward **every**
+      brighter :math:`j` in turn, from the dimmest of them to the brightest (Yang sorts
+      the fireflies by brightness first), :math:`r_{ij}` measured from :math:`i`'s
+      current (already moved) position to :math:`j`'s position at the start of the
+      generation, each move with its own random step (as in both of Yang's codes).
+      Vectorised as in :func:`sweep_all`: one
+      Python step per attracting firefly, moving all the fireflies dimmer than it at
+      once (numpy), so a generation is about ``population`` small numpy steps, not
+      ``population²`` scalar ones.
+    * ``"nearest"``: every firefly makes one move, toward the brighter firefly that
+      attracts it most (:math:`\max_j β_{ij}`, its nearest brighter neighbour), all at
+      once (:func:`sweep_nearest`: an n × n distance matrix, one broadcast). Cheaper per
+      generation; the sweep this class ran before the all-pairs one became the default.
+
+    The brightest firefly (no one attracts it) makes one random step, in both sweeps.
+    Brightness is the cost at the start of the generation, and the moved fireflies are
+    costed once per generation, in one batch, after the sweep, as in Yang's 2008 code
+    (the paper's Algorithm 5, and Yang's 2010 ``fa_ndim``, evaluate after each move: n²
+    evaluations a generation instead of n). The walk cools geometrically over
+    the budget, :math:`α_t = α_0 (α_{end}/α_0)^{t/T}` (Yang's code cools the same way, to
+    a fixed fraction at the last generation :math:`T`), so it ends below the tolerance.
+
+    Where it departs from Yang's code: the per-coordinate weight :math:`u` and keeping
+    a firefly's old position when its new one is not brighter (greedy) are those of the
+    common implementations (Yarpiz, mealpy); Yang scales by :math:`β` alone and always
+    moves; the brightest firefly walks (in Yang's 2008 code it stays); a move that leaves the
+    joint limits is brought back once, after the sweep (reflect, then clip; Yang clips).
 
     Options:
         population: fireflies (default 60).
@@ -53,21 +86,32 @@ class FireflySolver(PopulationSolver[Population]):
             joint's range (default 0.2).
         alpha_end: random step :math:`α_{end}` at the last generation, same units
             (default 2e-7: below a micrometre on a 0.4 m arm).
+        sweep: ``"all"`` (default) or ``"nearest"``, see above.
     """
 
     name = "fa"
+    label = "FA"
     defaults: ClassVar[dict[str, Any]] = {
         "population": 60, "iterations": 200, "beta0": 1.0, "gamma": 1.0, "alpha": 0.2,
-        "alpha_end": 2e-7,
+        "alpha_end": 2e-7, "sweep": "all",
     }
 
     def check_options(self) -> None:
-        """Validate β0 in [0, 2], γ >= 0 and 0 < α_end <= α0 <= 1."""
+        """Validate β0 in [0, 2], γ >= 0, 0 < α_end <= α0 <= 1 and the sweep's name."""
         o = self.options
         check_number("beta0", o["beta0"], 0.0, 2.0)
         check_number("gamma", o["gamma"], 0.0)
         check_number("alpha", o["alpha"], 0.0, 1.0, low_open=True)
         check_number("alpha_end", o["alpha_end"], 0.0, o["alpha"], low_open=True)
+        if not isinstance(o["sweep"], str) or o["sweep"] not in SWEEPS:
+            raise InputError(f"option sweep={o['sweep']!r} must be one of "
+                             f"{', '.join(map(repr, SWEEPS))}")
+
+    def memory_estimate(self, nq: int) -> int:
+        """The base estimate; the nearest sweep adds its n × n distance arrays (5 floats a pair)."""
+        n = int(self.options["population"])
+        extra = 5 * 8 * n * n if self.options["sweep"] == "nearest" else 0
+        return super().memory_estimate(nq) + extra
 
     def initialize(self, problem: Problem, population: Population,
                    rng: np.random.Generator) -> Population:
@@ -76,19 +120,75 @@ class FireflySolver(PopulationSolver[Population]):
 
     def advance(self, problem: Problem, state: Population, rng: np.random.Generator,
                 t: int) -> Population:
-        """Every firefly moves toward its most attractive brighter one; keep the gains."""
+        """One sweep of moves, one batch of costs; each firefly keeps its gain, if any."""
         o = self.options
-        X, f = state.X, state.f
-        Y = X / problem.span                                   # distances in joint ranges
-        sq = np.einsum("ij,ij->i", Y, Y)
-        r2 = np.maximum(sq[:, None] + sq[None, :] - 2.0 * (Y @ Y.T), 0.0)   # (n, n)
-        brighter = f[None, :] < f[:, None]                     # [i, j]: j brighter than i
-        j = np.argmin(np.where(brighter, r2, np.inf), axis=1)  # nearest brighter = max β_ij
-        rows = np.arange(f.shape[0])
-        beta = np.where(brighter[rows, j], o["beta0"] * np.exp(-o["gamma"] * r2[rows, j]), 0.0)
-        pull = beta[:, None] * rng.random(X.shape) * (X[j] - X)
-        alpha = self.cooled(o["alpha"], o["alpha_end"], t)
-        walk = alpha * (rng.random(X.shape) - 0.5) * problem.span
-        moved = problem.repair(X + pull + walk)
+        step = self.cooled(o["alpha"], o["alpha_end"], t) * problem.span
+        sweep = sweep_all if o["sweep"] == "all" else sweep_nearest
+        moved = problem.repair(sweep(state.X, state.f, problem.span, float(o["beta0"]),
+                                     float(o["gamma"]), step, rng))
         greedy(state, moved, problem.cost(moved))
         return state
+
+
+def sweep_all(X: Array, f: Array, span: Array, beta0: float, gamma: float, step: Array,
+              rng: UniformSource) -> Array:
+    r"""Every firefly moved toward every brighter one in turn (Yang's ``ffa_move``).
+
+    For each firefly :math:`j` from the dimmest to the brightest, every firefly strictly
+    dimmer than :math:`j` (cost above :math:`f_j`) moves toward :math:`j` at once:
+    :math:`x_i \leftarrow x_i + β_0 e^{-γ r^2} u \odot (x_j - x_i) + (v - ½) \odot`
+    ``step``, with :math:`r` from :math:`i`'s current position to :math:`j`'s (which has
+    not moved yet: :math:`j` moves only toward brighter fireflies, later in the sweep).
+    So each firefly meets its brighter ones in the same order as in Yang's double loop.
+    The fireflies that nothing is brighter than make one random step. No box rule here.
+
+    Args:
+        X: (n, nq) positions at the start of the generation [rad or m].
+        f: (n,) their costs (lower is brighter).
+        span: (nq,) joint ranges; distances are measured in them.
+        beta0: :math:`β_0`.
+        gamma: :math:`γ`.
+        step: (nq,) random step :math:`α_t \cdot` span [rad or m].
+        rng: draws :math:`u, v` (a numpy Generator).
+
+    Returns:
+        (n, nq) moved positions, in the row order of ``X``.
+    """
+    n, nq = X.shape
+    order = np.argsort(f, kind="stable")                  # brightest first
+    Xs, fs = X[order], f[order]
+    new = Xs.copy()
+    first_dimmer = np.searchsorted(fs, fs, side="right")  # rows >= this are dimmer than row k
+    w = span**-2.0                                        # r² in joint ranges
+    for k in range(n - 1, -1, -1):                        # attractor: dimmest to brightest
+        s = first_dimmer[k]
+        if s == n:
+            continue
+        D = Xs[k] - new[s:]                               # (m, nq), m = fireflies dimmer than k
+        beta = beta0 * np.exp(-gamma * np.einsum("ij,ij,j->i", D, D, w))
+        u, v = rng.random((2, n - s, nq))
+        new[s:] += beta[:, None] * u * D + (v - 0.5) * step
+    top = first_dimmer[0]                                 # the brightest: a random step only
+    new[:top] += (rng.random((top, nq)) - 0.5) * step
+    out = np.empty_like(new)
+    out[order] = new
+    return out
+
+
+def sweep_nearest(X: Array, f: Array, span: Array, beta0: float, gamma: float, step: Array,
+                  rng: UniformSource) -> Array:
+    """Every firefly moved once, toward its nearest brighter neighbour (max β), all at once.
+
+    Pairwise distances (in joint ranges) are one n × n broadcast from the Gram matrix.
+    The brightest firefly only takes its random step. Arguments and return as for
+    :func:`sweep_all`.
+    """
+    Y = X / span
+    sq = np.einsum("ij,ij->i", Y, Y)
+    r2 = np.maximum(sq[:, None] + sq[None, :] - 2.0 * (Y @ Y.T), 0.0)   # (n, n)
+    brighter = f[None, :] < f[:, None]                     # [i, j]: j brighter than i
+    j = np.argmin(np.where(brighter, r2, np.inf), axis=1)  # nearest brighter = max β_ij
+    rows = np.arange(f.shape[0])
+    beta = np.where(brighter[rows, j], beta0 * np.exp(-gamma * r2[rows, j]), 0.0)
+    pull = beta[:, None] * rng.random(X.shape) * (X[j] - X)
+    return X + pull + (rng.random(X.shape) - 0.5) * step

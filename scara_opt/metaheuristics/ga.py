@@ -1,13 +1,10 @@
-"""Genetic-hybrid algorithm (G-HA): a real-coded GA, then a Nelder–Mead polish."""
+"""Genetic algorithm (GA): tournament selection, blend crossover, mutation, elitist survival."""
 
 from __future__ import annotations
 
-import math
-from dataclasses import dataclass
 from typing import Any, ClassVar
 
 import numpy as np
-from scipy.optimize import Bounds, OptimizeResult, minimize
 
 from scara_opt.ik.registry import register_solver
 from scara_opt.metaheuristics.base import (
@@ -19,20 +16,9 @@ from scara_opt.metaheuristics.base import (
 )
 
 
-@dataclass
-class Generation(Population):
-    """A population sorted by cost, and the cost reached by the last polish.
-
-    Attributes:
-        polished_f: cost of the last Nelder–Mead result (``inf`` before the first).
-    """
-
-    polished_f: float = math.inf
-
-
 @register_solver("ga")
-class GeneticHybridSolver(PopulationSolver[Generation]):
-    r"""Genetic-hybrid algorithm, zavar2024 Algorithm 4 (GA + hybrid function).
+class GeneticSolver(PopulationSolver[Population]):
+    r"""Plain real-coded genetic algorithm: the GA part of zavar2024 Algorithm 4, no hybrid.
 
     Each generation (a real-coded GA, Holland 1975 / Eshelman & Schaffer 1993):
 
@@ -48,15 +34,15 @@ class GeneticHybridSolver(PopulationSolver[Generation]):
     * **survival**: parents and children together, the best ``population`` survive
       (elitist, so the best is never lost).
 
-    **Hybrid function**: once the best cost falls below ``polish_below`` (the paper:
-    :math:`10^{-3}` in Sec. 6; its Sec. 5 says :math:`10^{-4}`), the best individual is
-    polished by ``scipy.optimize.minimize(method="Nelder-Mead", bounds=limits)``
-    (at most ``polish_maxfev`` evaluations, stopping as soon as the cost meets the
-    tolerance), and the result replaces the worst individual. A polish runs again only
-    when the GA has since found a better point than the last polish gave. Every
-    Nelder–Mead evaluation is counted in ``evaluations``. The first simplex spans the
-    population's spread along each joint (at most a tenth of its range), so the polish
-    starts at the scale the GA has reached.
+    A generation costs exactly ``population`` evaluations, one batch, so a run of
+    :math:`T` generations costs ``population * (T + 1)``. Nothing else searches: no
+    local polish (that is ``gha``, :class:`~scara_opt.metaheuristics.gha.GeneticHybridSolver`).
+
+    Where it departs from the paper: zavar2024's Algorithm 4 names the operators only
+    ("soft or hard" selection by roulette wheel, rank or top; crossover; mutation) and
+    gives no rates; the operators and rates here are our choice (tournament, BLX-γ,
+    annealed Gaussian mutation, elitist survival), and the paper's "hybrid function"
+    (Nelder–Mead) is left out on purpose: this is the GA alone, to compare against.
 
     Options:
         population: individuals (default 60).
@@ -69,20 +55,17 @@ class GeneticHybridSolver(PopulationSolver[Generation]):
             (default 0.1).
         mutation_scale_end: :math:`σ_{end}`, the step the last generation approaches,
             same units (default 1e-4).
-        polish_below: cost [m, rad] below which Nelder–Mead polishes (default 1e-3).
-        polish_maxfev: evaluations allowed to one polish (default 400; 0: no polish,
-            a plain GA).
     """
 
     name = "ga"
+    label = "GA"
     defaults: ClassVar[dict[str, Any]] = {
         "population": 60, "iterations": 200, "tournament": 2, "crossover": 0.8, "blend": 0.4,
-        "mutation": 0.2, "mutation_scale": 0.1, "mutation_scale_end": 1e-4, "polish_below": 1e-3,
-        "polish_maxfev": 400,
+        "mutation": 0.2, "mutation_scale": 0.1, "mutation_scale_end": 1e-4,
     }
 
     def check_options(self) -> None:
-        """Validate the GA rates, sizes and the polish settings."""
+        """Validate the GA rates and sizes."""
         o = self.options
         check_number("tournament", o["tournament"], 1, o["population"], integer=True)
         check_number("crossover", o["crossover"], 0.0, 1.0)
@@ -91,18 +74,30 @@ class GeneticHybridSolver(PopulationSolver[Generation]):
         check_number("mutation_scale", o["mutation_scale"], 0.0, 1.0, low_open=True)
         check_number("mutation_scale_end", o["mutation_scale_end"], 0.0, o["mutation_scale"],
                      low_open=True)
-        check_number("polish_below", o["polish_below"], 0.0)
-        check_number("polish_maxfev", o["polish_maxfev"], 0, integer=True)
 
     def initialize(self, problem: Problem, population: Population,
-                   rng: np.random.Generator) -> Generation:
+                   rng: np.random.Generator) -> Population:
         """The first population, sorted by cost."""
-        pop = truncate(population.X, population.f, population.f.shape[0])
-        return Generation(pop.X, pop.f)
+        return truncate(population.X, population.f, population.f.shape[0])
 
-    def advance(self, problem: Problem, state: Generation, rng: np.random.Generator,
-                t: int) -> Generation:
-        """Select, cross, mutate, keep the best; polish the best once it is good enough."""
+    def advance(self, problem: Problem, state: Population, rng: np.random.Generator,
+                t: int) -> Population:
+        """One GA generation (see :meth:`breed`)."""
+        return self.breed(problem, state, rng, t)
+
+    def breed(self, problem: Problem, state: Population, rng: np.random.Generator,
+              t: int) -> Population:
+        """Select, cross, mutate; the best ``population`` of parents and children, sorted.
+
+        Args:
+            problem: bounds, repair rule and counted cost.
+            state: the current population, sorted by cost.
+            rng: the solve's random generator.
+            t: the generation index (anneals the mutation step).
+
+        Returns:
+            The next population, sorted by cost (one batch of ``population`` evaluations).
+        """
         o = self.options
         X, f = state.X, state.f
         n, nq = X.shape
@@ -118,30 +113,4 @@ class GeneticHybridSolver(PopulationSolver[Generation]):
         step = sigma * problem.span * rng.standard_normal((n, nq))
         children = problem.repair(children + mutate * step)
         fc = problem.cost(children)
-        pop = truncate(np.vstack([X, children]), np.concatenate([f, fc]), n)
-        new = Generation(pop.X, pop.f, polished_f=state.polished_f)
-        if (o["polish_maxfev"] > 0 and problem.stop_cost < new.f[0]
-                < min(o["polish_below"], new.polished_f)):
-            self._polish(problem, new)
-        return new
-
-    def _polish(self, problem: Problem, gen: Generation) -> None:
-        """Nelder–Mead from the best individual; the result replaces the worst one."""
-        x0 = gen.X[0]
-        h = np.clip(gen.X.std(axis=0), 1e-9 * problem.span, 0.1 * problem.span)
-        h = np.where(x0 + h > problem.upper, -h, h)     # keep the first simplex in the box
-        simplex = np.vstack([x0, x0 + np.diag(h)])
-
-        def stop_at_tol(intermediate_result: OptimizeResult) -> None:
-            if intermediate_result.fun <= problem.stop_cost:
-                raise StopIteration
-
-        res = minimize(problem.cost_one, x0, method="Nelder-Mead",
-                       bounds=Bounds(problem.lower, problem.upper), callback=stop_at_tol,
-                       options={"initial_simplex": simplex, "maxfev": self.options[
-                           "polish_maxfev"], "xatol": 1e-14, "fatol": 0.0})
-        gen.polished_f = float(res.fun)
-        if res.fun < gen.f[-1]:
-            gen.X[-1], gen.f[-1] = np.clip(res.x, problem.lower, problem.upper), res.fun
-            order = np.argsort(gen.f, kind="stable")
-            gen.X, gen.f = gen.X[order], gen.f[order]
+        return truncate(np.vstack([X, children]), np.concatenate([f, fc]), n)

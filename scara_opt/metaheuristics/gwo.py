@@ -59,6 +59,7 @@ class GreyWolfSolver(PopulationSolver[Pack]):
     """
 
     name = "gwo"
+    label = "GWO"
     defaults: ClassVar[dict[str, Any]] = {"population": 60, "iterations": 200, "a_start": 2.0,
                                           "greedy": False}
     min_population = 3

@@ -59,6 +59,7 @@ class ParticleSwarmSolver(PopulationSolver[Swarm]):
     """
 
     name = "pso"
+    label = "PSO"
     defaults: ClassVar[dict[str, Any]] = {
         "population": 60, "iterations": 200, "inertia": 0.7298, "cognitive": 1.49618,
         "social": 1.49618, "max_velocity": 0.2,

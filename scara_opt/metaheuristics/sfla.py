@@ -76,6 +76,7 @@ class ShuffledFrogSolver(PopulationSolver[Frogs]):
     """
 
     name = "sfla"
+    label = "SFLA"
     defaults: ClassVar[dict[str, Any]] = {
         "population": 200, "iterations": 200, "memeplexes": 10, "local_steps": 10,
         "leap": 2.0, "max_leap": math.inf,
