@@ -63,6 +63,18 @@ def arm6() -> so.Robot:
     return so.Robot.from_urdf(DATA / "arm6.urdf")
 
 
+@pytest.fixture(scope="session")
+def ur5_arm() -> so.Robot:
+    """UR5 (CB3) 6R arm from its published standard DH table (tests/data/ur5_dh.toml)."""
+    return so.Robot.from_urdf(DATA / "ur5_dh.urdf", tip="tool")
+
+
+@pytest.fixture(scope="session")
+def panda_arm() -> so.Robot:
+    """Franka Panda 7R arm from its published modified DH table, tip at the flange."""
+    return so.Robot.from_urdf(DATA / "panda_dh.urdf", tip="tool")
+
+
 def random_q(robot: so.Robot, n: int, seed: int = 0) -> np.ndarray:
     """``n`` configurations drawn uniformly within the joint limits, (n, nq)."""
     return np.random.default_rng(seed).uniform(robot.lower, robot.upper, (n, robot.nq))
