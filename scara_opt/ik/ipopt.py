@@ -20,7 +20,8 @@ IPOPT stops at its own tolerance (``NEAREST_OPTIONS``: the task residual met to 
 early exit at an "acceptable" level), so IPOPT alone reaches round-off on reachable
 targets; the return status of every IPOPT call is reported in the result's message. If the
 first start misses, up to ``restarts`` further starts are drawn uniformly within the limits
-from the seeded generator; the best is kept. ``polish`` then runs the fast solver's phases
+from the seeded generator (none once a start is within a relative 1e-6 of the least residual
+a certificate of :mod:`scara_opt.ik.certificates` proves); the best is kept. ``polish`` then runs the fast solver's phases
 (:mod:`scara_opt.ik.lm`) from the answer, kept only if not worse: the last digits.
 
 IPOPT does not decide reachability: a miss is judged by :mod:`scara_opt.ik.verdict`
@@ -39,7 +40,8 @@ import casadi as ca
 import numpy as np
 
 from scara_opt.ik.base import Solver, SolverOutput, check_flag, check_number, default_q0
-from scara_opt.ik.lm import lm_search
+from scara_opt.ik.certificates import certify
+from scara_opt.ik.lm import lm_search, phase_arrays
 from scara_opt.ik.problem import (
     ik_objective,
     n_params,
@@ -149,7 +151,8 @@ class IpoptSolver(Solver):
     r"""IK by IPOPT on the casadi NLPs (see the module docstring for the problems and rules).
 
     Options:
-        restarts: further seeded random starts after the first misses (default 10).
+        restarts: further seeded random starts after the first misses (default 20; none
+            once a start is as close as a certificate proves possible).
         max_iter: IPOPT iterations per start and NLP (default 100).
         regularization: weight :math:`\lambda` of the pull toward ``q0`` in the closest NLP
             (default 1e-8: near a singular pose it picks the branch nearest ``q0``; the
@@ -160,7 +163,7 @@ class IpoptSolver(Solver):
 
     name = "ipopt"
     label = "IPOPT"
-    defaults = {"restarts": 10, "max_iter": 100, "regularization": 1e-8, "polish": True,
+    defaults = {"restarts": 20, "max_iter": 100, "regularization": 1e-8, "polish": True,
                 "verbose": False}
 
     def check_options(self) -> None:
@@ -172,10 +175,12 @@ class IpoptSolver(Solver):
         check_flag("verbose", self.options["verbose"])
 
     def prepare(self, robot: Robot, kind: str) -> None:
-        """Build (or find cached) the two NLPs of this task kind."""
+        """Build (or find cached) the two NLPs of this task kind, and the polish's iterations."""
         o = self.options
         cached_nlp(robot, kind, o["max_iter"], o["verbose"])
         cached_nlp(robot, kind, o["max_iter"], o["verbose"], nearest=True)
+        if o["polish"]:
+            phase_arrays(robot, kind)
 
     def _solve(self, robot: Robot, target: Target, q0: Array | None,
                rng: np.random.Generator, tol: float, held: dict[int, float] | None = None
@@ -193,13 +198,18 @@ class IpoptSolver(Solver):
         q_ref = q_ref.copy()
         q_ref[idx] = vals
         run = _Run(robot, target, opts, q_ref, lbx, ubx, tol, nearest=not held)
-        start = q_ref
+        start, bound = q_ref, None
         for k in range(int(opts["restarts"]) + 1):
             if k > 0:
                 start = rng.uniform(robot.sampling_lower, robot.sampling_upper)
                 start[idx] = vals
             if run.start(start) <= tol:
                 break
+            if k == 0 and not held:
+                cert = certify(robot, target, tol)
+                bound = None if cert is None else cert.bound
+            if bound is not None and run.best_err <= bound * (1 + 1e-6) + tol:
+                break  # out of reach, and no start can get more than 1e-6 of it closer
         q, err = run.best_q, run.best_err
         if opts["polish"] and not held:
             q, err = polish(robot, target, q, err, q_ref, tol)
