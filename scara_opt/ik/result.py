@@ -133,7 +133,9 @@ class IKResult:
         method: registry name of the solver.
         seed: the seed used.
         tol: the tolerance ``error`` was judged against.
-        reason: the evidence behind ``status`` (:class:`Reason`).
+        reason: the kind of evidence behind ``status`` (:class:`Reason`).
+        evidence: the evidence in words, with its numbers: the certificate's argument for
+            ``unreachable``, the witness for ``max_iter``; empty when solved.
         setup_s: one-off setup this call paid (casadi builds, compilation) [s]; 0 once cached.
     """
 
@@ -153,6 +155,7 @@ class IKResult:
     seed: int | None = None
     tol: float = 1e-9
     reason: Reason = Reason.REACHED
+    evidence: str = ""
     setup_s: float = 0.0
 
     def __repr__(self) -> str:

@@ -18,21 +18,25 @@ from pathlib import Path
 import pandas as pd
 
 from scara_opt.errors import InputError
+from scara_opt.reports.verdicts import VERDICTS
 
 PAPERS = ("zavar2024", "peng2025", "nguyen", "inverted5", "fang")
 
 
 @dataclass(frozen=True)
 class Finding:
-    """One checked item: the paper's value, ours, and the verdict.
+    """One checked item: the paper's value, ours, and the verdict with its rule.
 
     Attributes:
         item: what was checked (e.g. "Table 2, CA at population 40").
         paper: the paper's value, as printed.
         ours: our value, with units.
-        verdict: ``"matched"``, ``"differs"``, ``"paper inconsistent"`` or ``"figure only"``
-            (the paper gives a picture, no number to compare).
+        verdict: one of :data:`~scara_opt.reports.verdicts.VERDICTS`, computed by a rule of
+            :mod:`scara_opt.reports.verdicts` from what was measured (never a constant).
         why: the reason when it is not a plain match.
+        rule: the rule the verdict was computed by, in words.
+        basis: what the measurement rests on: ``"ik"``, ``"timing"``, ``"fk"`` or
+            ``"workspace"`` (a test breaks each and checks no verdict still says matched).
     """
 
     item: str
@@ -40,6 +44,12 @@ class Finding:
     ours: str
     verdict: str
     why: str = ""
+    rule: str = ""
+    basis: str = ""
+
+    def __post_init__(self) -> None:
+        if self.verdict not in VERDICTS:
+            raise ValueError(f"unknown verdict {self.verdict!r}; one of {VERDICTS}")
 
 
 @dataclass
@@ -63,12 +73,13 @@ class PaperReport:
     def to_markdown(self) -> str:
         """The paper's section of ``summary.md``."""
         lines = [f"## {self.paper}: {self.title}", ""]
-        verdicts = ("matched", "differs", "paper inconsistent", "figure only")
-        counts = {v: sum(f.verdict == v for f in self.findings) for v in verdicts}
+        counts = {v: sum(f.verdict == v for f in self.findings) for v in VERDICTS}
         lines.append(", ".join(f"{n} {v}" for v, n in counts.items() if n) or "no findings")
-        lines += ["", "| item | paper | ours | verdict | why |", "|---|---|---|---|---|"]
+        lines += ["", "| item | paper | ours | verdict | rule | why |",
+                  "|---|---|---|---|---|---|"]
         for f in self.findings:
-            lines.append(f"| {f.item} | {f.paper} | {f.ours} | {f.verdict} | {f.why} |")
+            cells = (f.item, f.paper, f.ours, f.verdict, f.rule, f.why)
+            lines.append("| " + " | ".join(c.replace("|", "\\|") for c in cells) + " |")
         lines += [""] + [f"- {n}" for n in self.notes]
         if self.figures:
             lines += ["", "Figures: " + ", ".join(f"[{p.name}]({p.name})" for p in self.figures)]

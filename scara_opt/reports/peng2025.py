@@ -13,6 +13,7 @@ import pandas as pd
 import scara_opt as so
 from scara_opt.plots import draw_robot
 from scara_opt.reports import Finding, PaperReport
+from scara_opt.reports import verdicts as rules
 
 #: eq. 21, rotated back into the paper's base frame (180° about x): position [mm], yaw 0
 VALIDATION_MM = np.array([400.0, -120.0, 170.0])
@@ -23,9 +24,10 @@ def run(out: Path, quick: bool = False) -> PaperReport:
     robot = so.load_robot("peng2025")
     rep = PaperReport("peng2025", "compact 4-DoF SCARA, prismatic joint first")
     p0 = robot.position(np.zeros(4)) * 1000
+    verdict, rule = rules.within(float(p0[2]), 172.0, 1e-9)
     rep.findings.append(Finding("eq. 4.6 at zero joints: z = z0 + 172", "z = 172 mm",
-                                f"z = {p0[2]:.3f} mm (x = {p0[0]:.1f} mm)",
-                                "matched" if abs(p0[2] - 172) < 1e-9 else "differs"))
+                                f"z = {p0[2]:.3f} mm (x = {p0[0]:.1f} mm)", verdict,
+                                rule=rule + " mm", basis="fk"))
     _validation(robot, rep, out)
     _workspace(robot, rep, out, quick)
     return rep
@@ -34,11 +36,12 @@ def run(out: Path, quick: bool = False) -> PaperReport:
 def _validation(robot: so.Robot, rep: PaperReport, out: Path) -> None:
     target = so.Target(VALIDATION_MM / 1000, yaw=0.0)
     res = so.solve_ik(robot, target)
+    verdict, rule = rules.claim_of_reach([res])
     rep.findings.append(Finding(
         "eq. 21 validation pose (400, -120, 170) mm, yaw 0", "two solution sets (Figs. 9-10)",
-        f"{res.status.value}, residual {res.error * 1000:.3f} mm along z", "differs",
-        "z = 170 mm needs z0 = -2 mm, 2 mm outside the 0-40 mm stroke: the paper's "
-        "'marginal J0 discrepancy' against ikunc"))
+        f"{res.status.value} ({res.reason.value}), residual {res.error * 1000:.3f} mm",
+        verdict, rules.proof_of(res) + " (z = 170 mm needs z0 = -2 mm: the paper's 'marginal J0 "
+        "discrepancy' against ikunc)", rule, "ik"))
     widened = robot.with_limits(z0=(-0.005, 0.040))
     branches = so.ik_all(widened, target)
     rows = [{"branch": k + 1, "z0_mm": b.q[0] * 1000, "theta1_deg": np.degrees(b.q[1]),
@@ -46,12 +49,14 @@ def _validation(robot: so.Robot, rep: PaperReport, out: Path) -> None:
              "error_m": b.error} for k, b in enumerate(branches)]
     rep.add_table("validation_branches", pd.DataFrame(rows), out)
     elbows = sorted({round(float(np.degrees(b.q[2])), 4) for b in branches})
+    verdict, rule = rules.within(len(elbows), 2, 0)
     rep.findings.append(Finding(
         "same pose with the stroke widened to [-5, 40] mm", "two solution sets",
         f"{len(elbows)} elbow branches (theta2 = {', '.join(f'{e:g}' for e in elbows)} deg), "
-        f"{len(branches)} solutions counting the +-360 deg wrist turns", "matched",
-        "the wrist's +-360 deg range doubles each branch"))
-    ax = None
+        f"{len(branches)} solutions counting the +-360 deg wrist turns", verdict,
+        "the wrist's +-360 deg range doubles each branch",
+        "matched if the closed form finds exactly 2 elbow branches, each solved", "ik"))
+    ax = draw_robot(widened, widened.lower, label="(no branch)") if not branches else None
     for k, b in enumerate(branches[:2]):
         ax = draw_robot(widened, b.q, ax=ax, color=f"C{k}", label=f"branch {k + 1}")
     path = out / "peng2025_fig9_fig10_branches.png"
@@ -80,4 +85,5 @@ def _workspace(robot: so.Robot, rep: PaperReport, out: Path, quick: bool) -> Non
     rep.findings.append(Finding(
         f"Monte Carlo workspace, N = {n:,}", "N = 60,000 (Fig. 4); calibrated (Fig. 6)",
         f"XY area {free.xy_area:.4f} m2, with the base zone {calibrated.xy_area:.4f} m2",
-        "figure only", "the paper gives figures, no numbers: compare the PNGs with its figures"))
+        rules.FIGURE_ONLY, "the paper gives figures, no numbers: compare the PNGs with its "
+        "figures", "nothing to compare: no number in the paper", "workspace"))

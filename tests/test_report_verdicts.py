@@ -1,0 +1,118 @@
+"""Report verdicts are computed from measurements: broken solvers never read "matched"."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+import scara_opt as so
+from scara_opt.ik import analytic
+from scara_opt.ik import registry as ik_registry
+from scara_opt.ik.base import default_q0
+from scara_opt.ik.result import SolverOutput
+from scara_opt.reports import PAPERS, Finding, run_paper
+from scara_opt.reports import verdicts as rules
+from scara_opt.trajectory import registry as timing_registry
+
+
+def _broken(cls: type) -> type:
+    """``cls`` whose search returns its start (q0, or the default start) unchanged."""
+
+    class Broken(cls):  # type: ignore[misc, valid-type]
+        def _solve(self, robot, target, q0, rng, tol):  # noqa: ANN001, ANN202
+            return SolverOutput(q=default_q0(robot) if q0 is None else q0.copy())
+
+    return Broken
+
+
+@pytest.fixture
+def broken_solvers(monkeypatch: pytest.MonkeyPatch) -> None:
+    """Every registered IK method returns q0, the closed form returns q0 as its only branch,
+    and every timing method times the path backwards."""
+    for name, factory in list(ik_registry._REGISTRY.items()):
+        monkeypatch.setitem(ik_registry._REGISTRY, name, _broken(factory))
+    monkeypatch.setattr(analytic, "solve_all", lambda robot, target, q_ref, fixed=None:
+                        [q_ref.copy()])
+    timing_registry._load_builtin()
+    for name, entry in list(timing_registry._REGISTRY.items()):
+        backwards = (lambda fn: lambda Q, *a, **k: fn(np.ascontiguousarray(Q[::-1]), *a,
+                                                      **k))(entry.backend)
+        monkeypatch.setitem(timing_registry._REGISTRY, name,
+                            timing_registry.TimingMethod(name, backwards, entry.options,
+                                                         entry.uses_jerk, entry.takes_duration))
+
+
+@pytest.mark.parametrize("paper", PAPERS)
+def test_no_matched_verdict_from_broken_solvers(broken_solvers, paper, tmp_path):
+    """With every solver broken (IK returns q0, timing runs backwards), no finding that rests
+    on IK or timing says "matched", and each such finding's verdict is one of the rules'.
+
+    Mutations caught: any report verdict written as the constant "matched" (e.g. peng2025's
+    two-branch row, inverted5's "every answer reaches it", fang's table rows); a reach rule
+    that treats "both miss" as a match (zavar2024's GWO row); a best-method rule that ignores
+    whether the best method reaches (zavar2024's conclusion with every method tied).
+    """
+    report = run_paper(paper, tmp_path, quick=True)
+    measured = [f for f in report.findings if f.basis in ("ik", "timing")]
+    assert measured, "the report has no finding that rests on a solver"
+    matched = [f.item for f in measured if f.verdict == rules.MATCHED]
+    assert not matched, matched
+
+
+@pytest.mark.parametrize("paper, item", [("peng2025", "eq. 4.6"), ("inverted5", "Fig. 3")])
+def test_no_matched_verdict_from_a_broken_fk(monkeypatch, paper, item, tmp_path):
+    """A tip position off by 1 mm along z turns the FK checks into "differs".
+
+    Mutation caught: an FK row whose verdict is the constant "matched".
+    """
+    position = so.Robot.position
+    monkeypatch.setattr(so.Robot, "position", lambda self, q: position(self, q) + [0, 0, 1e-3])
+    report = run_paper(paper, tmp_path, quick=True)
+    rows = [f for f in report.findings if f.basis == "fk" and f.item.startswith(item)]
+    assert rows and all(f.verdict == rules.DIFFERS for f in rows)
+
+
+def test_working_solvers_match_where_the_paper_is_right(tmp_path):
+    """With the real solvers the same reports do say "matched" where the paper holds.
+
+    Guards the other way: a rule that never matches (a constant "differs") fails here.
+    """
+    for paper in ("peng2025", "inverted5", "fang"):
+        report = run_paper(paper, tmp_path, quick=True)
+        assert any(f.verdict == rules.MATCHED and f.basis in ("ik", "timing")
+                   for f in report.findings), paper
+
+
+def test_claim_of_reach_rule():
+    """Solved -> matched; certified misses -> paper inconsistent; an uncertified miss -> differs.
+
+    Mutation caught: "paper inconsistent" granted for any miss (a max_iter one included).
+    """
+    robot = so.load_robot("zavar2024")
+    solved = so.solve_ik(robot, [-0.23, 0.20, -0.07])
+    unreachable = so.solve_ik(robot, [-0.23, 0.20, -0.20])
+    budget = so.solve_ik(robot, [-0.23, 0.20, -0.07], method="pso", population=4, iterations=1)
+    assert (solved.status, unreachable.status, budget.status) == ("solved", "unreachable",
+                                                                   "max_iter")
+    assert rules.claim_of_reach([solved])[0] == rules.MATCHED
+    assert rules.claim_of_reach([solved, unreachable])[0] == rules.INCONSISTENT
+    assert rules.claim_of_reach([unreachable, budget])[0] == rules.DIFFERS
+
+
+def test_reach_and_order_rules():
+    """The numeric rules: both reach, both miss by as much, rankings, ratios."""
+    assert rules.reach_claims(True, 0.9, 1e-9, 1e-12)[0] == rules.MATCHED
+    assert rules.reach_claims(True, 0.4, 1e-5, 1e-12)[0] == rules.DIFFERS
+    assert rules.reach_claims(False, 0.0, 2e-3, 3e-3)[0] == rules.MATCHED
+    assert rules.reach_claims(False, 0.0, 0.3, 3e-3)[0] == rules.DIFFERS  # a far worse miss
+    assert rules.same_order(["a", "b"], ["a", "b"], ranked=True)[0] == rules.MATCHED
+    assert rules.same_order(["a", "b"], ["a", "b"], ranked=False)[0] == rules.DIFFERS
+    assert rules.best_is("ca", "ca", 0.2)[0] == rules.DIFFERS
+    assert rules.ratio_within(1.5, 1.0, 2.0)[0] == rules.MATCHED
+    assert rules.within(1.0, 1.0 + 2e-9, 1e-9)[0] == rules.DIFFERS
+
+
+def test_a_finding_refuses_an_unknown_verdict():
+    """Verdicts are a closed set: a typo is an error, not a new category."""
+    with pytest.raises(ValueError, match="unknown verdict"):
+        Finding("x", "y", "z", "matched!")
