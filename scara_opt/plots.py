@@ -12,6 +12,8 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
+from scara_opt.ik.registry import method_label
+
 if TYPE_CHECKING:
     import pandas as pd
     from matplotlib.axes import Axes
@@ -147,7 +149,7 @@ def plot_convergence(curves: Mapping[tuple[str, Any], np.ndarray], path: str | P
             if m == method:
                 ax.semilogy(np.arange(1, len(h) + 1), np.maximum(h, 1e-17),
                             label=f"pop {pop}" if pop is not None else m)
-        ax.set_title(method.upper())
+        ax.set_title(method_label(method))
         ax.set_xlabel("iteration")
         ax.set_ylabel("cost [m]")
         ax.legend(fontsize=7)
@@ -163,9 +165,9 @@ def plot_time_vs_population(summary: pd.DataFrame, path: str | Path | None = Non
     ax = fig.add_subplot()
     pop = summary.dropna(subset=["population"])
     for method, grp in pop.groupby("method", sort=True):
-        ax.plot(grp["population"], grp["time_s"] * 1e3, "-o", label=str(method).upper())
+        ax.plot(grp["population"], grp["time_s"] * 1e3, "-o", label=method_label(str(method)))
     ax.set_xlabel("population")
-    ax.set_ylabel("median time per solve [ms]")
+    ax.set_ylabel("median time per solve [ms]\n(one-off setup excluded)")
     ax.set_yscale("log")
     ax.legend()
     fig.tight_layout()
@@ -194,7 +196,8 @@ def plot_boxes(table: pd.DataFrame, columns: Sequence[str], path: str | Path | N
     for i, col in enumerate(columns):
         ax = fig.add_subplot(1, len(columns), i + 1)
         data = [np.maximum(table.loc[table[by] == g, col].to_numpy(float), 1e-17) for g in groups]
-        ax.boxplot(data, tick_labels=[str(g).upper() for g in groups])
+        ticks = [method_label(str(g)) if by == "method" else str(g) for g in groups]
+        ax.boxplot(data, tick_labels=ticks)
         if log:
             ax.set_yscale("log")
         ax.set_title(col)

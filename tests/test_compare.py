@@ -12,40 +12,56 @@ import scara_opt as so
 from scara_opt.compare import COLUMNS, compare, convergence, rank_methods, summarize
 
 TARGETS = [[-0.23, 0.20, -0.07], [-0.23, 0.20, -0.20], [0.30, 0.10, -0.06]]
-SAME = [c for c in COLUMNS if c not in ("time_s", "history")]
+SAME = [c for c in COLUMNS if c not in ("time_s", "setup_s", "history")]
+#: a stochastic method in every sweep: one seed for all jobs would show
+SWEEP = {"methods": ["ipopt", "pso"], "populations": [8], "iterations": 15, "seeds": range(3),
+         "progress": False}
 
 
 @pytest.fixture(scope="module")
 def serial(robots):
-    return compare(robots["zavar2024"], TARGETS, methods=["ipopt"], progress=False)
+    return compare(robots["zavar2024"], TARGETS, **SWEEP)
 
 
 def test_table_has_one_row_per_solve_with_reference_rows(serial):
-    """Exact methods give one row per target; the closed form comes along as reference."""
+    """Exact methods give one row per target; the closed form comes along as reference.
+
+    Population methods give one row per (population, seed, target).
+    """
     assert list(serial.columns) == COLUMNS
-    assert sorted(serial["method"].unique()) == ["analytic", "ipopt"]
-    assert len(serial) == 2 * len(TARGETS)
+    assert sorted(serial["method"].unique()) == ["analytic", "ipopt", "pso"]
+    assert len(serial) == 2 * len(TARGETS) + 3 * len(TARGETS)
     unreachable = serial[serial["target"] == 1]
     assert (unreachable["status"] == "unreachable").all()
-    assert np.allclose(unreachable["abs_err_z"], 0.102, atol=1e-3)
+    assert (unreachable["reason"] == "height_out_of_stroke").all()
+    exact = unreachable[unreachable["method"] != "pso"]
+    assert np.allclose(exact["abs_err_z"], 0.102, atol=1e-3)
 
 
 def test_process_pool_gives_the_serial_numbers(robots, serial):
-    """A process pool reproduces the serial table exactly (time aside)."""
+    """A process pool reproduces the serial table exactly (times aside), PSO's seeds included.
+
+    Mutation caught: a pool job that ignores its seed (every job seeded 0) -> the PSO rows
+    of seeds 1 and 2 differ from the serial run's.
+    """
+    assert serial[serial["method"] == "pso"]["seed"].nunique() == 3
+    pso = serial[serial["method"] == "pso"]
+    assert pso.groupby("target")["error"].nunique().max() > 1  # the seeds do change results
     with ProcessPoolExecutor(2) as pool:
-        par = compare(robots["zavar2024"], TARGETS, methods=["ipopt"], progress=False,
-                      executor=pool)
+        par = compare(robots["zavar2024"], TARGETS, executor=pool, **SWEEP)
     assert par[SAME].equals(serial[SAME])
 
 
 def test_dask_local_cluster_gives_the_serial_numbers(robots, serial):
-    """A dask.distributed LocalCluster's executor reproduces the serial table exactly."""
+    """A dask.distributed LocalCluster's executor reproduces the serial table exactly.
+
+    Mutation caught: as for the process pool (a job that ignores its seed).
+    """
     distributed = pytest.importorskip("distributed", reason="pip install 'scara-opt[dask]'")
     with distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True,
                                   dashboard_address=None) as cluster, \
             distributed.Client(cluster) as client:
-        par = compare(robots["zavar2024"], TARGETS, methods=["ipopt"], progress=False,
-                      executor=client.get_executor())
+        par = compare(robots["zavar2024"], TARGETS, executor=client.get_executor(), **SWEEP)
     assert par[SAME].equals(serial[SAME])
 
 

@@ -14,7 +14,13 @@ Layers (imports point down only): ``result``, ``task``, ``problem``, ``geometry`
 from scara_opt.ik import analytic, auto, ipopt, lm  # noqa: F401  (registers the solvers)
 from scara_opt.ik.analytic import ik_all
 from scara_opt.ik.base import Solver, SolverOutput
-from scara_opt.ik.registry import get_solver, register_solver, solve_ik, solvers
+from scara_opt.ik.registry import (
+    get_solver,
+    method_label,
+    register_solver,
+    solve_ik,
+    solvers,
+)
 from scara_opt.ik.result import Certificate, IKResult, Reason, Status
 
 __all__ = [
@@ -26,6 +32,7 @@ __all__ = [
     "Status",
     "get_solver",
     "ik_all",
+    "method_label",
     "register_solver",
     "solve_ik",
     "solvers",

@@ -20,9 +20,10 @@ IPOPT stops at its own tolerance (``NEAREST_OPTIONS``: the task residual met to 
 early exit at an "acceptable" level), so IPOPT alone reaches round-off on reachable
 targets; the return status of every IPOPT call is reported in the result's message. If the
 first start misses, up to ``restarts`` further starts are drawn uniformly within the limits
-from the seeded generator (none once a start is within a relative 1e-6 of the least residual
-a certificate of :mod:`scara_opt.ik.certificates` proves); the best is kept. ``polish`` then runs the fast solver's phases
-(:mod:`scara_opt.ik.lm`) from the answer, kept only if not worse: the last digits.
+from the seeded generator (none once a start is within a relative 1e-6 of the least
+residual a certificate of :mod:`scara_opt.ik.certificates` proves); the best is kept.
+``polish`` then runs the fast solver's phases (:mod:`scara_opt.ik.lm`) from the answer,
+kept only if not worse: the last digits.
 
 IPOPT does not decide reachability: a miss is judged by :mod:`scara_opt.ik.verdict`
 (``unreachable`` only with a certificate).

@@ -43,6 +43,20 @@ def solvers() -> list[str]:
     return sorted(_REGISTRY)
 
 
+def method_label(name: str) -> str:
+    """The display label of the solver registered as ``name``, e.g. ``"gha"`` → ``"G-HA"``.
+
+    The solver class's ``label`` (the paper's name, e.g. ``"ACO (ACO_R)"``), or
+    ``name.upper()`` for a solver without one.
+
+    Raises:
+        UnknownSolverError: ``name`` is not registered (the message lists the names).
+    """
+    if name not in _REGISTRY:
+        raise UnknownSolverError(name, _REGISTRY)
+    return getattr(_REGISTRY[name], "label", "") or name.upper()
+
+
 def get_solver(method: str, **options: Any) -> Solver:
     """An instance of the solver registered as ``method`` with its ``options``.
 

@@ -46,6 +46,7 @@ These solvers cannot prove a target unreachable: when one misses, the base asks 
 solver, and the status is ``"max_iter"`` (reachable, budget used up) or ``"unreachable"``.
 """
 
+from scara_opt.ik.registry import method_label
 from scara_opt.metaheuristics.aco import AntColonySolver
 from scara_opt.metaheuristics.base import Population, PopulationSolver, Problem
 from scara_opt.metaheuristics.ca import CulturalSolver
@@ -53,7 +54,6 @@ from scara_opt.metaheuristics.fa import FireflySolver
 from scara_opt.metaheuristics.ga import GeneticSolver
 from scara_opt.metaheuristics.gha import GeneticHybridSolver
 from scara_opt.metaheuristics.gwo import GreyWolfSolver
-from scara_opt.metaheuristics.labels import method_label
 from scara_opt.metaheuristics.pso import ParticleSwarmSolver
 from scara_opt.metaheuristics.sfla import ShuffledFrogSolver
 

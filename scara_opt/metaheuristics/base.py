@@ -158,10 +158,6 @@ class PopulationSolver(Solver, Generic[S]):
     defaults: ClassVar[dict[str, Any]] = {"population": 60, "iterations": 200}
     #: the smallest population the algorithm's update rule works with
     min_population: ClassVar[int] = 2
-    #: display name for tables and plots, e.g. ``"G-HA"`` (see
-    #: :func:`scara_opt.metaheuristics.method_label`); empty: none, the tag upper-cased
-    label: ClassVar[str] = ""
-
     def __init__(self, **options: Any) -> None:
         check_number("population", options.get("population", self.defaults["population"]),
                      self.min_population, integer=True)

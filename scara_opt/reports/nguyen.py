@@ -20,6 +20,7 @@ import pandas as pd
 import scara_opt as so
 from scara_opt import paths
 from scara_opt.errors import TrajectoryError
+from scara_opt.ik.registry import method_label
 from scara_opt.plots import draw_robot
 from scara_opt.reports import Finding, PaperReport
 from scara_opt.reports import verdicts as rules
@@ -143,7 +144,7 @@ def run(out: Path, quick: bool = False) -> PaperReport:
                     plot_postures(robot, results["ipopt"], out / "nguyen_fig14_15_postures.png")]
     for _, row in table.iterrows():
         rep.findings.append(Finding(
-            f"Figs. 10-11, {row['method'].upper()} along {row['points']} contour points",
+            f"Figs. 10-11, {method_label(row['method'])} along {row['points']} contour points",
             "'very small' errors (figures only)",
             f"{row['solved']}/{row['points']} within 1e-9; largest |dp| "
             f"{row['max_position_error_m']:.2e} m, |dA| {row['max_angle_error_rad']:.2e} rad, "

@@ -16,7 +16,7 @@ import pandas as pd
 
 import scara_opt as so
 from scara_opt.compare import compare, convergence, rank_methods, summarize
-from scara_opt.metaheuristics import method_label
+from scara_opt.ik.registry import method_label
 from scara_opt.plots import plot_boxes, plot_convergence, plot_time_vs_population
 from scara_opt.reports import Finding, PaperReport
 from scara_opt.reports import verdicts as rules
