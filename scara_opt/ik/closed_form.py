@@ -55,6 +55,8 @@ class Box:
 
     Attributes:
         lower, upper: (nq,) finite ranges [rad or m] (continuous joints: one turn, ±π).
+        slack: a joint value this far outside [lower, upper] is round-off, accepted and
+            clipped [rad or m]; values the search sets itself stay within the range.
         cos_slack: how far |cos γ| may exceed 1 (round-off, or a reach slack).
         height_slack: a height mismatch accepted when no joint moves the tip along n [m].
         angle_slack: a tool-angle mismatch accepted when no wrist turns the tool [rad].
@@ -62,6 +64,7 @@ class Box:
 
     lower: Array
     upper: Array
+    slack: float = LIMIT_SLACK
     cos_slack: float = COS_SLACK
     height_slack: float = HEIGHT_SLACK
     angle_slack: float = COS_SLACK
@@ -73,15 +76,19 @@ class Box:
         Widened, a target within ``tol`` of an exactly reachable one is exactly reachable.
         """
         reach = min(geom.l1, geom.l2, 1.0)
-        rad = LIMIT_SLACK if tol is None else max(LIMIT_SLACK, 2.0 * tol / reach)
-        lin = LIMIT_SLACK if tol is None else max(LIMIT_SLACK, 2.0 * tol)
-        slack = np.where(np.array(robot.joint_types) == "revolute", rad, lin)
+        rad = 0.0 if tol is None else 2.0 * tol / reach
+        lin = 0.0 if tol is None else 2.0 * tol
+        widen = np.where(np.array(robot.joint_types) == "revolute", rad, lin)
         cos_slack = COS_SLACK if tol is None else COS_SLACK + 2.0 * tol * (
             geom.l1 + geom.l2 + 2.0 * tol) / (geom.l1 * geom.l2)
         height = HEIGHT_SLACK if tol is None else max(HEIGHT_SLACK, 2.0 * tol)
         angle = COS_SLACK if tol is None else max(COS_SLACK, 2.0 * tol)
-        return cls(robot.sampling_lower - slack, robot.sampling_upper + slack, cos_slack,
-                   height, angle)
+        return cls(robot.sampling_lower - widen, robot.sampling_upper + widen, LIMIT_SLACK,
+                   cos_slack, height, angle)
+
+    def outer(self, k: int | list[int]) -> tuple[Array, Array]:
+        """The range of joints ``k`` with the round-off slack: what a solution may touch."""
+        return self.lower[k] - self.slack, self.upper[k] + self.slack
 
 
 def _turns(values: Array | float, lo: float, hi: float) -> list[float]:
@@ -120,18 +127,19 @@ def _distribute(total: float, signs: Array, held: Array, lo: Array, hi: Array,
 
 
 def _group(candidates: list[float], signs: Array, held: Array, lo: Array, hi: Array,
-           movable: Array) -> list[Array]:
+           movable: Array, slack: float = LIMIT_SLACK) -> list[Array]:
     """Values of a group of additive joints (heights or wrists) meeting one of ``candidates``.
 
     The last joint of the group is solved; the others keep ``held`` when that works for
-    some candidate (all such solutions are returned), else the nearest values that work
-    (moving only ``movable`` joints) for each candidate are returned, nearest first.
+    some candidate (all such solutions are returned; ``slack`` is round-off), else the
+    nearest values that work (moving only ``movable`` joints, within [lo, hi]) for each
+    candidate are returned, nearest first.
     """
     last = len(signs) - 1
     found: list[Array] = []
     for total in candidates:
         v = (total - float(signs[:last] @ held[:last])) / signs[last]
-        if lo[last] <= v <= hi[last]:
+        if lo[last] - slack <= v <= hi[last] + slack:
             x = held.copy()
             x[last] = v
             found.append(x)
@@ -177,8 +185,8 @@ def _planar(geom: ScaraGeometry, uv: Array, box: Box) -> list[tuple[float, float
                                                    geom.l1 + geom.l2 * math.cos(gamma))
         t1 = geom.s[sh] * (a1 - geom.phi1)
         t2 = geom.s[el] * (gamma - (geom.phi2 - geom.phi1))
-        out += [(v1, v2) for v1 in _turns(t1, box.lower[sh], box.upper[sh])
-                for v2 in _turns(t2, box.lower[el], box.upper[el])]
+        out += [(v1, v2) for v1 in _turns(t1, *box.outer(sh))
+                for v2 in _turns(t2, *box.outer(el))]
     return out
 
 
@@ -204,7 +212,7 @@ class _Task:
         if not wrists:
             ok = abs(math.remainder(need, 2 * math.pi)) <= self.box.angle_slack
             return wrists, [0.0] if ok else []
-        lo, hi = range_of_sum(geom.s[wrists], self.box.lower[wrists], self.box.upper[wrists])
+        lo, hi = range_of_sum(geom.s[wrists], *self.box.outer(wrists))
         return wrists, _turns(need, lo, hi)
 
     def complete(self, q: Array) -> list[Array]:
@@ -213,7 +221,8 @@ class _Task:
         heights = geom.heights
         if heights:
             groups = _group([self.height], geom.sigma[heights], self.held[heights],
-                            box.lower[heights], box.upper[heights], self.movable[heights])
+                            box.lower[heights], box.upper[heights], self.movable[heights],
+                            box.slack)
         elif abs(self.height) <= box.height_slack:
             groups = [np.zeros(0)]
         else:
@@ -230,7 +239,7 @@ class _Task:
                 out += [qh] if totals else []
                 continue
             for wv in _group(totals, geom.s[wrists], self.held[wrists], box.lower[wrists],
-                             box.upper[wrists], self.movable[wrists]):
+                             box.upper[wrists], self.movable[wrists], box.slack):
                 qw = qh.copy()
                 qw[wrists] = wv
                 out.append(qw)

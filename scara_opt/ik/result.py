@@ -1,5 +1,7 @@
-"""The one result type of every IK solver: :class:`IKResult`, its :class:`Status` and
-:class:`Reason`, and what a solver hands to the verdict (:class:`SolverOutput`).
+"""The one result type of every IK solver: :class:`IKResult`, its status and evidence.
+
+Also :class:`Certificate` (a proof of unreachability) and :class:`SolverOutput` (what a
+solver hands to the verdict).
 """
 
 from __future__ import annotations
