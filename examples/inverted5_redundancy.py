@@ -43,9 +43,12 @@ def main() -> None:
         "theta2_deg": np.degrees(res.q[2]), "theta3_deg": np.degrees(res.q[3]),
         "P5_in": res.q[4] / IN, "P1+P5_in": (res.q[0] + res.q[4]) / IN}
         for route, res in answers.items()])
-    print(f"IK of {np.round(TARGET / IN, 3).tolist()} in: every answer reaches it; only the "
-          "split of the z move between the strokes differs (IPOPT: nearest to q0, joint "
-          "ranges as the scale)")
+    reached = sum(res.success for res in answers.values())
+    totals = table["P1+P5_in"].to_numpy()
+    split = ("only the split of the z move between the strokes differs" if
+             np.ptp(totals) <= 1e-9 / IN else "the strokes' totals differ")
+    print(f"IK of {np.round(TARGET / IN, 3).tolist()} in: {reached} of {len(answers)} answers "
+          f"reach it; {split} (IPOPT: nearest to q0, joint ranges as the scale)")
     print(table.to_string(index=False, float_format=lambda v: f"{v:.4g}"))
     ax = None
     for k, (route, res) in enumerate(answers.items()):
