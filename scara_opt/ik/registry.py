@@ -80,7 +80,7 @@ def solve_ik(robot: Robot, target: Target | object, method: str = "auto",
         method: a name from :func:`solvers`. The default ``"auto"`` runs the fast
             Levenberg–Marquardt solver (``"lm"``) seeded by the closed form where it applies
             and falls back to IPOPT's multi-start before it reports ``"unreachable"``;
-            ``"ipopt"`` is the certifying reference, ``"analytic"`` the closed form,
+            ``"ipopt"`` is the deterministic reference, ``"analytic"`` the closed form,
             ``"pso"``, ``"gwo"``, … the metaheuristics.
         q0: (nq,) start / preferred configuration within the limits, or ``None``.
         seed: seed of the solver's random generator.
