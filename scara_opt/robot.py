@@ -27,10 +27,10 @@ Real-world URDFs load without edits:
 
 from __future__ import annotations
 
-import copy
 import io
 import logging
 import math
+import threading
 import tomllib
 import xml.etree.ElementTree as ET
 from collections import Counter
@@ -458,7 +458,7 @@ class Robot:
         self.model, self.locked = _build_model(urdf_text, urdf, _path(by_child, root, self.tip),
                                                where)
         _unbound_continuous(self.model, urdf)
-        self.data: pin.Data = self.model.createData()
+        self._local = threading.local()
         self.name = name or urdf.robot.name
         self.source = source or where
         self.notes = notes
@@ -473,6 +473,17 @@ class Robot:
         self.tip_id = self.model.getFrameId(self.tip)
         self.tip_placement: Array = self.model.frames[self.tip_id].placement.homogeneous.copy()
         self._set_rate_limits(urdf_text, where)
+
+    @property
+    def data(self) -> pin.Data:
+        """This thread's Pinocchio workspace for :attr:`model`.
+
+        One per thread: Pinocchio's algorithms write into it, so threads never share one.
+        """
+        data = getattr(self._local, "data", None)
+        if data is None:
+            data = self._local.data = self.model.createData()
+        return data
 
     def _set_rate_limits(self, urdf_text: str, where: str) -> None:
         """Velocity limits from the model, accelerations from the scara_opt URDF extension."""
@@ -600,11 +611,13 @@ class Robot:
         Raises:
             JointLimitError: unknown joint, non-finite values, or lower >= upper.
         """
-        new = copy.copy(self)
+        # a fresh object with the constructor's attributes, none of the caches (copy.copy
+        # would go through __reduce__ and hand back the per-process rebuilt robot itself)
+        new = object.__new__(Robot)
+        new.__dict__.update({k: self.__dict__[k] for k in _CORE})
         new.model = pin.Model(self.model)
-        new.data = new.model.createData()
-        new.__dict__.pop("_ik_nlp_cache", None)
-        new.__dict__.pop("_scara_geometry", None)
+        new.metadata = dict(self.metadata)
+        new._local = threading.local()
         lower, upper = new.model.lowerPositionLimit.copy(), new.model.upperPositionLimit.copy()
         for name, value in ranges.items():
             if name not in self.joint_names:
@@ -677,8 +690,9 @@ class Robot:
     def fk(self, q: object) -> Array:
         """Tip pose (4×4 homogeneous matrix, world frame, [m]) at ``q`` (nq,), by Pinocchio."""
         qa = self.check_q(q)
-        pin.forwardKinematics(self.model, self.data, qa)
-        return pin.updateFramePlacement(self.model, self.data, self.tip_id).homogeneous.copy()
+        data = self.data
+        pin.forwardKinematics(self.model, data, qa)
+        return pin.updateFramePlacement(self.model, data, self.tip_id).homogeneous.copy()
 
     def position(self, q: object) -> Array:
         """Tip position (3,) [m] at ``q``."""
@@ -800,8 +814,9 @@ class Robot:
         single tool angle, and a yaw target is refused for it.
         """
         q0 = np.clip(np.zeros(self.nq), self.lower, self.upper)
-        pin.forwardKinematics(self.model, self.data, q0)
-        axes = [self.data.oMi[k].rotation @ j.axis
+        data = self.data
+        pin.forwardKinematics(self.model, data, q0)
+        axes = [data.oMi[k].rotation @ j.axis
                 for k, j in enumerate(self.chain, start=1) if j.kind == "revolute"]
         if not axes:
             return None
@@ -847,6 +862,11 @@ class Robot:
         self.__dict__["_yaw_basis"] = (e1, e2)
         return e1, e2
 
+
+#: the attributes :class:`Robot`'s constructor sets; everything else in its ``__dict__`` is a
+#: cache (casadi Functions, IPOPT solvers, the SCARA geometry, ...) that a copy must not share
+_CORE = ("tip", "_init_args", "model", "locked", "name", "source", "notes", "metadata",
+         "chain", "tip_id", "tip_placement", "_acceleration", "_velocity")
 
 _REBUILT: dict[tuple, Robot] = {}
 

@@ -4,14 +4,15 @@ A solver returns its best configuration (:class:`SolverOutput`); :func:`judge` r
 the residual from the robot's FK and grants a status only with evidence:
 
 1. ``solved`` (``reached``): the residual is within ``tol``;
-2. ``unreachable``: a :class:`~scara_opt.ik.result.Certificate` proves that no
+2. ``max_iter`` (``budget``): the closed form's exact solution (a witness) reaches the
+   target, so it is reachable; ``failed`` (``held_joints``) instead when the solver reports
+   that only the joints the caller held make it infeasible;
+3. ``unreachable``: a :class:`~scara_opt.ik.result.Certificate` proves that no
    configuration within the limits reaches the target within ``tol``
    (:func:`scara_opt.ik.certificates.certify`; its reason and numbers go into the result);
-3. ``failed`` (``held_joints``): the solver reports that the joints the caller held make
-   the target infeasible (and no certificate says it is out of reach anyway);
-4. ``max_iter`` (``budget``): a witness shows the target is reachable: the closed form's
-   exact solution where it applies, else the solver's own ``search`` for one (the
-   metaheuristics run the exact ``auto`` method with the caller's seed and ``q0``);
+4. ``max_iter`` (``budget``): the solver's own ``search`` finds a witness where no closed
+   form applies (the metaheuristics run the exact ``auto`` method with the caller's seed and
+   ``q0``);
 5. ``failed`` (``no_certificate``): neither proof exists; the best residual is reported.
 
 A configuration outside the joint limits is a solver bug: it is reported as ``failed``
@@ -70,18 +71,18 @@ def classify_miss(robot: Robot, target: Target, tol: float, *, held: bool = Fals
         held: the solver found the target infeasible with the caller's held joints.
         search: the solver's own witness search (see the module docstring), or ``None``.
     """
-    cert = certify(robot, target, tol)
-    if cert is not None:
-        return Status.UNREACHABLE, cert.reason, f"proof: {cert.detail}"
-    if held:
-        return Status.FAILED, Reason.HELD_JOINTS, (
-            "not reachable with the joints held by the caller; it is reachable with them "
-            "free (release fixed= or choose other values)")
-    q = witness(robot, target)
+    q = witness(robot, target)  # the closed form first: a reachable target has no certificate
     if q is not None and residual(robot, target, q) <= tol:
+        if held:
+            return Status.FAILED, Reason.HELD_JOINTS, (
+                "not reachable with the joints held by the caller; the closed form reaches it "
+                "with them free (release fixed= or choose other values)")
         return Status.MAX_ITER, Reason.BUDGET, (
             "reachable: the closed form reaches it (q = "
             f"{np.array2string(q, precision=4, separator=', ')})")
+    cert = certify(robot, target, tol)
+    if cert is not None:
+        return Status.UNREACHABLE, cert.reason, f"proof: {cert.detail}"
     if search is not None:
         q = search()
         if q is not None and (err := residual(robot, target, q)) <= tol:
