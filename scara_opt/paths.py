@@ -30,7 +30,7 @@ from scara_opt.checks import (
     memory_guard,
 )
 from scara_opt.errors import InputError
-from scara_opt.target import MAX_ANGLE, Target
+from scara_opt.target import MAX_ANGLE, MAX_COORDINATE, Target
 
 Array = NDArray[np.float64]
 
@@ -62,7 +62,8 @@ def _vector(value: object, n: int, what: str) -> Array:
 
 
 def _positive(value: object, what: str) -> float:
-    return check_real(what, value, 0.0, low_open=True)
+    """A length [m] > 0 and at most MAX_COORDINATE (beyond, the path's arithmetic overflows)."""
+    return check_real(what, value, 0.0, MAX_COORDINATE, low_open=True)
 
 
 def _count(n: object, least: int, call: str) -> int:
