@@ -25,6 +25,11 @@ BAD = {"None": None, "str": "abc", "strs": ["a", "b"], "dict": {"a": 1}, "bigint
        "1e308": 1e308, "-0.0": -0.0, "True": True, "nan": math.nan, "object": object()}
 
 ROBOT = so.load_robot("zavar2024")
+#: with_limits is exercised on its own robot: Robot.with_limits copies through __reduce__,
+#: whose per-process cache hands the same object to every later unpickling of an equal robot
+#: (see test_robot.py::test_with_limits_returns_an_independent_robot); on ROBOT it would
+#: change the limits the process-pool workers of test_compare.py get
+ARM = so.Robot.from_urdf(DATA / "arm6.urdf")
 T = so.Target([0.3, 0.0, -0.07])
 Q2 = np.array([[0.0, 0.0, 0.0, 0.0], [0.1, 0.1, 0.01, 0.1]])
 
@@ -34,7 +39,7 @@ API = [
     ("jacobian", ROBOT.jacobian, {"q": np.zeros(4)}),
     ("fk_batch", ROBOT.fk_batch, {"Q": Q2}),
     ("within_limits", ROBOT.within_limits, {"q": np.zeros(4), "tol": 0.0}),
-    ("with_limits", ROBOT.with_limits, {"theta1": (-1.0, 1.0)}),
+    ("with_limits", ARM.with_limits, {"shoulder_pan": (-1.0, 1.0)}),
     ("Target", so.Target, {"position": [0.3, 0, -0.07], "yaw": 0.1, "weights": (1, 1)}),
     ("Target_rotation", so.Target, {"position": [0.3, 0, -0.07], "rotation": np.eye(3)}),
     ("load_robot", so.load_robot, {"name": "zavar2024", "tip": None}),
