@@ -230,7 +230,7 @@ def _method_names(robot: Robot, methods: object, reference: bool) -> list[str]:
         names = list(listed)
         twice = sorted(m for m, count in Counter(names).items() if count > 1)
         if twice:
-            raise InputError(f"methods names {twice} more than once; list each method once")
+            raise InputError(f"methods lists {twice} more than once; list each method once")
         why = _analytic_refusal(robot) if "analytic" in names else None
         if why is not None:
             raise InputError(f"method 'analytic' was asked for, but the closed form does not "

@@ -208,7 +208,9 @@ def point_to_point(start: object, end: object, yaw_start: float | None = None,
     a, b = _vector(start, 3, "start [m]"), _vector(end, 3, "end [m]")
     if (yaw_start is None) != (yaw_end is None):
         raise InputError("give both yaw_start and yaw_end [rad], or neither")
-    if np.array_equal(a, b) and yaw_start == yaw_end:
+    same_yaw = yaw_start is None or (is_real(yaw_start) and is_real(yaw_end)
+                                     and yaw_start == yaw_end)
+    if np.array_equal(a, b) and same_yaw:
         raise InputError(f"start and end are the same pose ({a.tolist()} m"
                          + ("" if yaw_start is None else f", yaw {yaw_start!r} rad")
                          + "): there is no move; give a different end (or another yaw)")

@@ -579,13 +579,18 @@ class Robot:
                 when the URDF has several end links, logs a warning naming the one taken.
 
         Raises:
+            InputError: ``path`` not a str or Path, ``tip`` not a str or None.
             URDFError: missing or non-UTF-8 file, malformed XML, not a tree (duplicate
                 names, undeclared links, a cycle, a link with two parent joints, several
                 root links), an unsupported joint type (floating, planar), a zero-length or
-                non-finite joint axis, a mimic joint that does not follow a movable joint (or
-                follows one after it on the path), or no movable joint on the path to the tip.
+                non-finite joint axis, a ``<limit velocity=/effort=>`` that is not a finite
+                number >= 0, a ``<scara_opt acceleration=/>`` that is not a finite number
+                > 0 (or misplaced, repeated, misspelt), a mimic joint that does not follow a
+                movable joint (or follows one after it on the path), or no movable joint on
+                the path to the tip.
             FrameNotFoundError: ``tip`` is not a link of the URDF (the message lists them).
-            JointLimitError: a joint's lower limit is not below its upper limit.
+            JointLimitError: a joint's lower limit is not below its upper limit, or the
+                range's width overflows.
         """
         if not isinstance(path, (str, PathLike)):
             raise InputError(f"path must be the path of a .urdf file (a str or pathlib.Path); "
@@ -678,7 +683,8 @@ class Robot:
         continuous joint given a range becomes bounded (and so does its sampling box).
 
         Raises:
-            JointLimitError: unknown joint, non-finite values, or lower >= upper.
+            JointLimitError: unknown joint, not a pair of numbers (bools and strings
+                refused), non-finite values, lower >= upper, or a width that overflows.
         """
         new = copy.copy(self)
         new.model = pin.Model(self.model)
@@ -1027,8 +1033,10 @@ def load_robot(name: str | Path, tip: str | None = None) -> Robot:
         tip: tip frame; bundled robots default to their ``"tool"`` frame.
 
     Raises:
+        InputError: ``name`` not a str or Path, ``tip`` not a str or None.
         RobotNotFoundError: neither a bundled name nor an existing file (lists the names).
-        URDFError: the file is malformed (see :meth:`Robot.from_urdf`).
+        URDFError: the file is malformed (see :meth:`Robot.from_urdf` and
+            :func:`scara_opt.dh.load_dh`).
     """
     from scara_opt.dh import bundled_dir, load_dh
 

@@ -115,7 +115,7 @@ def test_all_methods_budgets_only_the_population_methods(robots):
     (dict(targets=5), "targets must be a list"),
     (dict(methods=None), "methods must be 'all', a method name or a list"),
     (dict(methods=[1]), "methods must be"),
-    (dict(methods=["pso", "pso"]), r"methods names \['pso'\] more than once"),
+    (dict(methods=["pso", "pso"]), r"methods lists \['pso'\] more than once"),
     (dict(populations=["a"]), r"each population must be a positive integer; got 'a' \(str\)"),
     (dict(populations=[10, 10]), r"populations lists \[10\] more than once"),
     (dict(populations=10), "populations must be a list"),
