@@ -14,15 +14,27 @@ own column, ``setup_s`` (0 once cached), never inside ``time_s``.
 
 from __future__ import annotations
 
+import itertools
 import math
+from collections import Counter
 from collections.abc import Iterable, Sequence
-from concurrent.futures import Executor, as_completed
+from concurrent.futures import Executor, Future, as_completed
 from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
 import pandas as pd
 
+from scara_opt import checks
+from scara_opt.checks import (
+    check_flag,
+    check_int,
+    check_memory,
+    check_options_dict,
+    check_robot,
+    count_text,
+    describe,
+)
 from scara_opt.errors import InputError
 from scara_opt.ik.base import check_seed, check_tol
 from scara_opt.ik.registry import get_solver, solve_ik, solvers
@@ -32,6 +44,10 @@ from scara_opt.target import Target, as_target
 
 #: the exact reference methods added to every comparison (``reference=True``)
 EXACT_METHODS = ("analytic", "ipopt")
+
+#: estimated memory of one job [bytes]: the job, its IKResult and its table row (measured:
+#: 2.4 to 2.8 kB at the peak), plus 8 B per history entry for the population methods
+BYTES_PER_JOB = 3000
 
 COLUMNS = ["method", "population", "budget_iterations", "seed", "target", "x", "y", "z",
            "abs_err_x", "abs_err_y", "abs_err_z", "yaw_error", "error", "cost", "status",
@@ -109,54 +125,71 @@ def compare(robot: Robot, targets: Iterable[Target | object], methods: Sequence[
         robot: the robot.
         targets: :class:`Target` objects or (3,) positions [m].
         methods: registry names (a single name is one method), or ``"all"`` for every
-            registered solver.
+            registered solver that applies to the robot (``analytic`` only for SCARA-type
+            robots). A method named explicitly that does not apply raises.
         populations: population sizes for the population methods.
         iterations: iteration budget of the population methods.
         seeds: seeds of the population methods (the others run once, seed 0; see
             :func:`takes_budget`).
-        executor: any ``concurrent.futures.Executor`` (``None``: run serially here).
+        executor: any ``concurrent.futures.Executor`` (``None``: run serially here); it must
+            be running (not shut down).
         progress: show a tqdm progress bar.
         tol: residual [m, rad] counted as solved.
-        options: extra solver options by method name, e.g. ``{"ipopt": {"restarts": 20}}``.
+        options: extra solver options by method name, e.g. ``{"ipopt": {"restarts": 20}}``;
+            every name must be one of the methods compared.
         reference: add the exact methods (``ipopt``, and ``analytic`` where it applies) as
             reference rows even when not listed in ``methods``.
+
+    The jobs are counted before any is built: targets x (exact methods + population
+    methods x populations x seeds), each about :data:`BYTES_PER_JOB` plus 8 B per history
+    entry; above :data:`scara_opt.checks.MAX_BYTES` the call is refused.
 
     Returns:
         DataFrame with columns :data:`COLUMNS`: per-axis absolute error [m], error, cost,
         status, time [s], evaluations, iterations, history length and the history itself.
 
     Raises:
-        InputError: no targets, empty populations or seeds, a non-positive budget, a
-            negative seed, a bad ``tol`` or an option value a method refuses (checked for
-            every method and population before the first solve).
+        InputError: a non-Robot, no targets, a malformed ``methods``, a method named twice
+            or named explicitly where it does not apply (``analytic`` on a non-SCARA robot),
+            empty, repeated or non-integer populations or seeds, a non-positive budget, a
+            negative seed, a bad ``tol``, a flag that is not True/False, options for a
+            method not compared, an executor without ``submit`` or shut down, too many jobs
+            for :data:`scara_opt.checks.MAX_BYTES`, or an option value a method refuses
+            (checked for every method and population before the first solve).
         UnknownSolverError: a method name that is not registered.
         SolverOptionError: an option a method does not accept.
     """
+    robot = check_robot(robot)
+    if not isinstance(targets, Iterable) or isinstance(targets, (str, bytes, Target)):
+        raise InputError(f"targets must be a list of Target or of (3,) positions [m]; got "
+                         f"{describe(targets)}")
     target_list = [as_target(t) for t in targets]
     if not target_list:
         raise InputError("compare needs at least one target")
-    names = solvers() if methods == "all" else [methods] if isinstance(methods, str) \
-        else list(methods)
-    if reference:
-        names += [m for m in EXACT_METHODS if m not in names]
-    names = [m for m in names if m != "analytic" or _analytic_applies(robot)]
-    if not names:
-        raise InputError("compare needs at least one method; pass methods= or reference=True")
+    check_flag("progress", progress)
+    check_flag("reference", reference)
+    names = _method_names(robot, methods, reference)
     tol = check_tol(tol)
-    seed_list, pop_list = list(seeds), list(populations)
+    iterations = check_int("iterations", iterations, 1)
+    seed_list = _listed("seeds", seeds, check_seed)
+    pop_list = _listed("populations", populations, lambda p: check_int("each population", p, 1))
     if any(takes_budget(m) for m in names) and (not seed_list or not pop_list):
         raise InputError("compare needs at least one seed and one population size")
-    if iterations <= 0 or any(p <= 0 for p in pop_list):
-        raise InputError(f"iterations and populations must be positive; got {iterations}, "
-                         f"{pop_list}")
-    for seed in seed_list:
-        check_seed(seed)
+    options = check_options_dict("options", options)
+    stray = sorted(set(options) - set(names))
+    if stray:
+        raise InputError(f"options are given for {stray}, which are not compared (methods: "
+                         f"{names}); fix the name or add the method")
+    _check_memory(len(target_list), names, len(pop_list), len(seed_list), iterations)
+    if executor is not None and not callable(getattr(executor, "submit", None)):
+        raise InputError(f"executor must be a concurrent.futures.Executor (e.g. "
+                         f"ProcessPoolExecutor()) or None; got {describe(executor)}")
     for m in names:  # fail fast on names and option values, before the first solve
         budgets = [{"population": p, "iterations": iterations} for p in pop_list] \
             if takes_budget(m) else [{}]
         for budget in budgets:
-            get_solver(m, **(options or {}).get(m, {}), **budget)
-    jobs = _jobs(target_list, names, pop_list, iterations, seed_list, options or {})
+            get_solver(m, **options.get(m, {}), **budget)
+    jobs = _jobs(target_list, names, pop_list, iterations, seed_list, options)
     results: dict[int, IKResult] = {}
     bar = _progress(len(jobs), progress)
     try:
@@ -166,7 +199,7 @@ def compare(robot: Robot, targets: Iterable[Target | object], methods: Sequence[
                 results[idx] = res
                 bar.update()
         else:
-            futures = [executor.submit(_run, robot, job, tol) for job in jobs]
+            futures = [_submit(executor, robot, job, tol) for job in jobs]
             for fut in as_completed(futures):
                 idx, res = fut.result()
                 results[idx] = res
@@ -176,14 +209,97 @@ def compare(robot: Robot, targets: Iterable[Target | object], methods: Sequence[
     return pd.DataFrame([_row(job, results[job.index]) for job in jobs], columns=COLUMNS)
 
 
-def _analytic_applies(robot: Robot) -> bool:
+def _analytic_refusal(robot: Robot) -> str | None:
+    """Why the closed form does not apply to ``robot``, or ``None`` when it does."""
     from scara_opt.ik.analytic import NotScaraError, scara_geometry
 
     try:
         scara_geometry(robot)
-    except NotScaraError:
-        return False
-    return True
+    except NotScaraError as exc:
+        return str(exc)
+    return None
+
+
+def _method_names(robot: Robot, methods: object, reference: bool) -> list[str]:
+    """The methods to run: checked names, explicit ones applicable, references added.
+
+    ``"all"`` and the reference rows skip ``analytic`` silently where it does not apply;
+    a method named explicitly must apply.
+    """
+    if isinstance(methods, str) and methods == "all":
+        names = [m for m in solvers() if m != "analytic" or _analytic_refusal(robot) is None]
+    else:
+        listed = [methods] if isinstance(methods, str) else methods
+        if not isinstance(listed, Iterable) or not all(isinstance(m, str) for m in listed):
+            raise InputError(f"methods must be 'all', a method name or a list of names "
+                             f"({', '.join(solvers())}); got {describe(methods)}")
+        names = list(listed)
+        twice = sorted(m for m, count in Counter(names).items() if count > 1)
+        if twice:
+            raise InputError(f"methods lists {twice} more than once; list each method once")
+        why = _analytic_refusal(robot) if "analytic" in names else None
+        if why is not None:
+            raise InputError(f"method 'analytic' was asked for, but the closed form does not "
+                             f"apply to robot {robot.name!r}: {why}; drop it from methods")
+    if reference:
+        names += [m for m in EXACT_METHODS if m not in names
+                  and (m != "analytic" or _analytic_refusal(robot) is None)]
+    if not names:
+        raise InputError("compare needs at least one method; pass methods= or reference=True")
+    return names
+
+
+def _listed(name: str, values: object, check: Any) -> list[Any]:
+    """``values`` (any iterable) as a list of checked entries, refused before it gets absurd.
+
+    Raises:
+        InputError: not an iterable, longer than any job list that fits in
+            :data:`scara_opt.checks.MAX_BYTES`, a repeated entry, or an entry ``check``
+            refuses.
+    """
+    if not isinstance(values, Iterable) or isinstance(values, (str, bytes)):
+        raise InputError(f"{name} must be a list (or range) of integers; got {describe(values)}")
+    cap = max(checks.MAX_BYTES // BYTES_PER_JOB, 1)
+    try:
+        size = len(values)  # type: ignore[arg-type]
+    except OverflowError:  # e.g. range(10**30)
+        size = cap + 1
+    except TypeError:  # an iterator: count while reading
+        size = 0
+    out = list(itertools.islice(values, cap + 1)) if size <= cap else []
+    if size > cap or len(out) > cap:
+        raise InputError(f"{name} has more than {cap:,} entries ({describe(values)}); every "
+                         f"entry adds at least one solve per target, more than "
+                         f"{checks.human_bytes(checks.MAX_BYTES)} of results: pass fewer")
+    for v in out:
+        check(v)
+    twice = sorted(v for v, count in Counter(out).items() if count > 1)
+    if twice:
+        raise InputError(f"{name} lists {twice} more than once; each entry would repeat the "
+                         "same solves: list each once")
+    return out
+
+
+def _check_memory(n_targets: int, names: list[str], n_pops: int, n_seeds: int,
+                  iterations: int) -> None:
+    """Refuse a job list too large for :data:`scara_opt.checks.MAX_BYTES` before building it."""
+    budget = [m for m in names if takes_budget(m)]
+    jobs = n_targets * (len(names) - len(budget) + len(budget) * n_pops * n_seeds)
+    per_job = BYTES_PER_JOB + (8 * (iterations + 1) if budget else 0)
+    check_memory(f"compare ({count_text(jobs)} solves)", jobs, per_job,
+                 "pass fewer targets, methods, populations or seeds (solves = targets x (exact "
+                 "methods + population methods x populations x seeds)), or fewer iterations "
+                 "(each solve keeps a history of iterations + 1 costs)")
+
+
+def _submit(executor: Any, robot: Robot, job: _Job, tol: float) -> Future:
+    """Submit one job; a shut-down (or broken) executor is an InputError, not a RuntimeError."""
+    try:
+        return executor.submit(_run, robot, job, tol)
+    except RuntimeError as exc:
+        raise InputError(f"the executor refused the job ({type(exc).__name__}: {exc}): it is "
+                         "shut down or broken; pass a running executor (create it anew, or use "
+                         "it inside its with-block), or executor=None") from None
 
 
 def _progress(total: int, enabled: bool) -> Any:

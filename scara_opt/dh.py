@@ -163,7 +163,13 @@ def joint_frames(robot: DHRobot) -> tuple[list[tuple[DHJoint, np.ndarray]], np.n
 
 
 def _fmt(x: float) -> str:
+    """A geometry number: round-off below 1e-15 (from rotation matrices) written as 0."""
     return "0" if abs(x) < 1e-15 else repr(float(x))
+
+
+def _exact(x: float) -> str:
+    """A limit, written exactly (a tiny one must not become 0: no limit, or no range)."""
+    return "0" if x == 0 else repr(float(x))
 
 
 def _origin(T: np.ndarray) -> str:
@@ -198,9 +204,9 @@ def dh_to_urdf(robot: DHRobot) -> str:
             f'    <child link="{child}"/>',
             f"    {_origin(origin)}",
             f'    <axis xyz="0 0 {_fmt(j.sign)}"/>',
-            f'    <limit lower="{_fmt(j.lower)}" upper="{_fmt(j.upper)}" effort="0" '
-            f'velocity="{_fmt(j.velocity)}"/>',
-            f'    <scara_opt acceleration="{_fmt(j.acceleration)}"/>',
+            f'    <limit lower="{_exact(j.lower)}" upper="{_exact(j.upper)}" effort="0" '
+            f'velocity="{_exact(j.velocity)}"/>',
+            f'    <scara_opt acceleration="{_exact(j.acceleration)}"/>',
             "  </joint>",
         ]
         parent = child
@@ -245,6 +251,14 @@ def _vector(table: dict, key: str, where: str) -> np.ndarray:
     return np.array(value, float)
 
 
+def _text(table: dict, key: str, where: str, default: str) -> str:
+    """A text entry (name, title, source, ...): a TOML string, or ``default`` when absent."""
+    value = table.get(key, default)
+    if not isinstance(value, str):
+        raise URDFError(f"{where}: {key} must be a string (in quotes), got {value!r}")
+    return value
+
+
 def _table(value: object, where: str) -> dict:
     if not isinstance(value, dict):
         raise URDFError(f"{where} must be a TOML table (key = value lines), got {value!r}")
@@ -267,14 +281,21 @@ def load_dh(path: str | Path) -> DHRobot:
     path = Path(path)
     where = f"robot file {str(path)!r}"
     try:
-        data = tomllib.loads(path.read_text())
+        data = tomllib.loads(path.read_text(encoding="utf-8"))
     except FileNotFoundError:
         raise URDFError(f"{where} does not exist; check the path") from None
+    except UnicodeDecodeError as exc:
+        raise URDFError(f"{where} is not UTF-8 text ({exc.reason} at byte {exc.start}); pass a "
+                        "TOML robot file") from None
+    except OSError as exc:
+        raise URDFError(f"{where} cannot be read ({exc.strerror}); pass a TOML robot "
+                        "file") from None
     except tomllib.TOMLDecodeError as exc:
         raise URDFError(f"{where} is not valid TOML: {exc}") from None
     _check_keys(data, FILE_KEYS, where)
     lu, au = data.get("length_unit"), data.get("angle_unit")
-    if lu not in LENGTH_UNITS or au not in ANGLE_UNITS:
+    if not (isinstance(lu, str) and lu in LENGTH_UNITS and isinstance(au, str)
+            and au in ANGLE_UNITS):
         raise URDFError(
             f"{where}: length_unit must be one of {sorted(LENGTH_UNITS)} and "
             f"angle_unit one of {sorted(ANGLE_UNITS)}; got {lu!r} and {au!r}"
@@ -286,15 +307,15 @@ def load_dh(path: str | Path) -> DHRobot:
     joints = []
     for i, row in enumerate(rows):
         row = _table(row, f"{where}: joints entry {i + 1}")
-        name = str(row.get("name", f"joint{i + 1}"))
+        name = _text(row, "name", f"{where}: joints entry {i + 1}", f"joint{i + 1}")
         at = f"{where}: joint {name!r}"
         _check_keys(row, JOINT_KEYS, at)
-        jtype = row.get("type")
+        jtype = _text(row, "type", at, "")
         unit = A if jtype == "revolute" else L  # unit of the joint variable
         joints.append(
             DHJoint(
                 name=name,
-                type=str(jtype),
+                type=jtype,
                 a=_number(row, "a", at) * L,
                 alpha=_number(row, "alpha", at) * A,
                 d=_number(row, "d", at) * L,
@@ -312,13 +333,14 @@ def load_dh(path: str | Path) -> DHRobot:
         _check_keys(table, TOOL_KEYS, f"{where}: [tool]")
         tool[:3, :3] = pin.rpy.rpyToMatrix(_vector(table, "rpy", f"{where}: [tool]") * A)
         tool[:3, 3] = _vector(table, "xyz", f"{where}: [tool]") * L
+    _text(data, "title", where, "")
     return DHRobot(
-        name=str(data.get("name", path.stem)),
+        name=_text(data, "name", where, path.stem),
         joints=tuple(joints),
-        convention=str(data.get("convention", "standard")),
+        convention=_text(data, "convention", where, "standard"),
         tool=tool,
-        source=str(data.get("source", "")),
-        notes=str(data.get("notes", "")),
+        source=_text(data, "source", where, ""),
+        notes=_text(data, "notes", where, ""),
     )
 
 

@@ -19,10 +19,24 @@ from collections.abc import Sequence
 import numpy as np
 from numpy.typing import NDArray
 
+from scara_opt.checks import (
+    check_flag,
+    check_memory,
+    check_real,
+    count_text,
+    describe,
+    float_array,
+    is_real,
+    memory_guard,
+)
 from scara_opt.errors import InputError
-from scara_opt.target import Target
+from scara_opt.target import MAX_ANGLE, MAX_COORDINATE, Target
 
 Array = NDArray[np.float64]
+
+#: estimated memory of one path point [bytes]: the Target object, its arrays and the
+#: generator's temporaries (measured: 250 to 320 B)
+BYTES_PER_TARGET = 400
 
 #: zavar2024 Table 3 [cm], as printed except point 7: printed (14, 7.75), a sign typo for
 #: (14, −7.75) (the ten points go round the circle clockwise, 30° apart)
@@ -39,24 +53,39 @@ ZAVAR2024_REACHABLE_Z = -0.07
 
 def _vector(value: object, n: int, what: str) -> Array:
     try:
-        arr = np.asarray(value, dtype=float)
-    except (TypeError, ValueError):
-        raise InputError(f"{what} must be {n} numbers; got {value!r}") from None
+        arr = float_array(value, what)
+    except InputError:
+        raise InputError(f"{what} must be {n} numbers; got {describe(value)}") from None
     if arr.shape != (n,) or not np.isfinite(arr).all():
-        raise InputError(f"{what} must be {n} finite numbers; got {value!r}")
+        raise InputError(f"{what} must be {n} finite numbers; got {describe(value)}")
     return arr
 
 
 def _positive(value: object, what: str) -> float:
-    if not (isinstance(value, (int, float)) and math.isfinite(value) and value > 0):
-        raise InputError(f"{what} must be a positive number; got {value!r}")
-    return float(value)
+    """A length [m] > 0 and at most MAX_COORDINATE (beyond, the path's arithmetic overflows)."""
+    return check_real(what, value, 0.0, MAX_COORDINATE, low_open=True)
 
 
-def _count(n: object, least: int, what: str = "n") -> int:
-    if isinstance(n, bool) or not isinstance(n, (int, np.integer)) or n < least:
-        raise InputError(f"{what} must be an integer >= {least}; got {n!r}")
+def _count(n: object, least: int, call: str) -> int:
+    """``n`` points, an integer >= ``least`` whose targets fit in memory (see BYTES_PER_TARGET)."""
+    if (isinstance(n, (bool, np.bool_)) or not isinstance(n, (int, np.integer))
+            or n < least):
+        raise InputError(f"n must be an integer >= {least}; got {describe(n)}")
+    check_memory(f"{call}(n={count_text(int(n))})", int(n), BYTES_PER_TARGET, "lower n")
     return int(n)
+
+
+def _distinct(P: Array, fix: str) -> None:
+    """Refuse consecutive points that coincide: a path must move from point to point.
+
+    Raises:
+        InputError: names the first pair and ``fix``, what to change.
+    """
+    same = np.flatnonzero((np.diff(P, axis=0) == 0.0).all(axis=1))
+    if same.size:
+        i = int(same[0])
+        raise InputError(f"points {i} and {i + 1} of the path coincide at {P[i].tolist()} m "
+                         f"({same.size} such pair(s)): {fix}")
 
 
 def _targets(P: Array, yaw: Array | None) -> list[Target]:
@@ -73,12 +102,9 @@ def _yaws(yaw: object, n: int, tangent: Array | None) -> Array | None:
         if yaw != "tangent":
             raise InputError(f"yaw must be None, a number [rad] or 'tangent'; got {yaw!r}")
         return tangent
-    try:
-        value = float(yaw)  # type: ignore[arg-type]
-    except (TypeError, ValueError):
-        raise InputError(f"yaw must be None, a number [rad] or 'tangent'; got {yaw!r}") from None
-    if not math.isfinite(value):
-        raise InputError(f"yaw must be finite [rad]; got {yaw!r}")
+    if not is_real(yaw):
+        raise InputError(f"yaw must be None, a number [rad] or 'tangent'; got {describe(yaw)}")
+    value = check_real("yaw", yaw, unit="rad")
     return np.full(n, value)
 
 
@@ -100,25 +126,37 @@ def circle(center: object, radius: float, z: float, n: int | None = None, *,
             (direction of travel, for a robot whose yaw basis is world (x, y)).
 
     Raises:
-        InputError: bad centre, radius, count or angles; both or neither of ``n``/``angles``.
+        InputError: bad centre, radius (zero included), count or angles; both or neither of
+            ``n``/``angles``; points that coincide (equal angles, or a sweep too small for
+            ``n`` points); more points than :data:`scara_opt.checks.MAX_BYTES` allow.
     """
     c = _vector(center, 2, "center (x, y) [m]")
     r = _positive(radius, "radius [m]")
-    zz = float(_vector([z], 1, "z [m]")[0])
+    zz = check_real("z", z, unit="m")
     if (n is None) == (angles is None):
         raise InputError("give either n= (evenly spaced points) or angles= [rad], not both")
     if angles is not None:
-        th = np.asarray(angles, dtype=float)
-        if th.ndim != 1 or th.size < 1 or not np.isfinite(th).all():
-            raise InputError(f"angles must be a finite 1-D array [rad]; got {angles!r}")
+        try:
+            th = float_array(angles, "angles")
+        except InputError:
+            th = np.array(np.nan)
+        if (th.ndim != 1 or th.size < 1 or not np.isfinite(th).all()
+                or np.abs(th).max() > MAX_ANGLE):
+            raise InputError(f"angles must be a 1-D array of finite angles within "
+                             f"±{MAX_ANGLE:g} [rad]; got {describe(angles)}")
     else:
-        count = _count(n, 1)
-        if not (math.isfinite(start) and math.isfinite(sweep) and sweep != 0):
-            raise InputError(f"start and sweep must be finite, sweep != 0; got {start}, {sweep}")
-        full = math.isclose(abs(sweep), 2 * math.pi)
+        count = _count(n, 1, "circle")
+        a0 = check_real("start", start, -MAX_ANGLE, MAX_ANGLE, unit="rad")
+        span = check_real("sweep", sweep, -MAX_ANGLE, MAX_ANGLE, unit="rad")
+        if span == 0:
+            raise InputError("sweep must not be 0: give the signed angle covered [rad], e.g. "
+                             "2 * math.pi for a full turn")
+        full = math.isclose(abs(span), 2 * math.pi)
         steps = count if full else max(count - 1, 1)
-        th = start + sweep * np.arange(count) / steps
+        with memory_guard(f"circle(n={count:,})", count * BYTES_PER_TARGET, "lower n"):
+            th = a0 + span * np.arange(count) / steps
     P = np.column_stack([c[0] + r * np.cos(th), c[1] + r * np.sin(th), np.full(th.size, zz)])
+    _distinct(P, "give distinct angles=, or a larger sweep= (or radius=) for this many points")
     direction = np.sign(np.diff(th)).mean() if th.size > 1 else np.sign(sweep)
     tangent = th + math.copysign(math.pi / 2, direction if direction else 1.0)
     return _targets(P, _yaws(yaw, th.size, tangent))
@@ -135,11 +173,18 @@ def line(start: object, end: object, n: int, yaw: float | str | None = None) -> 
             in the world x-y plane).
 
     Raises:
-        InputError: bad positions or ``n``; ``start == end`` with ``yaw="tangent"``.
+        InputError: bad positions or ``n``; ``start == end`` (no line), or ends so close that
+            points coincide; a vertical line with ``yaw="tangent"``; more points than
+            :data:`scara_opt.checks.MAX_BYTES` allow.
     """
     a, b = _vector(start, 3, "start [m]"), _vector(end, 3, "end [m]")
-    count = _count(n, 2)
-    P = a + np.linspace(0.0, 1.0, count)[:, None] * (b - a)
+    count = _count(n, 2, "line")
+    if np.array_equal(a, b):
+        raise InputError(f"start and end are the same point {a.tolist()} m: a line needs two "
+                         "distinct ends (for a single target, use [Target(start)])")
+    with memory_guard(f"line(n={count:,})", count * BYTES_PER_TARGET, "lower n"):
+        P = a + np.linspace(0.0, 1.0, count)[:, None] * (b - a)
+    _distinct(P, "the ends are too close for this many points; lower n")
     d = b - a
     if yaw == "tangent" and math.hypot(d[0], d[1]) == 0.0:
         raise InputError("a vertical or zero-length line has no tangent direction; give yaw=")
@@ -157,11 +202,18 @@ def point_to_point(start: object, end: object, yaw_start: float | None = None,
         yaw_end: tool angle at the goal [rad], or ``None`` (with ``yaw_start``).
 
     Raises:
-        InputError: bad positions, or only one of the two yaws.
+        InputError: bad positions, only one of the two yaws, or no move (same position and
+            same tool angle at both ends).
     """
     a, b = _vector(start, 3, "start [m]"), _vector(end, 3, "end [m]")
     if (yaw_start is None) != (yaw_end is None):
         raise InputError("give both yaw_start and yaw_end [rad], or neither")
+    same_yaw = yaw_start is None or (is_real(yaw_start) and is_real(yaw_end)
+                                     and yaw_start == yaw_end)
+    if np.array_equal(a, b) and same_yaw:
+        raise InputError(f"start and end are the same pose ({a.tolist()} m"
+                         + ("" if yaw_start is None else f", yaw {yaw_start!r} rad")
+                         + "): there is no move; give a different end (or another yaw)")
     if yaw_start is None:
         return [Target(a), Target(b)]
     return [Target(a, yaw=yaw_start), Target(b, yaw=yaw_end)]
@@ -231,9 +283,12 @@ def rounded_rectangle(n: int, center: object, width: float, height: float,
         yaw: ``"tangent"`` (default), a constant tool angle [rad], or ``None``.
 
     Raises:
-        InputError: bad sizes, axes or counts.
+        InputError: bad sizes, axes, counts or flags; more points than
+            :data:`scara_opt.checks.MAX_BYTES` allow, or so many that they coincide.
     """
-    count = _count(n, 4)
+    count = _count(n, 4, "rounded_rectangle")
+    check_flag("clockwise", clockwise)
+    check_flag("closed", closed)
     c = _vector(center, 2, "center (u, v) [m]")
     w, h = _positive(width, "width [m]"), _positive(height, "height [m]")
     rc = _positive(corner_radius, "corner_radius [m]")
@@ -244,12 +299,14 @@ def rounded_rectangle(n: int, center: object, width: float, height: float,
     if abs(a1 @ a1 - 1) > 1e-9 or abs(a2 @ a2 - 1) > 1e-9 or abs(a1 @ a2) > 1e-9:
         raise InputError("e1 and e2 must be orthonormal (unit length, perpendicular)")
     total = 2 * (w - 2 * rc) + 2 * (h - 2 * rc) + 2 * math.pi * rc
-    s = total * np.arange(count + int(bool(closed))) / count
-    u, v, ang = _rounded_rectangle_uv(s, w, h, rc)
-    if clockwise:  # mirror about the u axis: same rectangle, travelled the other way
-        v, ang = -v, -ang
-    uv = np.column_stack([u, v]) + c
-    P = o + uv[:, :1] * a1 + uv[:, 1:] * a2
+    with memory_guard(f"rounded_rectangle(n={count:,})", count * BYTES_PER_TARGET, "lower n"):
+        s = total * np.arange(count + int(bool(closed))) / count
+        u, v, ang = _rounded_rectangle_uv(s, w, h, rc)
+        if clockwise:  # mirror about the u axis: same rectangle, travelled the other way
+            v, ang = -v, -ang
+        uv = np.column_stack([u, v]) + c
+        P = o + uv[:, :1] * a1 + uv[:, 1:] * a2
+    _distinct(P, "the contour is too small for this many points; lower n")
     return _targets(P, _yaws(yaw, len(P), ang))
 
 
@@ -266,7 +323,11 @@ def zavar2024_circle(reachable: bool = False) -> list[Target]:
 
     Args:
         reachable: the reachable variant instead of the paper's points.
+
+    Raises:
+        InputError: ``reachable`` not True or False.
     """
+    check_flag("reachable", reachable)
     xy = np.array(ZAVAR2024_TABLE3_CM) / 100.0
     if not reachable:
         return [Target((x, y, ZAVAR2024_TABLE3_Z)) for x, y in xy]
@@ -291,7 +352,12 @@ def nguyen_contour(n: int = 120, y: float = -0.13) -> list[Target]:
     Args:
         n: number of distinct points (one more is appended to close the contour).
         y: plane of the arm [m], within [−0.18, −0.08].
+
+    Raises:
+        InputError: ``n`` or ``y`` malformed (see :func:`rounded_rectangle`).
     """
+    y = check_real("y", y, unit="m")
+    _count(n, 4, "nguyen_contour")
     return rounded_rectangle(n, (0.40, 0.30), 0.20, 0.30, 0.04, origin=(0.0, y, 0.0),
                              e1=(1.0, 0.0, 0.0), e2=(0.0, 0.0, 1.0))
 
@@ -307,10 +373,10 @@ def as_targets(targets: object) -> list[Target]:
     if isinstance(targets, Sequence) and targets and all(isinstance(t, Target) for t in targets):
         return list(targets)
     try:
-        arr = np.asarray(targets, dtype=float)
-    except (TypeError, ValueError):
+        arr = float_array(targets, "targets")
+    except InputError:
         raise InputError("targets must be a sequence of Target or an (n, 3) / (n, 4) array "
-                         "[x, y, z(, yaw)] [m, rad]") from None
+                         f"[x, y, z(, yaw)] [m, rad]; got {describe(targets)}") from None
     if arr.ndim != 2 or arr.shape[0] < 1 or arr.shape[1] not in (3, 4):
         raise InputError(f"a target array must have shape (n, 3) or (n, 4) [x, y, z(, yaw)] "
                          f"with n >= 1; got shape {arr.shape}")

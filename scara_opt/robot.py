@@ -36,6 +36,7 @@ import xml.etree.ElementTree as ET
 from collections import Counter
 from dataclasses import dataclass
 from functools import cached_property
+from os import PathLike
 from pathlib import Path
 from typing import TYPE_CHECKING, Any, cast
 
@@ -43,6 +44,7 @@ import numpy as np
 import pinocchio as pin
 from numpy.typing import NDArray
 
+from scara_opt.checks import check_real, describe, float_array, is_real
 from scara_opt.errors import (
     FrameNotFoundError,
     InputError,
@@ -106,6 +108,12 @@ def _joint_kind(jmodel: pin.JointModel) -> tuple[str, Array]:
     raise URDFError(f"Pinocchio joint kind {short} is not supported (revolute or prismatic only)")
 
 
+def _check_tip(tip: object) -> None:
+    """``tip`` is a link name (str) or ``None``."""
+    if tip is not None and not isinstance(tip, str):
+        raise InputError(f"tip must be the name of a link (a str) or None; got {describe(tip)}")
+
+
 def _check_xml(text: str, where: str) -> None:
     try:
         root = ET.fromstring(text)
@@ -130,8 +138,22 @@ def _load_urdf(text: str, mesh_dir: str | None, where: str) -> Any:
         raise URDFError(f"{where} is not a valid URDF: {type(exc).__name__}: {exc}") from None
 
 
+def _check_rates(j: Any, where: str) -> None:
+    """``<limit velocity= effort=>`` are finite and >= 0 (0: not given, the URDF convention)."""
+    lim = j.limit
+    for key in ("velocity", "effort"):
+        value = None if lim is None else getattr(lim, key)
+        if value is not None and not (math.isfinite(value) and value >= 0):
+            raise URDFError(f"{where}: joint {j.name!r} has <limit {key}=\"{value}\">; it must "
+                            "be a finite number >= 0 (0 or absent: not given)")
+
+
 def _check_limits(j: Any, where: str) -> None:
-    """A revolute or prismatic joint needs finite ``lower < upper`` (continuous: none)."""
+    """A revolute or prismatic joint needs finite ``lower < upper`` (continuous: none).
+
+    The range's width must be finite too: samplers draw from it.
+    """
+    _check_rates(j, where)
     if j.type == "continuous":
         return
     lim = j.limit
@@ -146,6 +168,11 @@ def _check_limits(j: Any, where: str) -> None:
             f"{lim.upper}; swap them or fix the URDF",
             j.name,
         )
+    if not math.isfinite(lim.upper - lim.lower):
+        raise JointLimitError(
+            f"{where}: joint {j.name!r} has the range [{lim.lower}, {lim.upper}], whose width "
+            "overflows; give its real range (or make it type continuous if it turns without "
+            "limits)", j.name)
 
 
 def _check_axis(j: Any, where: str) -> None:
@@ -414,13 +441,57 @@ def _warn_missing_meshes(urdf: Any, folder: str, where: str) -> None:
                     "kinematics do not use meshes", where, len(missing), missing[0])
 
 
-def _accelerations(text: str) -> dict[str, float]:
-    """The ``<scara_opt acceleration=…/>`` extension written by :mod:`scara_opt.dh`."""
-    out = {}
-    for joint in ET.fromstring(text).iter("joint"):
-        ext = joint.find("scara_opt")
-        if ext is not None and ext.get("acceleration") is not None:
-            out[joint.get("name", "")] = float(ext.get("acceleration"))
+#: the attributes of the ``<scara_opt/>`` extension element of a URDF joint
+EXTENSION_ATTRIBUTES = ("acceleration",)
+
+
+def _acceleration_value(joint: ET.Element, ext: ET.Element, where: str) -> float:
+    """The checked ``acceleration`` of one ``<scara_opt/>`` element [rad/s² or m/s²]."""
+    name = joint.get("name", "")
+    unknown = sorted(set(ext.attrib) - set(EXTENSION_ATTRIBUTES))
+    if unknown or "acceleration" not in ext.attrib:
+        raise URDFError(f"{where}: joint {name!r} has <scara_opt {_attrs(ext)}/>; the element "
+                        f"takes {', '.join(EXTENSION_ATTRIBUTES)} only, e.g. "
+                        '<scara_opt acceleration="12.5"/> [rad/s² or m/s²]')
+    text = ext.get("acceleration", "")
+    try:
+        value = float(text)
+    except ValueError:
+        value = math.nan
+    if not (math.isfinite(value) and value > 0):
+        raise URDFError(f"{where}: joint {name!r} has <scara_opt acceleration=\"{text}\"/>; "
+                        "the acceleration limit must be a finite number > 0 [rad/s² or m/s²] "
+                        "(leave the element out for no limit)")
+    return value
+
+
+def _attrs(element: ET.Element) -> str:
+    return " ".join(f'{k}="{v}"' for k, v in element.attrib.items())
+
+
+def _accelerations(text: str, where: str = "URDF") -> dict[str, float]:
+    """The ``<scara_opt acceleration=…/>`` extension written by :mod:`scara_opt.dh`, checked.
+
+    One element at most per movable joint, nowhere else.
+
+    Raises:
+        URDFError: a value that is not a finite number > 0, an unknown attribute, a second
+            element, or the element outside a movable ``<joint>`` (names the joint and value).
+    """
+    root = ET.fromstring(text)
+    out: dict[str, float] = {}
+    hosts = {ext: joint for joint in root.iter("joint") for ext in joint.findall("scara_opt")}
+    for ext in root.iter("scara_opt"):
+        joint = hosts.get(ext)
+        if joint is None or joint.get("type") not in _MOVABLE:
+            owner = "a fixed joint" if joint is not None else "outside any <joint>"
+            raise URDFError(f"{where}: <scara_opt {_attrs(ext)}/> is on {owner}; it belongs "
+                            "inside a revolute, continuous or prismatic <joint>")
+        name = joint.get("name", "")
+        if name in out:
+            raise URDFError(f"{where}: joint {name!r} has more than one <scara_opt/> element; "
+                            "keep one")
+        out[name] = _acceleration_value(joint, ext, where)
     return out
 
 
@@ -449,6 +520,11 @@ class Robot:
     def __init__(self, urdf_text: str, tip: str | None = None, *, name: str | None = None,
                  where: str = "URDF", source: str = "", notes: str = "",
                  mesh_dir: str | None = None, metadata: dict | None = None) -> None:
+        if not isinstance(urdf_text, str):
+            raise InputError(f"urdf_text must be the URDF's XML as a str (to load a file, use "
+                             f"Robot.from_urdf(path) or so.load_robot(path)); got "
+                             f"{describe(urdf_text)}")
+        _check_tip(tip)
         _check_xml(urdf_text, where)
         urdf = _load_urdf(urdf_text, mesh_dir, where)
         by_child, root = _tree(urdf, where)
@@ -487,7 +563,7 @@ class Robot:
 
     def _set_rate_limits(self, urdf_text: str, where: str) -> None:
         """Velocity limits from the model, accelerations from the scara_opt URDF extension."""
-        acc = _accelerations(urdf_text)
+        acc = _accelerations(urdf_text, where)
         self._acceleration = np.array([acc.get(name, np.inf) for name in self.joint_names])
         vel = np.array(self.model.velocityLimit, float)
         if np.any(vel <= 0):
@@ -514,14 +590,23 @@ class Robot:
                 when the URDF has several end links, logs a warning naming the one taken.
 
         Raises:
+            InputError: ``path`` not a str or Path, ``tip`` not a str or None.
             URDFError: missing or non-UTF-8 file, malformed XML, not a tree (duplicate
                 names, undeclared links, a cycle, a link with two parent joints, several
                 root links), an unsupported joint type (floating, planar), a zero-length or
-                non-finite joint axis, a mimic joint that does not follow a movable joint (or
-                follows one after it on the path), or no movable joint on the path to the tip.
+                non-finite joint axis, a ``<limit velocity=/effort=>`` that is not a finite
+                number >= 0, a ``<scara_opt acceleration=/>`` that is not a finite number
+                > 0 (or misplaced, repeated, misspelt), a mimic joint that does not follow a
+                movable joint (or follows one after it on the path), or no movable joint on
+                the path to the tip.
             FrameNotFoundError: ``tip`` is not a link of the URDF (the message lists them).
-            JointLimitError: a joint's lower limit is not below its upper limit.
+            JointLimitError: a joint's lower limit is not below its upper limit, or the
+                range's width overflows.
         """
+        if not isinstance(path, (str, PathLike)):
+            raise InputError(f"path must be the path of a .urdf file (a str or pathlib.Path); "
+                             f"got {describe(path)}")
+        _check_tip(tip)
         path = Path(path)
         if not path.is_file():
             raise URDFError(f"URDF file {str(path)!r} does not exist; check the path")
@@ -609,7 +694,8 @@ class Robot:
         continuous joint given a range becomes bounded (and so does its sampling box).
 
         Raises:
-            JointLimitError: unknown joint, non-finite values, or lower >= upper.
+            JointLimitError: unknown joint, not a pair of numbers (bools and strings
+                refused), non-finite values, lower >= upper, or a width that overflows.
         """
         # a fresh object with the constructor's attributes, none of the caches (copy.copy
         # would go through __reduce__ and hand back the per-process rebuilt robot itself)
@@ -623,15 +709,19 @@ class Robot:
             if name not in self.joint_names:
                 raise JointLimitError(f"with_limits: no joint named {name!r}; joints: "
                                       f"{self.joint_names}", joint=name)
+            pair = tuple(value) if isinstance(value, (tuple, list, np.ndarray)) else ()
+            if len(pair) != 2 or not all(map(is_real, pair)):
+                raise JointLimitError(f"with_limits: {name} needs a (lower, upper) pair of "
+                                      f"numbers [rad or m]; got {describe(value)}", joint=name)
             try:
-                lo, hi = (float(v) for v in value)
-            except (TypeError, ValueError):
-                raise JointLimitError(f"with_limits: {name} needs a (lower, upper) pair; got "
-                                      f"{value!r}", joint=name) from None
-            if not (math.isfinite(lo) and math.isfinite(hi) and lo < hi):
+                lo, hi = (float(v) for v in pair)
+            except OverflowError:  # ints beyond the float range
+                lo, hi = -math.inf, math.inf
+            if not (math.isfinite(lo) and math.isfinite(hi) and lo < hi
+                    and math.isfinite(hi - lo)):
                 raise JointLimitError(
                     f"with_limits: joint {name!r} range ({lo}, {hi}) is not finite with lower < "
-                    "upper; pass (lower, upper) in rad or m", joint=name)
+                    "upper (and a finite width); pass (lower, upper) in rad or m", joint=name)
             k = self.joint_names.index(name)
             lower[k], upper[k] = lo, hi
         new.model.lowerPositionLimit, new.model.upperPositionLimit = lower, upper
@@ -646,10 +736,10 @@ class Robot:
     def check_q(self, q: object, name: str = "q") -> Array:
         """Return ``q`` as a float array of shape (nq,), or raise :class:`InputError`."""
         try:
-            arr = np.asarray(q, dtype=float)
-        except (TypeError, ValueError):
+            arr = float_array(q, name)
+        except InputError:
             raise InputError(f"{name} must be numeric, one value per joint "
-                             f"{self.joint_names}; got {q!r}") from None
+                             f"{self.joint_names}; got {describe(q)}") from None
         if arr.shape != (self.nq,):
             raise InputError(
                 f"{name} must have shape ({self.nq},), one value per joint {self.joint_names} "
@@ -665,9 +755,10 @@ class Robot:
     def check_q_batch(self, Q: object, name: str = "Q") -> Array:
         """Return ``Q`` as a float array of shape (n, nq), or raise :class:`InputError`."""
         try:
-            arr = np.asarray(Q, dtype=float)
-        except (TypeError, ValueError):
-            raise InputError(f"{name} must be a numeric array of shape (n, {self.nq})") from None
+            arr = float_array(Q, name)
+        except InputError:
+            raise InputError(f"{name} must be a numeric array of shape (n, {self.nq}); got "
+                             f"{describe(Q)}") from None
         if arr.ndim != 2 or arr.shape[1] != self.nq:
             raise InputError(
                 f"{name} must have shape (n, {self.nq}), one row per configuration; "
@@ -680,8 +771,13 @@ class Robot:
         return arr
 
     def within_limits(self, q: object, tol: float = 0.0) -> bool | NDArray[np.bool_]:
-        """Whether ``q`` (nq,) — or each row of (n, nq) — lies within [lower - tol, upper + tol]."""
-        arr = np.asarray(q, dtype=float)
+        """Whether ``q`` (nq,) — or each row of (n, nq) — lies within [lower - tol, upper + tol].
+
+        Raises:
+            InputError: ``q`` not numeric or misshaped; ``tol`` not a finite number >= 0.
+        """
+        tol = check_real("tol", tol, 0.0, unit="rad or m")
+        arr = float_array(q, "q")
         arr = self.check_q(arr) if arr.ndim == 1 else self.check_q_batch(arr)
         ok = np.all((arr >= self.lower - tol) & (arr <= self.upper + tol), axis=-1)
         return bool(ok) if arr.ndim == 1 else ok
@@ -957,11 +1053,17 @@ def load_robot(name: str | Path, tip: str | None = None) -> Robot:
         tip: tip frame; bundled robots default to their ``"tool"`` frame.
 
     Raises:
+        InputError: ``name`` not a str or Path, ``tip`` not a str or None.
         RobotNotFoundError: neither a bundled name nor an existing file (lists the names).
-        URDFError: the file is malformed (see :meth:`Robot.from_urdf`).
+        URDFError: the file is malformed (see :meth:`Robot.from_urdf` and
+            :func:`scara_opt.dh.load_dh`).
     """
     from scara_opt.dh import bundled_dir, load_dh
 
+    if not isinstance(name, (str, PathLike)):
+        raise InputError(f"name must be a bundled robot name ({', '.join(list_robots())}) or "
+                         f"the path of a .urdf or .toml file; got {describe(name)}")
+    _check_tip(tip)
     if isinstance(name, str) and name in list_robots():
         folder = bundled_dir()
         dh = load_dh(folder / f"{name}.toml")

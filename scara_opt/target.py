@@ -8,16 +8,28 @@ from dataclasses import dataclass, field
 import numpy as np
 from numpy.typing import NDArray
 
+from scara_opt.checks import describe, float_array, is_real
 from scara_opt.errors import TargetError
 
 Array = NDArray[np.float64]
 
+#: largest target coordinate [m]: far beyond any robot's reach (a larger one is a unit or
+#: data error), and small enough that squared errors never overflow
+MAX_COORDINATE = 1e6
+#: largest tool angle [rad] (about 160,000 turns): a float of this size still resolves
+#: 1.2e-10 rad, finer than the default tolerance 1e-9; beyond ~1e15 rad it cannot tell turns
+MAX_ANGLE = 1e6
+#: range of each weight: ratios up to 1e12 between the position and angle terms, and
+#: weighted squared errors that stay finite (1e200 squared overflows)
+WEIGHT_RANGE = (1e-6, 1e6)
+
 
 def _finite_array(value: object, shape: tuple[int, ...], what: str) -> Array:
     try:
-        arr = np.asarray(value, dtype=float)
-    except (TypeError, ValueError):
-        raise TargetError(f"{what} must be numeric with shape {shape}; got {value!r}") from None
+        arr = float_array(value, what, TargetError)
+    except TargetError:
+        raise TargetError(f"{what} must be numeric with shape {shape}; got "
+                          f"{describe(value)}") from None
     if arr.shape != shape:
         raise TargetError(f"{what} must have shape {shape}; got shape {arr.shape}")
     if not np.isfinite(arr).all():
@@ -33,11 +45,13 @@ class Target:
         position: (3,) tip position in the world frame [m].
         yaw: tool angle [rad] about the robot's :attr:`~scara_opt.Robot.yaw_axis`, or ``None``.
         rotation: (3, 3) tip orientation, or ``None``. At most one of ``yaw``/``rotation``.
-        weights: ``(w_position, w_angle)`` of the task error in the cost; default ``(1, 1)``.
+        weights: ``(w_position, w_angle)`` of the task error in the cost; default ``(1, 1)``,
+            each within :data:`WEIGHT_RANGE`.
 
     Raises:
-        TargetError: wrong shapes, NaN/inf, both yaw and rotation, an improper rotation,
-            or non-positive weights.
+        TargetError: wrong shapes, NaN/inf, strings or bools for numbers, a coordinate beyond
+            :data:`MAX_COORDINATE`, a yaw beyond :data:`MAX_ANGLE`, both yaw and rotation, an
+            improper rotation, or weights outside :data:`WEIGHT_RANGE`.
     """
 
     position: Array
@@ -49,17 +63,25 @@ class Target:
                  rotation: object | None = None,
                  weights: tuple[float, float] | None = None) -> None:
         pos = _finite_array(position, (3,), "target position [m]")
+        if np.abs(pos).max() > MAX_COORDINATE:
+            raise TargetError(f"target position {pos.tolist()} m has a coordinate beyond "
+                              f"±{MAX_COORDINATE:g} m, far outside any robot's reach; positions "
+                              "are in metres (a unit error?)")
+        pos = pos.copy() if pos is position else pos
         pos.flags.writeable = False
         object.__setattr__(self, "position", pos)
         if yaw is not None and rotation is not None:
             raise TargetError("give either yaw= or rotation=, not both")
         if yaw is not None:
+            if not is_real(yaw):
+                raise TargetError(f"yaw must be a number [rad]; got {describe(yaw)}")
             try:
                 yaw = float(yaw)  # type: ignore[arg-type]
-            except (TypeError, ValueError):
-                raise TargetError(f"yaw must be a number [rad]; got {yaw!r}") from None
-            if not math.isfinite(yaw):
-                raise TargetError(f"yaw must be finite [rad]; got {yaw}")
+            except OverflowError:
+                yaw = math.inf
+            if not (math.isfinite(yaw) and abs(yaw) <= MAX_ANGLE):
+                raise TargetError(f"yaw must be finite, within ±{MAX_ANGLE:g} rad (beyond, a "
+                                  f"float cannot resolve the angle); got {yaw!r}")
         object.__setattr__(self, "yaw", yaw)
         rot = None
         if rotation is not None:
@@ -70,16 +92,10 @@ class Target:
                     "target rotation is not a proper rotation matrix (R Rᵀ = I, det R = +1 "
                     "to 1e-6); orthonormalise it first"
                 )
+            rot = rot.copy() if rot is rotation else rot
             rot.flags.writeable = False
         object.__setattr__(self, "rotation", rot)
-        try:
-            w = (1.0, 1.0) if weights is None else tuple(float(v) for v in weights)
-        except (TypeError, ValueError):
-            w = ()
-        if len(w) != 2 or not all(math.isfinite(v) and v > 0 for v in w):
-            raise TargetError(
-                f"weights must be two positive numbers (position, angle); got {weights!r}")
-        object.__setattr__(self, "weights", w)
+        object.__setattr__(self, "weights", _weights(weights))
 
     @property
     def kind(self) -> str:
@@ -95,6 +111,22 @@ class Target:
         elif self.rotation is not None:
             extra = ", rotation=<3x3>"
         return f"Target(position={np.array2string(self.position, precision=6)}{extra})"
+
+
+def _weights(weights: object) -> tuple[float, float]:
+    """``(w_position, w_angle)``, each a number within :data:`WEIGHT_RANGE`; default (1, 1)."""
+    if weights is None:
+        return (1.0, 1.0)
+    lo, hi = WEIGHT_RANGE
+    try:
+        pair = tuple(weights)  # type: ignore[call-overload]
+    except TypeError:
+        pair = ()
+    if len(pair) != 2 or not all(is_real(v) and lo <= v <= hi for v in pair):
+        raise TargetError(f"weights must be two positive numbers (position, angle), each within "
+                          f"[{lo:g}, {hi:g}] (their squares enter the cost); got "
+                          f"{describe(weights)}")
+    return float(pair[0]), float(pair[1])
 
 
 def as_target(target: Target | object) -> Target:

@@ -78,6 +78,8 @@ def test_ik_all_lists_the_branches():
     (("path", "zavar2024", "--circle", "0", "0", "160", "-60", "--mm", "-n", "10", "--out",
       "/tmp/scara_opt_path"), "10 of 10 path points were not reached"),
     (("path", "zavar2024", "--line", "0.25", "0", "-0.07", "0.25", "0", "-0.07", "--yaw",
+      "tangent", "--out", "/tmp/scara_opt_path"), "start and end are the same point"),
+    (("path", "zavar2024", "--line", "0.25", "0", "-0.07", "0.25", "0", "-0.05", "--yaw",
       "tangent", "--out", "/tmp/scara_opt_path"), "no tangent direction"),
     # checked for every (method, population) before the first solve, not halfway through
     (("compare", "zavar2024", "--target", "-0.23", "0.20", "-0.07", "--methods", "pso,sfla",

@@ -123,3 +123,95 @@ def test_all_methods_budgets_only_the_population_methods(robots):
     for method in ("analytic", "auto", "ipopt", "lm"):
         assert counts[method] == 1 and table[table["method"] == method]["success"].all()
     assert all(counts[m] == 2 for m in counts if m not in ("analytic", "auto", "ipopt", "lm"))
+
+
+# ---------------------------------------------------------------------- argument types
+@pytest.mark.parametrize("kwargs, match", [
+    (dict(targets=None), "targets must be a list"),
+    (dict(targets=5), "targets must be a list"),
+    (dict(methods=None), "methods must be 'all', a method name or a list"),
+    (dict(methods=[1]), "methods must be"),
+    (dict(methods=["pso", "pso"]), r"methods lists \['pso'\] more than once"),
+    (dict(populations=["a"]), r"each population must be a positive integer; got 'a' \(str\)"),
+    (dict(populations=[10, 10]), r"populations lists \[10\] more than once"),
+    (dict(populations=10), "populations must be a list"),
+    (dict(seeds="0"), "seeds must be a list"),
+    (dict(seeds=[1, 1]), r"seeds lists \[1\] more than once"),
+    (dict(iterations="5"), "iterations must be a positive integer"),
+    (dict(progress="yes"), "progress must be True or False"),
+    (dict(reference="no"), "reference must be True or False"),
+    (dict(options="ipopt"), "options must be a dict"),
+    (dict(options={"ipotp": {"restarts": 2}}), r"options are given for \['ipotp'\]"),
+    (dict(executor="pool"), r"executor must be a concurrent.futures.Executor .*'pool' \(str\)"),
+])
+def test_compare_type_checks_every_argument(robots, kwargs, match):
+    """Wrong types raised AttributeError/TypeError; a misspelt options key and a repeated
+    method, population or seed were silently ignored or repeated.
+
+    Mutation: compare without the executor check ('str' has no attribute 'submit') and
+    with options for unknown methods ignored -> fails.
+    """
+    args = dict(targets=TARGETS[:1], methods=["pso"], populations=[5], iterations=2,
+                seeds=[0], progress=False, reference=False)
+    with pytest.raises(so.InputError, match=match):
+        compare(robots["zavar2024"], **{**args, **kwargs})
+
+
+def test_compare_refuses_a_robot_name(robots):
+    """A robot name is answered with the call that loads it."""
+    with pytest.raises(so.InputError, match=r"so.load_robot\('zavar2024'\)"):
+        compare("zavar2024", TARGETS, progress=False)
+
+
+def test_an_explicit_method_that_does_not_apply_raises(arm6):
+    """compare(arm6, methods=["analytic"]) silently dropped the method; now it says why.
+
+    The reference rows (and methods="all") still skip the closed form quietly.
+    Mutation: the explicit list filtered silently as before -> fails.
+    """
+    with pytest.raises(so.InputError, match="'analytic' was asked for.*SCARA-type"):
+        compare(arm6, [[0.3, 0.0, 0.3]], methods=["analytic", "lm"], progress=False)
+    table = compare(arm6, [[0.3, 0.0, 0.3]], methods=["lm"], progress=False)
+    assert sorted(table["method"].unique()) == ["ipopt", "lm"]
+
+
+def test_a_shut_down_executor_is_an_input_error(robots):
+    """submit() on a shut-down pool raised RuntimeError; now the message says what to do.
+
+    Mutation: _submit without its RuntimeError branch -> fails.
+    """
+    from concurrent.futures import ThreadPoolExecutor
+
+    pool = ThreadPoolExecutor(1)
+    pool.shutdown()
+    with pytest.raises(so.InputError, match="shut down or broken; pass a running executor"):
+        compare(robots["zavar2024"], TARGETS[:1], methods=["lm"], executor=pool,
+                progress=False)
+
+
+@pytest.mark.parametrize("kwargs, match", [
+    (dict(seeds=range(10**30)), r"seeds has more than .* entries"),
+    (dict(populations=range(1, 10**12)), r"populations has more than .* entries"),
+    (dict(iterations=10**30), r"would need about .* history of iterations \+ 1 costs"),
+])
+def test_absurd_job_lists_are_refused_before_they_are_built(robots, kwargs, match):
+    """range(10**30) seeds raised OverflowError/MemoryError while being listed.
+
+    Mutation: _listed reads the whole iterable with list() -> fails.
+    """
+    with pytest.raises(so.InputError, match=match):
+        compare(robots["zavar2024"], TARGETS, methods=["pso"], progress=False, **kwargs)
+
+
+def test_the_job_memory_estimate_counts_every_solve(robots, monkeypatch):
+    """targets x (exact methods + population methods x populations x seeds) solves.
+
+    3 x (2 + 2 x 2) = 18 solves of 3000 + 8 x (2 + 1) B each: 53.2 KiB.
+    Mutation: compare without _check_memory (the table is built whatever its size) -> fails.
+    """
+    from scara_opt import checks
+
+    monkeypatch.setattr(checks, "MAX_BYTES", 50_000)
+    with pytest.raises(so.InputError, match=r"compare \(18 solves\) would need about 53.2 KiB"):
+        compare(robots["zavar2024"], TARGETS, methods=["pso"], populations=[5, 6],
+                seeds=[0, 1], iterations=2, progress=False)

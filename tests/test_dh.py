@@ -132,3 +132,51 @@ def test_a_robot_file_with_a_tool_and_every_key_loads(tmp_path):
     dh = load_dh(path)
     np.testing.assert_allclose(dh.tool[:3, 3], [0, 0, -0.01])
     np.testing.assert_allclose(dh.tool[:3, :3], [[0, -1, 0], [1, 0, 0], [0, 0, 1]], atol=1e-15)
+
+
+def test_tiny_limits_reach_the_urdf_exactly(tmp_path):
+    """An acceleration of 1e-320 deg/s² stays 1.7e-322 rad/s², not "0" (no limit at all).
+
+    Mutation: limits written with _fmt (|x| < 1e-15 -> "0", as before) -> fails (the URDF
+    then holds acceleration="0", refused on loading).
+    """
+    path = tmp_path / "tiny.toml"
+    path.write_text(HEAD + ROW + "acceleration = 1e-320\nvelocity = 1e-300\n")
+    robot = so.load_robot(path)
+    assert 0 < robot.acceleration_limit[0] < 1e-321
+    assert robot.velocity_limit[0] == pytest.approx(1e-300 * math.pi / 180)
+
+
+@pytest.mark.parametrize("text, match", [
+    ("name = 5\n" + HEAD + ROW, "name must be a string"),
+    (HEAD + "convention = 1\n" + ROW, "convention must be a string"),
+    (HEAD + 'source = ["a"]\n' + ROW, "source must be a string"),
+    (HEAD + "title = true\n" + ROW, "title must be a string"),
+    (HEAD + ROW.replace('name = "q1"', "name = 7"), "joints entry 1: name must be a string"),
+    (HEAD + ROW.replace('type = "revolute"', "type = 1"), "type must be a string"),
+    ('length_unit = ["mm"]\nangle_unit = "deg"\n' + ROW, "length_unit must be one of"),
+    ('length_unit = "mm"\nangle_unit = {a = 1}\n' + ROW, "angle_unit one of"),
+])
+def test_text_entries_of_a_robot_file_must_be_strings(tmp_path, text, match):
+    """Names, type, convention and texts are TOML strings; units are one of the known names.
+
+    Mutation: _text returns str(value) (name = 5 became "5") -> fails; the unit check
+    without its isinstance test (a list raised TypeError: unhashable) -> fails.
+    """
+    path = tmp_path / "bad.toml"
+    path.write_text(text)
+    with pytest.raises(so.URDFError, match=match):
+        load_dh(path)
+
+
+def test_unreadable_robot_files_raise_urdf_error(tmp_path):
+    """A folder or a binary file given as a robot file is a URDFError, not an OSError.
+
+    Mutation: load_dh without its OSError / UnicodeDecodeError branches -> fails.
+    """
+    with pytest.raises(so.URDFError, match="cannot be read"):
+        load_dh(tmp_path)
+    binary = tmp_path / "robot.toml"
+    binary.write_bytes(b"\xff\xfe\x00name")
+    with pytest.raises(so.URDFError, match="not UTF-8"):
+        load_dh(binary)

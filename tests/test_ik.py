@@ -359,3 +359,14 @@ def test_result_repr_is_one_line(robots):
     """repr(IKResult) is one line leading with the status and residual."""
     text = repr(so.solve_ik(robots["zavar2024"], [-0.23, 0.20, -0.07]))
     assert "\n" not in text and text.startswith("IKResult(solved, error=")
+
+
+@pytest.mark.parametrize("method", [["lm"], ("lm",), {"lm": 1}, None, 3])
+def test_method_must_be_one_name(robots, method):
+    """solve_ik(method=["lm"]) raised TypeError: unhashable type; now the message says to
+    pass one name (or use compare for several).
+
+    Mutation: get_solver without its isinstance(method, str) check -> fails.
+    """
+    with pytest.raises(so.InputError, match=r"method must be one solver name .*so.compare"):
+        so.solve_ik(robots["zavar2024"], [0.3, 0.0, -0.07], method=method)

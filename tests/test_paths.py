@@ -183,3 +183,70 @@ def test_to_array_refuses_mixed_kinds():
     """Some targets with a yaw and some without have no single array form."""
     with pytest.raises(InputError, match="all"):
         paths.to_array([so.Target((0.3, 0, 0)), so.Target((0.3, 0, 0), yaw=0.1)])
+
+
+# ---------------------------------------------------------------------- degenerate and huge paths
+@pytest.mark.parametrize("call, match", [
+    (lambda: paths.line([0.3, 0, 0], [0.3, 0, 0], 5), r"start and end are the same point"),
+    (lambda: paths.line([0.3, 0, 0], [np.nextafter(0.3, 1), 0, 0], 5),
+     "points 0 and 1 of the path coincide"),
+    (lambda: paths.circle((0, 0), 0.0, 0.0, 5), r"radius \[m\] must be a number in \(0, 1e\+06\]"),
+    (lambda: paths.circle((0, 0), 0.3, 0.0, angles=[0.0, 0.0, 1.0]), "points 0 and 1"),
+    (lambda: paths.circle((0, 0), 0.3, 0.0, 5, start=1.0, sweep=1e-300), "larger sweep"),
+    (lambda: paths.point_to_point([0.3, 0, 0], [0.3, 0, 0]), "there is no move"),
+    (lambda: paths.point_to_point([0.3, 0, 0], [0.3, 0, 0], 0.5, 0.5), "there is no move"),
+])
+def test_degenerate_paths_are_refused(call, match):
+    """line(a, a, n) returned n identical targets; a radius of 0, equal angles or a sweep
+    too small for n points stack points too; a point-to-point move to itself is no move.
+
+    Mutation: line without its equal-ends check, and _distinct not called -> fails.
+    """
+    with pytest.raises(InputError, match=match):
+        call()
+
+
+def test_a_turn_in_place_is_a_move():
+    """Same position, different tool angle: a valid point-to-point move."""
+    assert len(paths.point_to_point([0.3, 0, 0], [0.3, 0, 0], 0.0, 1.0)) == 2
+
+
+@pytest.mark.parametrize("call, name", [
+    (lambda n: paths.circle((0, 0), 0.3, 0.0, n), "circle"),
+    (lambda n: paths.line((0, 0, 0), (1, 0, 0), n), "line"),
+    (lambda n: paths.rounded_rectangle(n, (0, 0), 1.0, 1.0, 0.1), "rounded_rectangle"),
+    (lambda n: paths.nguyen_contour(n), "nguyen_contour"),
+])
+@pytest.mark.parametrize("n", [10**12, 10**30])
+def test_huge_point_counts_are_refused_with_the_memory_estimate(call, name, n):
+    """n = 10**12 raised MemoryError, 10**30 numpy's "Maximum allowed size exceeded".
+
+    Mutation: _count without check_memory -> fails.
+    """
+    with pytest.raises(InputError, match=rf"{name}\(n=.*\) would need about .*lower n, or.*"
+                                         "MAX_BYTES"):
+        call(n)
+
+
+@pytest.mark.parametrize("call, match", [
+    (lambda: paths.rounded_rectangle(8, (0, 0), 1, 1, 0.1, clockwise="yes"), "clockwise must"),
+    (lambda: paths.rounded_rectangle(8, (0, 0), 1, 1, 0.1, closed=1), "closed must be True"),
+    (lambda: paths.zavar2024_circle("no"), "reachable must be True or False"),
+    (lambda: paths.circle((0, 0), 0.3, "0.1", 5), "z must be a finite number"),
+    (lambda: paths.circle((0, 0), True, 0.0, 5), r"radius \[m\] must be"),
+    (lambda: paths.circle(("0", "1"), 0.3, 0.0, 5), "center"),
+    (lambda: paths.circle((0, 0), 0.3, 0.0, 5, start=None), "start must be"),
+    (lambda: paths.circle((0, 0), 0.3, 0.0, 5, sweep="2pi"), "sweep must be"),
+    (lambda: paths.circle((0, 0), 0.3, 0.0, 5, sweep=10**30), r"sweep must be a number in"),
+    (lambda: paths.circle((0, 0), 0.3, 0.0, angles=["a"]), "angles must be"),
+    (lambda: paths.circle((0, 0), 0.3, 0.0, 5, yaw=True), "yaw must be None, a number"),
+    (lambda: paths.nguyen_contour(20, y="-0.13"), "y must be a finite number"),
+    (lambda: paths.as_targets([["0.1", "0", "0"]]), "targets must be"),
+])
+def test_flags_and_numbers_of_the_path_generators_are_typed(call, match):
+    """Strings, bools and None where a number or a flag belongs; absurd sweeps.
+
+    Mutation: rounded_rectangle without check_flag ("yes" counted as True) -> fails.
+    """
+    with pytest.raises(InputError, match=match):
+        call()

@@ -41,3 +41,43 @@ def test_target_is_immutable():
     t = so.Target([0.1, 0.2, 0.3])
     with pytest.raises(ValueError):
         t.position[0] = 1.0
+
+
+@pytest.mark.parametrize("weights", [(1e200, 1.0), (1.0, 1e-300), (True, 1.0), ("1", "1"),
+                                     (1.0, 10**400)])
+def test_weights_outside_their_range_are_refused(weights):
+    """(1e200, 1) was accepted: its square overflows the cost to inf. The range is stated.
+
+    Mutation: WEIGHT_RANGE = (0, inf) -> fails.
+    """
+    with pytest.raises(so.TargetError, match=r"each within \[1e-06, 1e\+06\]"):
+        so.Target([0, 0, 0], weights=weights)
+
+
+@pytest.mark.parametrize("kwargs, match", [
+    (dict(position=[1e308, 0, 0]), r"beyond ±1e\+06 m"),
+    (dict(position=[0, 0, 10**30]), r"beyond ±1e\+06 m"),
+    (dict(position=["0.1", "0", "0"]), "must be numeric"),
+    (dict(position=[0, 0, 0], yaw=1e308), r"within ±1e\+06 rad"),
+    (dict(position=[0, 0, 0], yaw=10**400), r"within ±1e\+06 rad"),
+    (dict(position=[0, 0, 0], yaw=True), "yaw must be a number"),
+    (dict(position=[0, 0, 0], yaw="0.5"), "yaw must be a number"),
+])
+def test_absurd_or_mistyped_targets_are_refused(kwargs, match):
+    """Coordinates of 1e308 m gave an inf residual; yaw strings and bools were converted.
+
+    Mutation: the MAX_COORDINATE check removed -> fails.
+    """
+    with pytest.raises(so.TargetError, match=match):
+        so.Target(**kwargs)
+
+
+def test_target_does_not_freeze_the_callers_arrays():
+    """The target keeps read-only copies; the arrays passed in stay writeable.
+
+    Mutation: the position kept without a copy (the caller's array set read-only) -> fails.
+    """
+    p, R = np.array([0.3, 0.0, -0.07]), np.eye(3)
+    t = so.Target(p, rotation=R)
+    assert p.flags.writeable and R.flags.writeable
+    assert not t.position.flags.writeable and not t.rotation.flags.writeable

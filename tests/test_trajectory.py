@@ -507,3 +507,139 @@ def test_toppra_refuses_a_grid_with_a_stalled_interval(fang):
     limits = resolve_limits(fang, 4)
     with pytest.raises(TrajectoryError, match="zero at both ends of grid interval 0 of 1"):
         _solve(toppra.SplineInterpolator(s, Q), s, 1, limits, 1.0)
+
+
+# ---------------------------------------------------------------- argument types and ranges
+def test_a_robot_name_instead_of_a_robot_says_to_load_it(fang):
+    """time_parameterize(P, "zavar2024") raised AttributeError: 'str' has no attribute 'nq'.
+
+    Mutation: time_parameterize without check_robot -> fails.
+    """
+    Q = fang_move(REFERENCE["tables"][0])
+    with pytest.raises(InputError, match=r"robot = so.load_robot\('fang'\)"):
+        time_parameterize(Q, "fang")
+    with pytest.raises(InputError, match=r"scara_opt.Robot .*got 5 \(int\)"):
+        time_parameterize(Q, 5)
+
+
+@pytest.mark.parametrize("flag", ["allow_jumps", "drop_duplicates"])
+@pytest.mark.parametrize("value", ["no", 0, 1.0, None])
+def test_flags_must_be_true_or_false(fang, flag, value):
+    """allow_jumps="no" was taken as true.
+
+    Mutation: time_parameterize without the flag checks -> fails.
+    """
+    with pytest.raises(InputError, match=f"{flag} must be True or False"):
+        time_parameterize(fang_move(REFERENCE["tables"][0]), fang, **{flag: value})
+
+
+@pytest.mark.parametrize("method", [["toppra"], None, 3])
+def test_timing_method_must_be_one_name(fang, method):
+    """A list of names raised TypeError: unhashable."""
+    with pytest.raises(InputError, match="method must be one timing method name"):
+        time_parameterize(fang_move(REFERENCE["tables"][0]), fang, method=method)
+
+
+@pytest.mark.parametrize("method", METHODS)
+@pytest.mark.parametrize("kwargs, match", [
+    ({"vmax": 1e-300}, r"vmax for joint 'theta1' is 1e-300 .*so small that the timing "
+                       r"overflows.*\[1e-06, 1e\+06\]"),
+    ({"amax": 1e-7}, r"amax .* so small"),
+    ({"vmax": 1e300}, r"vmax .* lose precision; for an effectively unlimited joint pass 1e\+06"),
+    ({"amax": 1e9}, r"amax for joint 'theta1' is 1e\+09 .*lose precision"),
+])
+def test_limits_outside_their_range_are_refused_with_the_reason(fang, method, kwargs, match):
+    """toppra with vmax = 1e-300 raised ValueError (its chord parameter overflowed to inf),
+    ruckig with amax = 1e9 a RuckigError, quintic with amax = 1e-300 OverflowError.
+
+    Mutation: LIMIT_RANGES without floor and ceiling (0, inf) -> fails.
+    """
+    with pytest.raises(InputError, match=match):
+        time_parameterize(fang_move(REFERENCE["tables"][0]), fang, method=method, **kwargs)
+
+
+def test_the_robots_own_limits_are_range_checked_too(fang):
+    """A robot whose file gives a tiny acceleration limit is named as the source."""
+    text = fang._init_args[0].replace('acceleration="12.566370614359172"',
+                                      'acceleration="1e-9"', 1)
+    slow = so.Robot(text, "tool", name="slow")
+    with pytest.raises(InputError, match=r"robot 'slow''s own limit: amax .* \(or fix the robot"):
+        time_parameterize(fang_move(REFERENCE["tables"][0]), slow)
+
+
+def test_jerk_far_above_acceleration_is_refused(fang):
+    """jmax / amax = 1e11 /s let ruckig exceed the acceleration limit by 4e-4, silently.
+
+    Mutation: MAX_JERK_RATIO = inf -> fails (a trajectory above its limits comes back).
+    """
+    Q = fang_move(REFERENCE["tables"][0])
+    with pytest.raises(InputError, match=r"jmax / amax for joint 'theta1' is 1e\+11 /s"):
+        time_parameterize(Q, fang, method="ruckig", amax=1e-3, jmax=1e8)
+    ok = time_parameterize(Q, fang, method="ruckig", amax=1e-3, jmax=1e2)
+    assert worst_ratio(ok) <= 1 + RATIO_TOL
+
+
+@pytest.mark.parametrize("duration", [1e308, 10**30, 1e10])
+def test_a_fixed_duration_beyond_the_ceiling_is_refused(fang, duration):
+    """A quintic over 1e308 s had duration**5 = inf: every coefficient 0, a path that never
+    moved. Up to MAX_DURATION it still reaches its goal.
+
+    Mutation: MAX_DURATION = inf -> fails.
+    """
+    Q = fang_move(REFERENCE["tables"][0])
+    with pytest.raises(InputError, match=r"duration must be a number in \(0, 1e\+09\]"):
+        time_parameterize(Q, fang, method="quintic", duration=duration)
+    slow = time_parameterize(Q, fang, method="quintic", duration=1e9)
+    np.testing.assert_allclose(slow.evaluate(slow.duration), Q[-1], atol=1e-12)
+
+
+def test_ruckigs_unknown_result_codes_become_trajectory_errors(fang):
+    """At vmax = 1e-6 Ruckig returns -101 (duration beyond its range), which its binding
+    raised as ValueError: "-101 is not a valid Result".
+
+    Mutation: ruckig_segment without its ValueError branch -> fails.
+    """
+    with pytest.raises(TrajectoryError, match="-101 means the duration exceeds"):
+        time_parameterize(fang_move(REFERENCE["tables"][0]), fang, method="ruckig", vmax=1e-6)
+
+
+@pytest.mark.parametrize("dt, match", [(1e-300, r"times\(dt=1e-300\) .* would need about"),
+                                       (True, r"dt must be a finite number > 0"),
+                                       ("0.1", "dt must be")])
+def test_a_sampling_grid_too_fine_or_mistyped_is_refused(fang, dt, match):
+    """times(1e-300) raised numpy's "Maximum allowed size exceeded"; dt=True was 1 s.
+
+    Mutation: times without check_memory -> fails.
+    """
+    traj = time_parameterize(fang_move(REFERENCE["tables"][0]), fang, method="quintic")
+    with pytest.raises(InputError, match=match):
+        traj.times(dt)
+
+
+def test_sampling_times_must_be_numbers(fang):
+    """evaluate("0.1") parsed the string.
+
+    Mutation: _times converts with np.asarray(t, dtype=float) -> fails.
+    """
+    traj = time_parameterize(fang_move(REFERENCE["tables"][0]), fang, method="quintic")
+    with pytest.raises(InputError, match="t must be a time"):
+        traj.evaluate("0.1")
+    with pytest.raises(InputError, match="path must be a JointPath or a numeric"):
+        time_parameterize([["0", "0", "0", "0"], ["1", "0", "0", "0"]], fang)
+
+
+@pytest.mark.parametrize("kwargs, match", [
+    (dict(robot="zavar2024"), r"so.load_robot\('zavar2024'\)"),
+    (dict(robot=None), r"scara_opt.Robot .*None"),
+    (dict(seed="1"), "seed must be a non-negative integer"),
+    (dict(seed=[1]), "seed must be a non-negative integer"),
+    (dict(method=["lm"]), "method must be one solver name"),
+])
+def test_ik_path_type_checks_robot_seed_and_method(zavar, kwargs, match):
+    """ik_path("zavar2024", ...) raised AttributeError; seed="1" a TypeError at seed + i.
+
+    Mutation: ik_path without check_robot and check_seed -> fails.
+    """
+    args = dict(robot=zavar, targets=paths.zavar2024_circle(reachable=True)[:2], method="lm")
+    with pytest.raises(InputError, match=match):
+        ik_path(**{**args, **kwargs})

@@ -235,7 +235,7 @@ def test_malformed_footprint_tables_raise_urdf_error(robots):
         robot = base.with_limits()
         robot.metadata = {**base.metadata, "footprint": table}
         with pytest.raises(so.URDFError, match=match):
-            workspace(robot, n=10)
+            workspace(robot, n=100)
 
 
 # ---------------------------------------------------------------------- redundant robots: grid
@@ -281,8 +281,8 @@ def test_plot_paths_are_checked(robots, tmp_path):
 # ---------------------------------------------------------------------- bad input
 @pytest.mark.parametrize("n", [0, -5, 1.5, True, "100", None])
 def test_bad_sample_counts_raise_input_error(robots, n):
-    """n must be a positive integer."""
-    with pytest.raises(so.InputError, match="positive integer"):
+    """n must be an integer >= MIN_SAMPLES."""
+    with pytest.raises(so.InputError, match="integer >= 100"):
         workspace(robots["zavar2024"], n=n)
 
 
@@ -352,3 +352,111 @@ def test_a_robot_without_movable_joints_cannot_be_loaded():
             '<joint name="j" type="fixed"><parent link="a"/><child link="b"/></joint></robot>')
     with pytest.raises(so.URDFError, match="no movable joint"):
         so.Robot(urdf)
+
+
+# ---------------------------------------------------------------------- sizes and uncertainty
+def test_the_area_uncertainty_holds_the_exact_area_and_shrinks_with_n():
+    """xy_area ± xy_area_uncertainty holds the planar 2R arm's exact area: 20 seeds per n.
+
+    The half-width (half the edge cells' area) shrinks as n grows and shows in the repr.
+    The worst case uses 0.59 of it (n = 100, seed 13).
+    Mutation: area_uncertainty is a quarter of the edge cells' area instead of half -> fails.
+    """
+    exact = planar_2r_area(L, 2 * SHOULDER, ELBOW)
+    robot = planar_2r()
+    widths = []
+    for n in (100, 1000, 20_000):
+        for seed in range(20):
+            ws = workspace(robot, n=n, seed=seed)
+            assert abs(ws.xy_area - exact) <= ws.xy_area_uncertainty
+        widths.append(ws.xy_area_uncertainty)
+    assert widths[0] > widths[1] > widths[2] > 0
+    assert f"± {widths[2]:.2g} m²" in repr(ws)
+
+
+@pytest.mark.parametrize("n", [2, 10, 99])
+def test_fewer_samples_than_the_minimum_are_refused(robots, n):
+    """n = 2 gave an area with no word of its uncertainty; below MIN_SAMPLES it is refused.
+
+    Mutation: MIN_SAMPLES = 1 -> fails.
+    """
+    with pytest.raises(so.InputError, match=r"integer >= 100.*xy_area_uncertainty"):
+        workspace(robots["zavar2024"], n=n)
+
+
+def test_a_flat_workspace_has_no_uncertainty():
+    """A projection without area has area 0 ± 0."""
+    slide = so.Robot.from_dh(DHRobot("slide", (DHJoint("d", "prismatic", lower=0.0,
+                                                       upper=0.1),)))
+    assert workspace(slide, n=100).xy_area_uncertainty == 0.0
+
+
+@pytest.mark.parametrize("n, match", [(10**12, r"about 473 TiB .*lower n"),
+                                      (10**30, r"n=1e\+30\) would need about 5.2e\+32 B")])
+def test_huge_sample_counts_are_refused_with_the_memory_estimate(robots, n, match):
+    """n = 10**12 raised MemoryError, n = 10**30 numpy's "Maximum allowed dimension exceeded".
+
+    Mutation: workspace without check_memory -> fails.
+    """
+    with pytest.raises(so.InputError, match=match + r".*scara_opt.checks.MAX_BYTES"):
+        workspace(robots["zavar2024"], n=n)
+
+
+def test_the_memory_limit_can_be_raised_on_purpose(robots, monkeypatch):
+    """Past MAX_BYTES the call is refused; raising MAX_BYTES lets the same call run."""
+    from scara_opt import checks
+
+    monkeypatch.setattr(checks, "MAX_BYTES", 100_000)
+    with pytest.raises(so.InputError, match="more than the 97.7 KiB allowed"):
+        workspace(robots["zavar2024"], n=1000)
+    monkeypatch.setattr(checks, "MAX_BYTES", 10**6)
+    assert workspace(robots["zavar2024"], n=1000).n_samples == 1000
+
+
+def test_a_memory_error_while_sampling_becomes_advice(robots, monkeypatch):
+    """A MemoryError below the limit (a machine with less memory) is an InputError.
+
+    Mutation: the sampling outside memory_guard -> fails (MemoryError escapes).
+    """
+    def exhausted(self, Q):
+        raise MemoryError
+
+    monkeypatch.setattr(so.Robot, "positions", exhausted)
+    with pytest.raises(so.InputError, match=r"ran out of memory \(estimated .*\); lower n"):
+        workspace(robots["zavar2024"], n=1000, footprint=False)
+
+
+@pytest.mark.parametrize("grid", [1e308, 10.0])
+def test_a_grid_cell_larger_than_the_workspace_is_refused(robots, grid):
+    """grid = 1e308 raised OverflowError (cell**2); any cell wider than the region is refused.
+
+    Mutation: the check removed -> fails.
+    """
+    with pytest.raises(so.InputError, match="larger than the workspace"):
+        workspace(robots["zavar2024"], n=100, grid=grid)
+
+
+FAR = [5000, 5000]  # [mm]: a zone no link reaches, so an accepted table would just work
+
+
+@pytest.mark.parametrize("table, match", [
+    ({"shape": "circle", "center": FAR, "radius": True}, "radius must be numeric"),
+    ({"shape": "circle", "center": FAR, "radius": "12"}, "radius must be numeric"),
+    ({"shape": "circle", "center": [True, False], "radius": 1}, "center must be numeric"),
+    ({"shape": "circle", "center": [1, "a"], "radius": 1}, "center must be numeric"),
+    ({"shape": "circle", "center": FAR, "radius": 1, "vertices": [FAR, FAR]}, "not vertices"),
+    ({"shape": "polygon", "vertices": [[5000, 5000], [5001, 5000], [5001, 5001]],
+      "radius": 5}, "not center"),
+    ({"shape": "circle", "center": FAR, "radius": 1, "links_from": 3}, "links_from must be"),
+    ({"shape": 5}, r"5 \(int\)"),
+])
+def test_footprint_tables_take_numbers_and_only_their_shapes_keys(robots, table, match):
+    """[footprint] numbers are numbers (radius = true was 1, "12" was 12); no stray keys.
+
+    A circle with vertices, or a polygon with a radius, silently ignored one of them.
+    Mutation: from_robot reads the numbers with float() / np.asarray as before -> fails.
+    """
+    robot = robots["peng2025"].with_limits()
+    robot.metadata = {**robots["peng2025"].metadata, "footprint": table}
+    with pytest.raises(so.URDFError, match=match):
+        workspace(robot, n=100)

@@ -61,9 +61,14 @@ def get_solver(method: str, **options: Any) -> Solver:
     """An instance of the solver registered as ``method`` with its ``options``.
 
     Raises:
+        InputError: ``method`` is not a str (e.g. a list of names).
         UnknownSolverError: ``method`` is not registered (the message lists the names).
         SolverOptionError: an option the solver does not accept.
     """
+    if not isinstance(method, str):
+        raise InputError(f"method must be one solver name (a str) from {solvers()}; got "
+                         f"{method!r} ({type(method).__name__}); to run several, use "
+                         "so.compare(robot, targets, methods=[...])")
     if method not in _REGISTRY:
         raise UnknownSolverError(method, _REGISTRY)
     return _REGISTRY[method](**options)

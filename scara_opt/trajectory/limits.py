@@ -8,6 +8,7 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import NDArray
 
+from scara_opt.checks import describe, float_array
 from scara_opt.errors import InputError, TrajectoryError
 from scara_opt.robot import Robot
 
@@ -16,6 +17,19 @@ Array = NDArray[np.float64]
 #: default jerk limit per joint: ``JERK_PER_ACCELERATION × amax`` [1/s × rad/s² or m/s²], i.e.
 #: the acceleration limit is reached in 0.1 s (robot files carry no jerk limit)
 JERK_PER_ACCELERATION = 10.0
+
+#: the range each limit must lie in, by quantity [per s, per s², per s³]. Below the floor the
+#: timing arithmetic breaks down (toppra divides the path by vmax: vmax = 1e-300 overflows to
+#: inf; the quintic's duration**5 overflows) and a motion would take years; above the ceiling
+#: the backends lose precision (Ruckig fails at amax = 1e9). To leave a joint effectively
+#: unlimited, pass the ceiling. The jerk range is wider by the default ratio
+#: :data:`JERK_PER_ACCELERATION` (and more), so the default jerk of any allowed amax fits.
+LIMIT_RANGES = {"vmax": (1e-6, 1e6), "amax": (1e-6, 1e6), "jmax": (1e-6, 1e8)}
+
+#: largest jmax / amax per joint [1/s] (the acceleration limit reached in 10 µs or more):
+#: beyond, Ruckig's profiles exceed the acceleration limit measurably (measured with
+#: amax = 1e-3: by 1.2e-8 at 1e7 /s, 8e-7 at 1e8 /s, 4e-4 at 1e11 /s; 3e-10 at 1e5 /s)
+MAX_JERK_RATIO = 1e5
 
 
 @dataclass(frozen=True)
@@ -52,17 +66,17 @@ class Limits:
 
 def _per_joint(value: object, nq: int, what: str, unit: str,
                names: tuple[str, ...]) -> Array:
-    """``value`` (scalar or (nq,)) as a checked (nq,) array of finite positive numbers.
+    """``value`` (scalar or (nq,)) as a checked (nq,) array within :data:`LIMIT_RANGES`.
 
     Raises:
-        InputError: not numeric, wrong shape, NaN, or a zero/negative/infinite entry (the
-            message names the joint and the value).
+        InputError: not numeric, wrong shape, NaN, a zero/negative/infinite entry, or one
+            outside :data:`LIMIT_RANGES` (the message names the joint, the value and why).
     """
     try:
-        arr = np.asarray(value, dtype=float)
-    except (TypeError, ValueError):
+        arr = float_array(value, what)
+    except InputError:
         raise InputError(f"{what} must be a number or one number per joint {list(names)} "
-                         f"[{unit}]; got {value!r}") from None
+                         f"[{unit}]; got {describe(value)}") from None
     if arr.ndim == 0:
         arr = np.full(nq, float(arr))
     if arr.shape != (nq,):
@@ -76,6 +90,15 @@ def _per_joint(value: object, nq: int, what: str, unit: str,
             raise InputError(
                 f"{what} for joint {names[k]!r} is {v:g} [{unit}]; each limit must be finite and "
                 f"> 0: pass a positive {what}= (scalar or one per joint)")
+    low, high = LIMIT_RANGES[what]
+    for k, v in enumerate(arr):
+        if not low <= v <= high:
+            why = ("so small that the timing overflows (and the motion would take years)"
+                   if v < low else "so large that the timing backends lose precision; for an "
+                   f"effectively unlimited joint pass {high:g}")
+            raise InputError(
+                f"{what} for joint {names[k]!r} is {v:g} [{unit}], {why}: each {what} must lie "
+                f"in [{low:g}, {high:g}] [{unit}]; pass {what}= within that range")
     return arr
 
 
@@ -92,11 +115,13 @@ def resolve_limits(robot: Robot | None, nq: int, vmax: object | None = None,
         amax: acceleration limits [rad/s² or m/s²]: scalar or (nq,), or ``None``.
         jmax: jerk limits [rad/s³ or m/s³]: scalar or (nq,), or ``None`` for
             ``JERK_PER_ACCELERATION × amax`` (only used when ``need_jerk``).
-        need_jerk: whether the method uses a jerk limit.
+        need_jerk: whether the method uses a jerk limit (then ``jmax / amax`` is at most
+            :data:`MAX_JERK_RATIO` per joint).
 
     Raises:
-        InputError: wrong shape, non-numeric, NaN, zero, negative or infinite limits (the
-            message names the joint); path and robot joint counts differ.
+        InputError: wrong shape, non-numeric, NaN, zero, negative or infinite limits, or
+            limits (given or the robot's) outside :data:`LIMIT_RANGES` (the message names
+            the joint); path and robot joint counts differ.
         TrajectoryError: no limit given and the robot has none for some joint.
     """
     if robot is not None and robot.nq != nq:
@@ -122,7 +147,11 @@ def resolve_limits(robot: Robot | None, nq: int, vmax: object | None = None,
         if missing:
             raise TrajectoryError(f"robot {robot.name!r} has no {what} for joints {missing}; "
                                   f"pass {what}= (scalar or one per joint) [{u}]")
-        return _per_joint(arr, nq, what, u, names)
+        try:
+            return _per_joint(arr, nq, what, u, names)
+        except InputError as exc:
+            raise InputError(f"robot {robot.name!r}'s own limit: {exc} (or fix the robot "
+                             "file)") from None
 
     v = pick(vmax, "velocity_limit", "vmax", "rad/s or m/s")
     a = pick(amax, "acceleration_limit", "amax", "rad/s² or m/s²")
@@ -130,4 +159,12 @@ def resolve_limits(robot: Robot | None, nq: int, vmax: object | None = None,
     if need_jerk:
         j = (JERK_PER_ACCELERATION * a if jmax is None
              else _per_joint(jmax, nq, "jmax", "rad/s³ or m/s³", names))
+        over = np.flatnonzero(j > MAX_JERK_RATIO * a)
+        if over.size:
+            k = int(over[0])
+            raise InputError(
+                f"jmax / amax for joint {names[k]!r} is {j[k] / a[k]:.3g} /s (jmax {j[k]:g}, "
+                f"amax {a[k]:g}): above {MAX_JERK_RATIO:g} /s the jerk phases are shorter "
+                "than Ruckig resolves and the acceleration limit is exceeded (by 4e-4 at "
+                f"1e11 /s); pass jmax <= {MAX_JERK_RATIO:g} x amax")
     return Limits(v, a, j, names, types, np.asarray(lower, float), np.asarray(upper, float))

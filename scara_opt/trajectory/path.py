@@ -19,7 +19,9 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
+from scara_opt.checks import check_robot, describe, float_array
 from scara_opt.errors import InputError, TrajectoryError
+from scara_opt.ik.base import check_seed
 from scara_opt.ik.registry import get_solver
 from scara_opt.ik.result import IKResult, Status
 from scara_opt.paths import as_targets
@@ -178,10 +180,10 @@ def _threshold(robot: Robot, jump_threshold: object | None) -> Array:
         return np.array([REVOLUTE_JUMP if k == "revolute" else PRISMATIC_JUMP
                          for k in robot.joint_types])
     try:
-        arr = np.broadcast_to(np.asarray(jump_threshold, dtype=float), (robot.nq,)).copy()
-    except (TypeError, ValueError):
+        arr = np.broadcast_to(float_array(jump_threshold, "jump_threshold"), (robot.nq,)).copy()
+    except (InputError, ValueError):
         raise InputError(f"jump_threshold must be a number or ({robot.nq},) per joint "
-                         f"[rad or m]; got {jump_threshold!r}") from None
+                         f"[rad or m]; got {describe(jump_threshold)}") from None
     if np.isnan(arr).any() or (arr <= 0).any():
         raise InputError(f"jump_threshold must be positive (inf disables a joint); got {arr}")
     return arr
@@ -229,11 +231,14 @@ def ik_path(robot: Robot, targets: object, method: str = "auto", q_start: object
         Check :attr:`JointPath.ok` or call :meth:`JointPath.raise_if_invalid`.
 
     Raises:
-        InputError: malformed targets or threshold. UnknownSolverError, SolverOptionError,
-        JointLimitError, TargetError: as for :func:`~scara_opt.solve_ik`.
+        InputError: ``robot`` not a Robot; malformed targets, threshold or ``seed``.
+        UnknownSolverError, SolverOptionError, JointLimitError, TargetError: as for
+        :func:`~scara_opt.solve_ik`.
     """
+    check_robot(robot)
     ts = as_targets(targets)
     threshold = _threshold(robot, jump_threshold)
+    check_seed(seed)
     solver = get_solver(method, **options)
     q0 = None if q_start is None else robot.check_q(q_start, "q_start")
     results: list[IKResult] = []

@@ -14,6 +14,8 @@ from collections.abc import Callable
 from dataclasses import dataclass, field, replace
 from typing import Any
 
+from scara_opt import checks
+from scara_opt.checks import check_real, check_robot, describe
 from scara_opt.errors import InputError, SolverOptionError, UnknownSolverError
 from scara_opt.ik.base import check_flag, check_number
 from scara_opt.robot import Robot
@@ -47,6 +49,10 @@ class TimingMethod:
 
 
 _REGISTRY: dict[str, TimingMethod] = {}
+
+#: longest fixed duration [s] (about 32 years): the quintic's coefficients divide by
+#: duration**5, which must stay far from overflow
+MAX_DURATION = 1e9
 
 
 def register_timing(name: str, *, options: dict[str, Any] | None = None,
@@ -87,6 +93,9 @@ def get_timing(method: str) -> TimingMethod:
         UnknownSolverError: not registered (the message lists the names).
     """
     _load_builtin()
+    if not isinstance(method, str):
+        raise InputError(f"method must be one timing method name (a str) from "
+                         f"{sorted(_REGISTRY)}; got {describe(method)}")
     if method not in _REGISTRY:
         raise UnknownSolverError(method, _REGISTRY, kind="time-parameterisation method")
     return _REGISTRY[method]
@@ -128,10 +137,7 @@ def _check_duration(duration: object, entry: TimingMethod) -> float | None:
         raise InputError(f"method {entry.name!r} computes the shortest duration within the "
                          "limits and takes no duration=; use method='quintic' for a fixed "
                          "duration")
-    if not (isinstance(duration, (int, float)) and not isinstance(duration, bool)
-            and math.isfinite(duration) and duration > 0):
-        raise InputError(f"duration must be a positive number [s] or None; got {duration!r}")
-    return float(duration)
+    return check_real("duration", duration, 0.0, MAX_DURATION, low_open=True, unit="s")
 
 
 def time_parameterize(path: object, robot: Robot | None = None, method: str = "toppra",
@@ -153,11 +159,13 @@ def time_parameterize(path: object, robot: Robot | None = None, method: str = "t
         amax: acceleration limits [rad/s² or m/s²], scalar or (nq,); default the robot's.
         jmax: jerk limits [rad/s³ or m/s³] for jerk-limited methods; default
             ``JERK_PER_ACCELERATION × amax`` (10/s × amax).
-        duration: fixed total duration [s] (``"quintic"`` only); ``None`` = the shortest
-            within the limits. A shorter one than that is refused unless the option
-            ``enforce_limits=False`` is passed too.
-        allow_jumps: time a JointPath even if it reports joint jumps (logged as a warning).
-        drop_duplicates: remove consecutive duplicate waypoints (logged) instead of refusing.
+        duration: fixed total duration [s] (``"quintic"`` only), at most
+            :data:`MAX_DURATION`; ``None`` = the shortest within the limits. A shorter one
+            than that is refused unless the option ``enforce_limits=False`` is passed too.
+        allow_jumps: time a JointPath even if it reports joint jumps (logged as a warning);
+            True or False only.
+        drop_duplicates: remove consecutive duplicate waypoints (logged) instead of refusing;
+            True or False only.
         **options: method-specific options (an unknown one raises SolverOptionError):
             toppra ``margin``, ``grid_per_segment``, ``min_grid``, ``max_refine``; quintic
             ``enforce_limits``; ruckig none.
@@ -168,13 +176,20 @@ def time_parameterize(path: object, robot: Robot | None = None, method: str = "t
     Raises:
         UnknownSolverError: unknown ``method``.
         SolverOptionError: an option the method does not accept.
-        InputError: malformed path or duration; a zero, negative, infinite, NaN or misshaped
-            limit; an option value out of range; ``jmax`` for a method without jerk.
+        InputError: malformed path or duration; ``robot`` not a Robot (a robot name: load it
+            with ``so.load_robot``); a flag that is not True/False; a zero, negative,
+            infinite, NaN or misshaped limit, or one outside
+            :data:`~scara_opt.trajectory.limits.LIMIT_RANGES`; an option value out of
+            range; ``jmax`` for a method without jerk.
         JointLimitError: a waypoint outside the joint limits.
         TrajectoryError: fewer than two waypoints, consecutive duplicates, a JointPath with
             unreachable points or jumps, a fixed quintic duration below the shortest within
             the limits (without ``enforce_limits=False``), or a backend failure.
     """
+    if robot is not None:
+        check_robot(robot)
+    checks.check_flag("allow_jumps", allow_jumps)
+    checks.check_flag("drop_duplicates", drop_duplicates)
     entry = get_timing(method)
     unknown = set(options) - set(entry.options)
     if unknown:

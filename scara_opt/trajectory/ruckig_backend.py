@@ -74,8 +74,13 @@ def ruckig_segment(qa: Array, qb: Array, limits: Limits) -> tuple[list[PPoly], f
     traj = ruckig.Trajectory(nq)
     try:
         result = otg.calculate(inp, traj)
-    except RuntimeError as exc:  # ruckig raises on invalid input
+    except (RuntimeError, ruckig.RuckigError) as exc:  # ruckig raises on invalid input
         raise TrajectoryError(f"ruckig refused the segment {qa} → {qb}: {exc}") from None
+    except ValueError as exc:  # a result code the binding does not know, e.g. -101
+        raise TrajectoryError(
+            f"ruckig failed on the segment {qa} → {qb} ({exc}; -101 means the duration "
+            "exceeds Ruckig's numerical range): raise vmax=/amax=/jmax= or use "
+            "method='quintic'") from None
     if result not in (ruckig.Result.Working, ruckig.Result.Finished):
         raise TrajectoryError(f"ruckig failed on the segment {qa} → {qb}: {result}; check the "
                               "limits (they must be finite and positive)")

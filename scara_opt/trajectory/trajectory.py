@@ -17,6 +17,7 @@ import numpy as np
 from numpy.typing import NDArray
 from scipy.interpolate import PPoly
 
+from scara_opt.checks import check_memory, check_real, describe, float_array
 from scara_opt.errors import InputError
 from scara_opt.trajectory.limits import Limits
 
@@ -115,9 +116,10 @@ class Trajectory:
 
     def _times(self, t: object) -> Array:
         try:
-            ts = np.asarray(t, dtype=float)
-        except (TypeError, ValueError):
-            raise InputError(f"t must be a time or an array of times [s]; got {t!r}") from None
+            ts = float_array(t, "t")
+        except InputError:
+            raise InputError(f"t must be a time or an array of times [s]; got "
+                             f"{describe(t)}") from None
         T = self.duration
         slack = _T_SLACK * max(T, 1.0)
         if not np.isfinite(ts).all():
@@ -162,11 +164,16 @@ class Trajectory:
         """A grid 0, dt, 2 dt, ... ending exactly at the duration, (m,) [s].
 
         Raises:
-            InputError: ``dt`` not a positive finite number.
+            InputError: ``dt`` not a positive finite number, or so small that the grid (and
+                the samples taken on it) would exceed :data:`scara_opt.checks.MAX_BYTES`.
         """
-        if not (isinstance(dt, (int, float)) and math.isfinite(dt) and dt > 0):
-            raise InputError(f"dt must be a positive number [s]; got {dt!r}")
+        dt = check_real("dt", dt, 0.0, low_open=True, unit="s")
         T = self.duration
+        steps = T / dt
+        count = math.ceil(steps) + 1 if math.isfinite(steps) else 2**64
+        # the grid, and q, qd, qdd sampled on it (to_csv, plot)
+        check_memory(f"times(dt={dt:g}) over {T:.6g} s", count, 8 * (2 + 4 * self.nq),
+                     "raise dt")
         grid = np.arange(0.0, T, dt)
         if grid.size and T - grid[-1] < 1e-9 * dt:
             grid = grid[:-1]

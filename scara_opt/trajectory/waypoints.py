@@ -7,6 +7,7 @@ import logging
 import numpy as np
 from numpy.typing import NDArray
 
+from scara_opt.checks import describe, float_array
 from scara_opt.errors import InputError, JointLimitError, TrajectoryError
 from scara_opt.robot import Robot
 
@@ -46,10 +47,10 @@ def prepare_waypoints(path: object, robot: Robot | None, *, allow_jumps: bool = 
         Q = np.array(path.q, dtype=float)
     else:
         try:
-            Q = np.array(path, dtype=float)
-        except (TypeError, ValueError):
+            Q = np.array(float_array(path, "path"), dtype=float)
+        except InputError:
             raise InputError("path must be a JointPath or a numeric (n, nq) array of joint "
-                             "waypoints [rad or m]") from None
+                             f"waypoints [rad or m]; got {describe(path)}") from None
     if Q.ndim != 2 or Q.shape[1] < 1:
         raise InputError(f"path must have shape (n, nq), one row per waypoint; got shape "
                          f"{Q.shape}")

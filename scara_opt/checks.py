@@ -1,0 +1,225 @@
+"""Argument checks shared by the public entry points: types, numbers, flags, memory.
+
+Each check raises :class:`~scara_opt.errors.InputError` (or the subclass passed as
+``error``) naming the argument, what it got and what it takes. Numbers are real numbers
+(``int``, ``float``, numpy scalars), never ``bool`` and never strings: ``"0.5"`` or
+``True`` where a length is expected is a mistake, not a value.
+
+**Memory.** Functions that allocate in proportion to a count their caller chooses (the
+samples of :func:`~scara_opt.workspace`, the points of :mod:`scara_opt.paths`, the jobs of
+:func:`~scara_opt.compare`) estimate the bytes first (:func:`check_memory`) and refuse,
+before allocating anything, above :data:`MAX_BYTES`: the message gives the estimate and
+how to lower it. To go beyond on purpose, raise the limit::
+
+    import scara_opt.checks
+    scara_opt.checks.MAX_BYTES = 32 * 2**30   # 32 GiB
+
+A ``MemoryError`` that still happens below the limit (a machine with less free memory) is
+turned into the same kind of message (:func:`memory_guard`).
+"""
+
+from __future__ import annotations
+
+import math
+import numbers
+from collections.abc import Iterator
+from contextlib import contextmanager
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+from numpy.typing import NDArray
+
+from scara_opt.errors import InputError
+
+if TYPE_CHECKING:
+    from scara_opt.robot import Robot
+
+#: largest memory estimate [bytes] a call may allocate (4 GiB); raise it to allow more
+MAX_BYTES = 4 * 2**30
+
+_UNITS = ("B", "KiB", "MiB", "GiB", "TiB", "PiB", "EiB")
+
+
+def describe(value: object) -> str:
+    """A short description of a value for messages: its repr (cut at 60 characters) and type."""
+    text = repr(value)
+    if len(text) > 60:
+        text = text[:57] + "..."
+    return f"{text} ({type(value).__name__})"
+
+
+def human_bytes(n: float) -> str:
+    """``n`` bytes in binary units, e.g. ``"29.1 TiB"``; beyond EiB in powers of ten."""
+    size = float(n)
+    for unit in _UNITS:
+        if size < 1024 or unit == _UNITS[-1]:
+            break
+        size /= 1024
+    if size >= 1024:
+        return f"{float(n):.3g} B"
+    return f"{size:.3g} {unit}" if unit != "B" else f"{int(n)} B"
+
+
+def count_text(n: int) -> str:
+    """An item count for messages: ``1,000,000`` up to 10**15, then ``1e+30``."""
+    return f"{n:,}" if abs(n) < 10**15 else f"{float(n):.3g}"
+
+
+def check_memory(what: str, count: int, per_item: int, advice: str) -> int:
+    """Refuse ``count`` items of about ``per_item`` bytes each above :data:`MAX_BYTES`.
+
+    Args:
+        what: the call, e.g. ``"workspace(n=10**12)"``.
+        count: number of items (any size of Python int: the product is exact).
+        per_item: estimated bytes per item.
+        advice: what to lower, e.g. ``"lower n (60_000 is the papers' count)"``.
+
+    Returns:
+        The estimate [bytes].
+
+    Raises:
+        InputError: the estimate exceeds :data:`MAX_BYTES`; the message names the
+            estimate, the limit, the advice and the override.
+    """
+    estimate = int(count) * int(per_item)
+    if estimate > MAX_BYTES:
+        raise InputError(
+            f"{what} would need about {human_bytes(estimate)} of memory ({count_text(count)} x "
+            f"{per_item} B), more than the {human_bytes(MAX_BYTES)} allowed; {advice}, or, if "
+            "this machine really has the memory, raise scara_opt.checks.MAX_BYTES")
+    return estimate
+
+
+@contextmanager
+def memory_guard(what: str, estimate: int, advice: str) -> Iterator[None]:
+    """Turn a ``MemoryError`` inside the block into an :class:`InputError` with advice.
+
+    Raises:
+        InputError: the block ran out of memory (names the estimate and the advice).
+    """
+    try:
+        yield
+    except MemoryError:
+        raise InputError(f"{what} ran out of memory (estimated {human_bytes(estimate)}); "
+                         f"{advice}") from None
+
+
+def is_real(value: object) -> bool:
+    """Whether ``value`` is a real number: int, float or numpy scalar; not bool, not str."""
+    return isinstance(value, numbers.Real) and not isinstance(value, (bool, np.bool_))
+
+
+def check_real(name: str, value: object, low: float = -math.inf, high: float = math.inf, *,
+               low_open: bool = False, unit: str = "", error: type[Exception] = InputError,
+               ) -> float:
+    """``value`` as a finite float within ``[low, high]`` (``(low, ...`` with ``low_open``).
+
+    Raises:
+        InputError: not a real number (bools and strings included), not finite, or out of
+            range; the message names ``name``, the value and the range.
+    """
+    ok = is_real(value)
+    if ok:
+        try:
+            v = float(value)  # type: ignore[arg-type]
+        except OverflowError:  # an int beyond the float range
+            v = math.inf if value > 0 else -math.inf  # type: ignore[operator]
+        ok = math.isfinite(v) and (v > low if low_open else v >= low) and v <= high
+    if not ok:
+        unit_text = f" [{unit}]" if unit else ""
+        if math.isinf(low) and math.isinf(high):
+            span = "a finite number"
+        elif math.isinf(high):
+            span = f"a finite number {'>' if low_open else '>='} {low:g}"
+        else:
+            span = f"a number in {'(' if low_open else '['}{low:g}, {high:g}]"
+        raise error(f"{name} must be {span}{unit_text}; got {describe(value)}")
+    return v
+
+
+def check_int(name: str, value: object, least: int, *, error: type[Exception] = InputError,
+              ) -> int:
+    """``value`` as an int >= ``least`` (Python or numpy integer; not bool, not float).
+
+    Raises:
+        InputError: names ``name``, the value and the least value.
+    """
+    ok = isinstance(value, (int, np.integer)) and not isinstance(value, (bool, np.bool_))
+    if not ok or value < least:  # type: ignore[operator]
+        kind = "a positive integer" if least == 1 else f"an integer >= {least}"
+        raise error(f"{name} must be {kind}; got {describe(value)}")
+    return int(value)  # type: ignore[arg-type]
+
+
+def check_flag(name: str, value: object) -> bool:
+    """``value`` as a bool: only ``True`` or ``False`` (numpy bools too).
+
+    Raises:
+        InputError: anything else (``"no"`` would otherwise count as true).
+    """
+    if not isinstance(value, (bool, np.bool_)):
+        raise InputError(f"{name} must be True or False; got {describe(value)}")
+    return bool(value)
+
+
+def check_name(name: str, value: object, takes: str) -> str:
+    """``value`` if it is a str, else :class:`InputError` saying what ``name`` takes."""
+    if not isinstance(value, str):
+        raise InputError(f"{name} must be {takes} (a str); got {describe(value)}")
+    return value
+
+
+def float_array(value: object, name: str, error: type[Exception] = InputError,
+                ) -> NDArray[np.float64]:
+    """``value`` as a float array; strings, bools and non-numbers are refused.
+
+    ``np.asarray(["1", "2"], dtype=float)`` would parse the strings and
+    ``np.asarray([True, False], dtype=float)`` count the bools: both are refused here.
+
+    Raises:
+        InputError: not numeric (the message names ``name`` and the value).
+    """
+    if isinstance(value, np.ndarray) and value.dtype.kind in "iuf":  # the common, fast case
+        return np.asarray(value, dtype=float)
+    try:
+        raw = np.asarray(value)
+        ok = raw.dtype.kind in "iuf" or (raw.dtype.kind == "O" and all(
+            is_real(v) for v in raw.ravel()))
+        arr = np.asarray(raw, dtype=float) if ok else None
+    except (TypeError, ValueError, OverflowError):
+        arr = None
+    if arr is None:
+        raise error(f"{name} must be numeric (numbers, not strings or bools); got "
+                    f"{describe(value)}")
+    return arr
+
+
+def check_robot(robot: object, name: str = "robot") -> Robot:
+    """``robot`` if it is a :class:`~scara_opt.Robot`; a str gets told to load it first.
+
+    Raises:
+        InputError: not a Robot; for a str, the message shows ``so.load_robot(...)``.
+    """
+    from scara_opt.robot import Robot
+
+    if isinstance(robot, Robot):
+        return robot
+    if isinstance(robot, str):
+        raise InputError(f"{name} must be a scara_opt.Robot, not the str {robot!r}: load it "
+                         f"first, robot = so.load_robot({robot!r}), and pass that")
+    raise InputError(f"{name} must be a scara_opt.Robot (so.load_robot(name) or "
+                     f"so.Robot.from_urdf(path)); got {describe(robot)}")
+
+
+def check_options_dict(name: str, value: object) -> dict[str, Any]:
+    """``value`` as a dict with str keys (``None`` gives ``{}``).
+
+    Raises:
+        InputError: not a dict, or a key that is not a str.
+    """
+    if value is None:
+        return {}
+    if not isinstance(value, dict) or not all(isinstance(k, str) for k in value):
+        raise InputError(f"{name} must be a dict with str keys, or None; got "
+                         f"{describe(value)}")
+    return value

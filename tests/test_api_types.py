@@ -1,0 +1,126 @@
+"""Wrong types on the public API: a result or a ScaraOptError, never a bare Python error.
+
+Every argument of the public entry points (``scara_opt.__all__`` and the robot's methods) is
+given, one at a time, None, a string, a list of strings, a dict, an int beyond int64, 1e308,
+-0.0, True, NaN and a plain object. A call may work (e.g. ``seed=None``) or raise an error of
+the scara_opt family naming the argument; a TypeError, AttributeError, OverflowError,
+ValueError or RuntimeError from inside is a bug. The cases inside ``scara_opt/ik/`` that
+still fail are listed in :data:`KNOWN` (strict xfail: fixing one makes its case pass).
+"""
+
+from __future__ import annotations
+
+import logging
+import math
+
+import numpy as np
+import pytest
+
+import scara_opt as so
+from scara_opt import paths
+
+from .conftest import DATA
+
+BAD = {"None": None, "str": "abc", "strs": ["a", "b"], "dict": {"a": 1}, "bigint": 10**30,
+       "1e308": 1e308, "-0.0": -0.0, "True": True, "nan": math.nan, "object": object()}
+
+ROBOT = so.load_robot("zavar2024")
+#: with_limits is exercised on its own robot: Robot.with_limits copies through __reduce__,
+#: whose per-process cache hands the same object to every later unpickling of an equal robot
+#: (see test_robot.py::test_with_limits_returns_an_independent_robot); on ROBOT it would
+#: change the limits the process-pool workers of test_compare.py get
+ARM = so.Robot.from_urdf(DATA / "arm6.urdf")
+T = so.Target([0.3, 0.0, -0.07])
+Q2 = np.array([[0.0, 0.0, 0.0, 0.0], [0.1, 0.1, 0.01, 0.1]])
+
+#: (name, call, good keyword arguments): each call works with its good arguments
+API = [
+    ("fk", ROBOT.fk, {"q": np.zeros(4)}),
+    ("jacobian", ROBOT.jacobian, {"q": np.zeros(4)}),
+    ("fk_batch", ROBOT.fk_batch, {"Q": Q2}),
+    ("within_limits", ROBOT.within_limits, {"q": np.zeros(4), "tol": 0.0}),
+    ("with_limits", ARM.with_limits, {"shoulder_pan": (-1.0, 1.0)}),
+    ("Target", so.Target, {"position": [0.3, 0, -0.07], "yaw": 0.1, "weights": (1, 1)}),
+    ("Target_rotation", so.Target, {"position": [0.3, 0, -0.07], "rotation": np.eye(3)}),
+    ("load_robot", so.load_robot, {"name": "zavar2024", "tip": None}),
+    ("from_urdf", so.Robot.from_urdf, {"path": DATA / "arm6.urdf", "tip": None}),
+    ("circle", paths.circle, {"center": (0, 0), "radius": 0.3, "z": 0.0, "n": 5, "start": 0.0,
+                              "sweep": 1.0, "yaw": None}),
+    ("line", paths.line, {"start": (0, 0, 0), "end": (1, 0, 0), "n": 5, "yaw": None}),
+    ("point_to_point", paths.point_to_point, {"start": (0, 0, 0), "end": (1, 0, 0),
+                                              "yaw_start": 0.1, "yaw_end": 0.2}),
+    ("rounded_rectangle", paths.rounded_rectangle, {
+        "n": 8, "center": (0, 0), "width": 1, "height": 1, "corner_radius": 0.1,
+        "origin": (0, 0, 0), "e1": (1, 0, 0), "e2": (0, 1, 0), "clockwise": False,
+        "closed": True, "yaw": "tangent"}),
+    ("zavar2024_circle", paths.zavar2024_circle, {"reachable": False}),
+    ("nguyen_contour", paths.nguyen_contour, {"n": 20, "y": -0.13}),
+    ("as_targets", paths.as_targets, {"targets": [[0.0, 0.0, 0.0]]}),
+    ("solve_ik", so.solve_ik, {"robot": ROBOT, "target": T, "method": "lm", "q0": None,
+                               "seed": 0, "tol": 1e-9}),
+    ("ik_all", so.ik_all, {"robot": ROBOT, "target": T, "q0": None, "tol": 1e-9,
+                           "fixed": None}),
+    ("solve_many", so.solve_many, {"robot": ROBOT, "targets": [[0.3, 0, -0.07]], "q0s": None,
+                                   "tol": 1e-9, "max_iter": 100, "restarts": 2, "seed": 0}),
+    ("ik_path", so.ik_path, {"robot": ROBOT, "targets": [T, T], "method": "lm",
+                             "q_start": None, "jump_threshold": None, "seed": 0,
+                             "tol": 1e-9}),
+    ("time_parameterize", so.time_parameterize, {
+        "path": Q2, "robot": ROBOT, "method": "quintic", "vmax": None, "amax": None,
+        "duration": None, "allow_jumps": False, "drop_duplicates": False}),
+    ("workspace", so.workspace, {"robot": ROBOT, "n": 200, "seed": 0, "grid": None,
+                                 "footprint": True}),
+    ("compare", so.compare, {"robot": ROBOT, "targets": [T], "methods": ["pso"],
+                             "populations": (5,), "iterations": 2, "seeds": (0,),
+                             "executor": None, "progress": False, "tol": 1e-9,
+                             "options": None, "reference": False}),
+    ("Footprint", so.Footprint, {"shape": "circle", "center": (0, 0), "radius": 0.1,
+                                 "links_from": None}),
+]
+
+#: failures inside scara_opt/ik/ (not this change's files), reported for a fix there
+_IK_ROBOT = ("ik/base.py default_q0 / ik/lm.py: no robot type check")
+KNOWN = {
+    **{("ik_all", "robot", v): _IK_ROBOT for v in BAD},
+    **{("solve_many", "robot", v): _IK_ROBOT for v in BAD},
+    **{("ik_all", "fixed", v): "ik/analytic.py: fixed is not checked to be a dict"
+       for v in ("str", "strs", "bigint", "1e308", "True", "nan", "object")},
+    **{("solve_many", "q0s", v): "ik/lm_batch.py _q0s: np.asarray(q0s, float) unguarded"
+       for v in ("str", "strs", "dict", "object")},
+    **{(name, "tol", "1e308"): "ik/lm.py residual_tol: (tol * ...)**2 overflows; "
+       "ik/base.py check_tol has no ceiling" for name in ("solve_ik", "solve_many", "ik_path")},
+}
+
+
+def _cases():
+    for name, call, good in API:
+        for arg in good:
+            for label, value in BAD.items():
+                marks = []
+                if (name, arg, label) in KNOWN:
+                    marks = [pytest.mark.xfail(reason=KNOWN[name, arg, label], strict=True)]
+                yield pytest.param(call, good, arg, value, id=f"{name}-{arg}-{label}",
+                                   marks=marks)
+
+
+@pytest.mark.parametrize("call, good, arg, value", list(_cases()))
+def test_a_wrong_value_is_a_result_or_a_scara_opt_error(call, good, arg, value):
+    """One argument replaced by a wrong type: a result or a ScaraOptError, nothing else.
+
+    Mutation: compare without its executor check (AttributeError: 'str' object has no
+    attribute 'submit'), or paths.circle without checking start/sweep (TypeError from
+    math.isfinite) -> fails.
+    """
+    logging.disable(logging.WARNING)
+    try:
+        call(**{**good, arg: value})
+    except so.ScaraOptError:
+        pass
+    finally:
+        logging.disable(logging.NOTSET)
+
+
+@pytest.mark.parametrize("name, call, good", API, ids=[a[0] for a in API])
+def test_the_good_arguments_work(name, call, good):
+    """The baseline of the matrix: every call works with its good arguments."""
+    call(**good)
