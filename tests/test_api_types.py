@@ -25,10 +25,7 @@ BAD = {"None": None, "str": "abc", "strs": ["a", "b"], "dict": {"a": 1}, "bigint
        "1e308": 1e308, "-0.0": -0.0, "True": True, "nan": math.nan, "object": object()}
 
 ROBOT = so.load_robot("zavar2024")
-#: with_limits is exercised on its own robot: Robot.with_limits copies through __reduce__,
-#: whose per-process cache hands the same object to every later unpickling of an equal robot
-#: (see test_robot.py::test_with_limits_returns_an_independent_robot); on ROBOT it would
-#: change the limits the process-pool workers of test_compare.py get
+#: a second robot for with_limits (any robot works since with_limits builds a fresh one)
 ARM = so.Robot.from_urdf(DATA / "arm6.urdf")
 T = so.Target([0.3, 0.0, -0.07])
 Q2 = np.array([[0.0, 0.0, 0.0, 0.0], [0.1, 0.1, 0.01, 0.1]])
@@ -78,18 +75,8 @@ API = [
                                  "links_from": None}),
 ]
 
-#: failures inside scara_opt/ik/ (not this change's files), reported for a fix there
-_IK_ROBOT = ("ik/base.py default_q0 / ik/lm.py: no robot type check")
-KNOWN = {
-    **{("ik_all", "robot", v): _IK_ROBOT for v in BAD},
-    **{("solve_many", "robot", v): _IK_ROBOT for v in BAD},
-    **{("ik_all", "fixed", v): "ik/analytic.py: fixed is not checked to be a dict"
-       for v in ("str", "strs", "bigint", "1e308", "True", "nan", "object")},
-    **{("solve_many", "q0s", v): "ik/lm_batch.py _q0s: np.asarray(q0s, float) unguarded"
-       for v in ("str", "strs", "dict", "object")},
-    **{(name, "tol", "1e308"): "ik/lm.py residual_tol: (tol * ...)**2 overflows; "
-       "ik/base.py check_tol has no ceiling" for name in ("solve_ik", "solve_many", "ik_path")},
-}
+#: failures still to fix (strict xfail: fixing one makes its case pass); none left
+KNOWN: dict[tuple[str, str, str], str] = {}
 
 
 def _cases():

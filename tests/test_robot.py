@@ -395,16 +395,13 @@ def test_check_q_refuses_numeric_strings(robots):
         robots["zavar2024"].fk(["0", "0", "0", "0"])
 
 
-@pytest.mark.xfail(strict=True, reason="outside this change (robot.py input checks only): "
-                   "with_limits copies with copy.copy, which goes through __reduce__ and "
-                   "_rebuild_robot's per-process cache, so equal robots share one object")
 def test_with_limits_returns_an_independent_robot():
     """Two with_limits copies are two robots, and unpickling the original gives its limits.
 
     Found while fuzzing: a is b, and pickle.loads(pickle.dumps(so.load_robot(name))) came
     back with the limits of the last with_limits copy (so process-pool workers could solve
-    with wrong limits). Fix: build the copy without copy.copy (e.g. object.__new__ plus the
-    instance dict).
+    with wrong limits). Mutation caught: with_limits built with copy.copy (through
+    __reduce__ and the per-process rebuilt robot) -> a is b.
     """
     import pickle
 

@@ -11,11 +11,13 @@ from typing import Any
 
 import numpy as np
 
+from scara_opt.checks import check_robot
 from scara_opt.ik.base import Solver, SolverOutput, check_q0, check_tol, default_q0
 from scara_opt.ik.closed_form import solve_all
 from scara_opt.ik.geometry import (  # noqa: F401  (re-exported: the closed form's names)
     NotScaraError,
     ScaraGeometry,
+    check_fixed,
     held_values,
     scara_geometry,
     solve_batch,
@@ -55,6 +57,7 @@ def ik_all(robot: Robot, target: Target | object, q0: object | None = None, tol:
         TargetError: a malformed target, or a rotation target.
         InputError: a malformed ``q0``, ``tol`` or ``fixed``.
     """
+    robot = check_robot(robot)
     target = as_target(target)
     check_task(robot, target)
     tol = check_tol(tol)
@@ -88,6 +91,10 @@ class AnalyticSolver(Solver):
     name = "analytic"
     label = "closed form"
     defaults: dict[str, Any] = {"fixed": None}
+
+    def check_options(self) -> None:
+        """``fixed`` is None or a mapping of joint names to values (checked per robot later)."""
+        check_fixed(self.options["fixed"])
 
     def prepare(self, robot: Robot, kind: str) -> None:
         """Read the robot's SCARA geometry once, and build IPOPT's NLP for a miss (cached)."""

@@ -25,7 +25,7 @@ from typing import Any, ClassVar
 
 import numpy as np
 
-from scara_opt.ik.base import Solver, SolverOutput, check_number
+from scara_opt.ik.base import MAX_RESTARTS, Solver, SolverOutput, check_number
 from scara_opt.ik.closed_form import solve_all
 from scara_opt.ik.geometry import NotScaraError
 from scara_opt.ik.ipopt import IpoptSolver
@@ -78,7 +78,8 @@ class AutoSolver(Solver):
     def check_options(self) -> None:
         """restarts, ipopt_restarts >= 0 and max_iter >= 1 (integers), jit a bool."""
         check_budget(self.options)
-        check_number("ipopt_restarts", self.options["ipopt_restarts"], 0, integer=True)
+        check_number("ipopt_restarts", self.options["ipopt_restarts"], 0, MAX_RESTARTS,
+                     integer=True)
 
     def _solve(self, robot: Robot, target: Target, q0: Array | None,
                rng: np.random.Generator, tol: float) -> SolverOutput:

@@ -33,8 +33,13 @@ Array = NDArray[np.float64]
 #: the smallest tol [m, rad] a residual can be certified against: round-off of the FK of a
 #: metre-scale arm is ~1e-16 m, so a tol below this floor could refuse an exact solution
 TOL_FLOOR = 1e-15
+#: the largest tol [m, rad]: above it any configuration of a metre-scale arm is "solved"
+TOL_CEILING = 1.0
+#: the most restarts and iterations per start an exact solver takes (a budget above them
+#: would not return in any useful time: 10,000 IPOPT starts already take tens of seconds)
+MAX_RESTARTS, MAX_ITER = 10_000, 100_000
 
-__all__ = ["LIMIT_SLACK", "TOL_FLOOR", "LazyGenerator", "Solver", "SolverOutput", "check_flag",
+__all__ = ["LIMIT_SLACK", "MAX_ITER", "MAX_RESTARTS", "TOL_CEILING", "TOL_FLOOR", "LazyGenerator", "Solver", "SolverOutput", "check_flag",
            "check_number", "check_q0", "check_seed", "check_tol", "default_q0"]
 
 
@@ -93,7 +98,7 @@ def check_flag(name: str, value: Any) -> None:
 
 
 def check_tol(tol: Any) -> float:
-    """``tol`` as a float: a finite number >= :data:`TOL_FLOOR` [m, rad] (numpy scalars too).
+    """``tol`` as a float in [:data:`TOL_FLOOR`, :data:`TOL_CEILING`] [m, rad] (numpy too).
 
     Raises:
         InputError: not a number, not finite, or below the floor (the message says why).
@@ -105,6 +110,10 @@ def check_tol(tol: Any) -> float:
         raise InputError(f"tol={tol:g} is below {TOL_FLOOR:g} [m, rad], the round-off of the "
                          "forward kinematics: an exact solution could not be told from a miss; "
                          f"pass tol >= {TOL_FLOOR:g}")
+    if tol > TOL_CEILING:
+        raise InputError(f"tol={tol:g} is above {TOL_CEILING:g} [m, rad]: every configuration "
+                         f"of a metre-scale arm would count as solved; pass tol <= "
+                         f"{TOL_CEILING:g}")
     return float(tol)
 
 

@@ -11,7 +11,9 @@ not assumed, and checked against it on random configurations.
 from __future__ import annotations
 
 import math
+from collections.abc import Mapping
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 import pinocchio as pin
@@ -195,6 +197,20 @@ def _extract(robot: Robot) -> ScaraGeometry:
     return geom
 
 
+def check_fixed(fixed: object) -> Mapping[str, Any]:
+    """``fixed`` as a mapping (``{}`` for None).
+
+    Raises:
+        InputError: anything but None or a mapping of joint names to values.
+    """
+    if fixed is None:
+        return {}
+    if not isinstance(fixed, Mapping) or not all(isinstance(k, str) for k in fixed):
+        raise InputError(f"fixed must be a dict of joint names to values [rad or m], e.g. "
+                         f"{{'P1': 0.02}}; got {fixed!r}")
+    return fixed
+
+
 def held_values(robot: Robot, geom: ScaraGeometry, q_ref: Array,
                 fixed: dict[str, float] | None) -> Array:
     """``q_ref`` with the ``fixed`` overrides applied to redundant joints (validated).
@@ -204,7 +220,7 @@ def held_values(robot: Robot, geom: ScaraGeometry, q_ref: Array,
             the joint's limits.
     """
     q = q_ref.copy()
-    for name, value in (fixed or {}).items():
+    for name, value in check_fixed(fixed).items():
         if name not in robot.joint_names:
             raise InputError(f"fixed: no joint named {name!r}; joints: {robot.joint_names}")
         k = robot.joint_names.index(name)

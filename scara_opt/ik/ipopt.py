@@ -40,7 +40,15 @@ from typing import Any
 import casadi as ca
 import numpy as np
 
-from scara_opt.ik.base import Solver, SolverOutput, check_flag, check_number, default_q0
+from scara_opt.ik.base import (
+    MAX_ITER,
+    MAX_RESTARTS,
+    Solver,
+    SolverOutput,
+    check_flag,
+    check_number,
+    default_q0,
+)
 from scara_opt.ik.certificates import certify
 from scara_opt.ik.lm import lm_search, phase_arrays
 from scara_opt.ik.problem import (
@@ -168,9 +176,9 @@ class IpoptSolver(Solver):
                 "verbose": False}
 
     def check_options(self) -> None:
-        """restarts >= 0 and 1 <= max_iter <= 1e6 (integers), regularization, flags bool."""
-        check_number("restarts", self.options["restarts"], 0, 10**6, integer=True)
-        check_number("max_iter", self.options["max_iter"], 1, 10**6, integer=True)
+        """restarts and max_iter (integers in range), regularization in [0, 1], flags bool."""
+        check_number("restarts", self.options["restarts"], 0, MAX_RESTARTS, integer=True)
+        check_number("max_iter", self.options["max_iter"], 1, MAX_ITER, integer=True)
         check_number("regularization", self.options["regularization"], 0.0, 1.0)
         check_flag("polish", self.options["polish"])
         check_flag("verbose", self.options["verbose"])

@@ -52,7 +52,15 @@ import casadi as ca
 import numpy as np
 
 from scara_opt.errors import InputError
-from scara_opt.ik.base import Solver, SolverOutput, check_flag, check_number, default_q0
+from scara_opt.ik.base import (
+    MAX_ITER,
+    MAX_RESTARTS,
+    Solver,
+    SolverOutput,
+    check_flag,
+    check_number,
+    default_q0,
+)
 from scara_opt.ik.problem import ANGLE_SIZE, n_params, nlp_params, task_residual
 from scara_opt.ik.registry import register_solver
 from scara_opt.robot import Array, Robot
@@ -472,13 +480,13 @@ def search_output(found: Search, message: str = "") -> SolverOutput:
 
 
 def check_budget(options: dict[str, Any]) -> None:
-    """The fast solver's budget options: restarts >= 0, max_iter >= 1, jit a bool.
+    """The fast solver's budget options: restarts and max_iter in range, jit a bool.
 
     Raises:
         InputError: the message names the option, its value and the range.
     """
-    check_number("restarts", options["restarts"], 0, integer=True)
-    check_number("max_iter", options["max_iter"], 1, integer=True)
+    check_number("restarts", options["restarts"], 0, MAX_RESTARTS, integer=True)
+    check_number("max_iter", options["max_iter"], 1, MAX_ITER, integer=True)
     check_flag("jit", options["jit"])
 
 

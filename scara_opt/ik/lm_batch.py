@@ -19,6 +19,7 @@ from typing import cast
 import numpy as np
 from numpy.typing import NDArray
 
+from scara_opt.checks import check_robot, float_array
 from scara_opt.errors import InputError
 from scara_opt.ik.base import LIMIT_SLACK, check_q0, check_seed, check_tol
 from scara_opt.ik.lm import (
@@ -109,7 +110,7 @@ def _q0s(robot: Robot, q0s: object | None, n: int) -> Array:
     """(n, nq) references: the default start, one (nq,) for all, or one row per target."""
     if q0s is None:
         return np.tile(limits(robot)[1], (n, 1))
-    Q = np.asarray(q0s, dtype=float)
+    Q = float_array(q0s, "q0s")
     if Q.ndim == 1:
         return np.tile(cast(Array, check_q0(robot, Q)), (n, 1))
     Q = robot.check_q_batch(Q, "q0s")
@@ -239,6 +240,7 @@ def solve_many(robot: Robot, targets: object, q0s: object | None = None, *,
         JointLimitError: a ``q0s`` row outside the joint limits.
     """
     clock = time.perf_counter()
+    robot = check_robot(robot)
     tol = check_tol(tol)
     check_seed(seed)
     check_budget({"restarts": restarts, "max_iter": max_iter, "jit": jit})

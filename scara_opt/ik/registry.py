@@ -25,7 +25,8 @@ def register_solver(name: str, factory: F | None = None, *, replace: bool = Fals
     Raises:
         InputError: the name is empty, not lowercase, or taken (unless ``replace=True``).
     """
-    if not name or name != name.lower() or not name.replace("_", "").isalnum():
+    if not isinstance(name, str) or not name or name != name.lower() \
+            or not name.replace("_", "").isalnum():
         raise InputError(f"solver name must be a short lowercase tag like 'pso'; got {name!r}")
 
     def add(f: F) -> F:

@@ -166,7 +166,11 @@ class PopulationSolver(Solver, Generic[S]):
         super().__init__(**options)  # unknown names, then the algorithm's check_options
 
     def prepare(self, robot: Robot, kind: str) -> None:
-        """Build the batch FK of one population (cached on the robot per size and thread)."""
+        """Build the batch FK of one population (cached on the robot per size and thread).
+
+        The budget's memory is checked first (:meth:`check_memory`), before any allocation.
+        """
+        self.check_memory(robot.nq)
         probe = {"position": Target(np.zeros(3)), "yaw": Target(np.zeros(3), yaw=0.0),
                  "rotation": Target(np.zeros(3), rotation=np.eye(3))}[kind]
         cost_batch(robot, probe, np.tile(default_q0(robot), (int(self.options["population"]), 1)))
