@@ -39,8 +39,9 @@ TOL_CEILING = 1.0
 #: would not return in any useful time: 10,000 IPOPT starts already take tens of seconds)
 MAX_RESTARTS, MAX_ITER = 10_000, 100_000
 
-__all__ = ["LIMIT_SLACK", "MAX_ITER", "MAX_RESTARTS", "TOL_CEILING", "TOL_FLOOR", "LazyGenerator", "Solver", "SolverOutput", "check_flag",
-           "check_number", "check_q0", "check_seed", "check_tol", "default_q0"]
+__all__ = ["LIMIT_SLACK", "MAX_ITER", "MAX_RESTARTS", "TOL_CEILING", "TOL_FLOOR",
+           "LazyGenerator", "Solver", "SolverOutput", "check_flag", "check_number",
+           "check_q0", "check_seed", "check_tol", "default_q0"]
 
 
 def check_q0(robot: Robot, q0: object | None) -> Array | None:
