@@ -36,7 +36,7 @@ import casadi as ca
 import numpy as np
 
 import scara_opt as so
-from scara_opt.dh import bundled_dir, load_dh
+from scara_opt.model.dh import bundled_dir, load_dh
 from scara_opt.ik.base import default_q0
 from scara_opt.ik.problem import ik_objective, nlp_params
 from scara_opt.ik.lm import cached_step, lm_search, random_starts

@@ -23,7 +23,7 @@ from pathlib import Path
 import numpy as np
 
 import scara_opt as so
-from scara_opt.workspace import workspace
+from scara_opt.workspace_analysis import workspace
 
 ROBOT = "peng2025"
 N = 60_000  # samples, as in the paper (Fig. 4)

@@ -2,12 +2,17 @@
 
 Robots are URDFs loaded into Pinocchio (:class:`Robot`); the bundled ones are
 generated from the papers' DH tables (:func:`load_robot`, :func:`list_robots`).
+
+Every public submodule is an attribute of the package (``so.plots``, ``so.workspace``…);
+the ones that pull heavy libraries (matplotlib) are imported at first use.
 """
 
+import importlib
 import logging
+from typing import Any
 
 from scara_opt import metaheuristics, paths  # noqa: F401  (metaheuristics register themselves)
-from scara_opt.compare import compare  # the function (the module stays importable)
+from scara_opt.comparison import compare
 from scara_opt.errors import (
     FrameNotFoundError,
     InputError,
@@ -31,7 +36,7 @@ from scara_opt.ik import (
     solvers,
 )
 from scara_opt.ik.lm_batch import BatchResult, solve_many
-from scara_opt.robot import Robot, list_robots, load_robot
+from scara_opt.model import Robot, list_robots, load_robot
 from scara_opt.target import Target
 from scara_opt.trajectory import (
     JointPath,
@@ -40,7 +45,7 @@ from scara_opt.trajectory import (
     time_parameterize,
     timing_methods,
 )
-from scara_opt.workspace import Footprint, Workspace, workspace
+from scara_opt.workspace_analysis import Footprint, Workspace, workspace
 
 __version__ = "0.1.0"
 
@@ -83,3 +88,14 @@ __all__ = [
     "Workspace",
     "workspace",
 ]
+
+#: public submodules imported at first attribute access (they import matplotlib or pandas)
+_LAZY = ("cli", "comparison", "dh", "model", "plots", "reports", "robot",
+         "workspace_analysis")
+
+
+def __getattr__(name: str) -> Any:
+    """``so.plots`` and the other public submodules, imported on first use."""
+    if name in _LAZY:
+        return importlib.import_module(f"scara_opt.{name}")
+    raise AttributeError(f"module 'scara_opt' has no attribute {name!r}")

@@ -6,10 +6,11 @@ Each check raises :class:`~scara_opt.errors.InputError` (or the subclass passed 
 ``True`` where a length is expected is a mistake, not a value.
 
 **Memory.** Functions that allocate in proportion to a count their caller chooses (the
-samples of :func:`~scara_opt.workspace`, the points of :mod:`scara_opt.paths`, the jobs of
-:func:`~scara_opt.compare`) estimate the bytes first (:func:`check_memory`) and refuse,
-before allocating anything, above :data:`MAX_BYTES`: the message gives the estimate and
-how to lower it. To go beyond on purpose, raise the limit::
+samples of :func:`~scara_opt.workspace_analysis.workspace`, the points of
+:mod:`scara_opt.paths`, the jobs of :func:`~scara_opt.comparison.compare`) estimate the
+bytes first (:func:`check_memory`) and refuse, before allocating anything, above
+:data:`MAX_BYTES`: the message gives the estimate and how to lower it. To go beyond on
+purpose, raise the limit::
 
     import scara_opt.checks
     scara_opt.checks.MAX_BYTES = 32 * 2**30   # 32 GiB
@@ -24,15 +25,12 @@ import math
 import numbers
 from collections.abc import Iterator
 from contextlib import contextmanager
-from typing import TYPE_CHECKING, Any
+from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
 
 from scara_opt.errors import InputError
-
-if TYPE_CHECKING:
-    from scara_opt.robot import Robot
 
 #: largest memory estimate [bytes] a call may allocate (4 GiB); raise it to allow more
 MAX_BYTES = 4 * 2**30
@@ -192,23 +190,6 @@ def float_array(value: object, name: str, error: type[Exception] = InputError,
         raise error(f"{name} must be numeric (numbers, not strings or bools); got "
                     f"{describe(value)}")
     return arr
-
-
-def check_robot(robot: object, name: str = "robot") -> Robot:
-    """``robot`` if it is a :class:`~scara_opt.Robot`; a str gets told to load it first.
-
-    Raises:
-        InputError: not a Robot; for a str, the message shows ``so.load_robot(...)``.
-    """
-    from scara_opt.robot import Robot
-
-    if isinstance(robot, Robot):
-        return robot
-    if isinstance(robot, str):
-        raise InputError(f"{name} must be a scara_opt.Robot, not the str {robot!r}: load it "
-                         f"first, robot = so.load_robot({robot!r}), and pass that")
-    raise InputError(f"{name} must be a scara_opt.Robot (so.load_robot(name) or "
-                     f"so.Robot.from_urdf(path)); got {describe(robot)}")
 
 
 def check_options_dict(name: str, value: object) -> dict[str, Any]:

@@ -38,7 +38,7 @@ def _units(robot: Any, deg: bool, mm: bool) -> list[str]:
 
 def cmd_robots(args: argparse.Namespace) -> int:
     """List the bundled robots with joints, limits and source."""
-    from scara_opt.robot import list_robots, load_robot
+    from scara_opt.model.catalogue import list_robots, load_robot
 
     for name in list_robots():
         robot = load_robot(name)
@@ -52,7 +52,7 @@ def cmd_robots(args: argparse.Namespace) -> int:
 
 def cmd_fk(args: argparse.Namespace) -> int:
     """Forward kinematics of one configuration."""
-    from scara_opt.robot import load_robot
+    from scara_opt.model.catalogue import load_robot
 
     robot = load_robot(args.robot)
     q = robot.check_q(args.q) / _joint_scale(robot, args.deg, args.mm)
@@ -180,7 +180,7 @@ def _executor(args: argparse.Namespace) -> Any:
 def cmd_compare(args: argparse.Namespace) -> int:
     """Compare IK methods on one target: CSV table, summary and figures."""
     import scara_opt as so
-    from scara_opt.compare import compare, convergence, summarize, with_units
+    from scara_opt.comparison import compare, convergence, summarize, with_units
     from scara_opt.plots import plot_boxes, plot_convergence, plot_time_vs_population
 
     robot = so.load_robot(args.robot)

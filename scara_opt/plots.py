@@ -19,7 +19,7 @@ if TYPE_CHECKING:
     from matplotlib.axes import Axes
     from matplotlib.figure import Figure
 
-    from scara_opt.robot import Robot
+    from scara_opt.model.robot import Robot
 
 
 def _figure(**kw: Any) -> Figure:
@@ -176,7 +176,7 @@ def plot_time_vs_population(summary: pd.DataFrame, path: str | Path | None = Non
 
 
 def _unit_of(column: str) -> str:
-    """The SI unit of a :func:`scara_opt.compare.compare` column (for axis labels)."""
+    """The SI unit of a :func:`scara_opt.comparison.compare` column (for axis labels)."""
     if column.endswith("_s"):
         return "s"
     if column.startswith("yaw"):

@@ -8,7 +8,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 import scara_opt as so
-from scara_opt.compare import takes_budget
+from scara_opt.comparison import takes_budget
 from scara_opt.ik.analytic import NotScaraError, solve_batch
 from scara_opt.ik.ipopt import cached_nlp
 from scara_opt.reports.fang import paper_ik

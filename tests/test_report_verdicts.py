@@ -33,7 +33,6 @@ def broken_solvers(monkeypatch: pytest.MonkeyPatch) -> None:
         monkeypatch.setitem(ik_registry._REGISTRY, name, _broken(factory))
     monkeypatch.setattr(analytic, "solve_all", lambda robot, target, q_ref, fixed=None:
                         [q_ref.copy()])
-    timing_registry._load_builtin()
     for name, entry in list(timing_registry._REGISTRY.items()):
         backwards = (lambda fn: lambda Q, *a, **k: fn(np.ascontiguousarray(Q[::-1]), *a,
                                                       **k))(entry.backend)

@@ -16,7 +16,7 @@ import pytest
 
 import scara_opt as so
 from scara_opt.ik.analytic import solve_batch
-from scara_opt.robot import ROBOTS_EXTRA, example_robot_data_urdf
+from scara_opt.model.catalogue import ROBOTS_EXTRA, example_robot_data_urdf
 from tests.conftest import DATA
 
 GRIPPER = DATA / "gripper_arm.urdf"
@@ -372,7 +372,7 @@ def test_closed_form_with_a_continuous_shoulder_and_wrist(tmp_path):
 
 def test_workspace_of_a_robot_with_continuous_joints(scara_wrist):
     """The Monte Carlo workspace draws continuous joints within one turn."""
-    from scara_opt.workspace import workspace
+    from scara_opt.workspace_analysis import workspace
 
     assert workspace(scara_wrist, n=2000, seed=0).xy_area > 0
 

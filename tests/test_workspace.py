@@ -9,8 +9,8 @@ import numpy as np
 import pytest
 
 import scara_opt as so
-from scara_opt.dh import DHJoint, DHRobot
-from scara_opt.workspace import Footprint, Workspace, workspace
+from scara_opt.model.dh import DHJoint, DHRobot
+from scara_opt.workspace_analysis import Footprint, Workspace, workspace
 
 L = 0.2  # link lengths of the planar test arm [m]
 SHOULDER = math.radians(90)  # |theta1| <= 90 deg: span D = 180 deg

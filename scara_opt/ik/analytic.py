@@ -11,7 +11,6 @@ from typing import Any
 
 import numpy as np
 
-from scara_opt.checks import check_robot
 from scara_opt.ik.base import Solver, SolverOutput, check_q0, check_tol, default_q0
 from scara_opt.ik.closed_form import solve_all
 from scara_opt.ik.geometry import (  # noqa: F401  (re-exported: the closed form's names)
@@ -27,7 +26,7 @@ from scara_opt.ik.registry import register_solver
 from scara_opt.ik.result import IKResult
 from scara_opt.ik.task import check_task
 from scara_opt.ik.verdict import judge
-from scara_opt.robot import Array, Robot
+from scara_opt.model.robot import Array, Robot, check_robot
 from scara_opt.target import Target, as_target
 
 

@@ -40,7 +40,7 @@ from scara_opt.ik.lm import (
 )
 from scara_opt.ik.registry import register_solver
 from scara_opt.ik.task import config_errors, error_from
-from scara_opt.robot import Array, Robot
+from scara_opt.model.robot import Array, Robot
 from scara_opt.target import Target
 
 

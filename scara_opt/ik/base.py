@@ -25,7 +25,7 @@ from scara_opt.errors import InputError, JointLimitError, SolverOptionError
 from scara_opt.ik.result import IKResult, SolverOutput
 from scara_opt.ik.task import LIMIT_SLACK, check_task, default_q0
 from scara_opt.ik.verdict import judge
-from scara_opt.robot import Robot
+from scara_opt.model.robot import Robot
 from scara_opt.target import Target, as_target
 
 Array = NDArray[np.float64]

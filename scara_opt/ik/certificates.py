@@ -21,7 +21,7 @@ from scara_opt.ik.closed_form import Box, make_task, range_of_sum, search_soluti
 from scara_opt.ik.geometry import NotScaraError, ScaraGeometry, scara_geometry
 from scara_opt.ik.result import Certificate, Reason
 from scara_opt.ik.task import default_q0
-from scara_opt.robot import Array, Robot
+from scara_opt.model.robot import Array, Robot
 from scara_opt.target import Target
 
 

@@ -44,7 +44,7 @@ from scara_opt.ik.geometry import (
     scara_geometry,
 )
 from scara_opt.ik.task import LIMIT_SLACK, default_q0
-from scara_opt.robot import Array, Robot
+from scara_opt.model.robot import Array, Robot
 from scara_opt.target import Target
 
 

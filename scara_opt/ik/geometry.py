@@ -20,7 +20,7 @@ import pinocchio as pin
 
 from scara_opt.errors import InputError, ScaraOptError
 from scara_opt.ik.task import LIMIT_SLACK, default_q0
-from scara_opt.robot import Array, Robot
+from scara_opt.model.robot import Array, Robot
 
 #: geometric zero (axes parallel, link lengths) [m, rad]
 _EPS = 1e-9

@@ -61,7 +61,7 @@ from scara_opt.ik.problem import (
 )
 from scara_opt.ik.registry import register_solver
 from scara_opt.ik.task import config_errors, error_from
-from scara_opt.robot import Array, Robot
+from scara_opt.model.robot import Array, Robot
 from scara_opt.target import Target
 
 #: IPOPT options of both NLPs (pinocchio's casadi examples read the return status; so do we)

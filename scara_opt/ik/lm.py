@@ -63,8 +63,8 @@ from scara_opt.ik.base import (
 )
 from scara_opt.ik.problem import ANGLE_SIZE, n_params, nlp_params, task_residual
 from scara_opt.ik.registry import register_solver
-from scara_opt.robot import Array, Robot
-from scara_opt.symbolic import FunctionArrays
+from scara_opt.model.buffers import FunctionArrays
+from scara_opt.model.robot import Array, Robot
 from scara_opt.target import Target
 
 #: damping factor λ of μ = λ‖r‖²: start, floor, ceiling (a start has stalled at the ceiling)

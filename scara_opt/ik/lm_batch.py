@@ -19,7 +19,7 @@ from typing import cast
 import numpy as np
 from numpy.typing import NDArray
 
-from scara_opt.checks import check_robot, float_array
+from scara_opt.checks import float_array
 from scara_opt.errors import InputError
 from scara_opt.ik.base import LIMIT_SLACK, check_q0, check_seed, check_tol
 from scara_opt.ik.lm import (
@@ -37,7 +37,7 @@ from scara_opt.ik.lm import (
 )
 from scara_opt.ik.problem import nlp_params
 from scara_opt.ik.task import check_task, errors_from_poses
-from scara_opt.robot import Array, Robot
+from scara_opt.model.robot import Array, Robot, check_robot
 from scara_opt.target import Target, as_target
 
 #: most targets evaluated in one mapped call
@@ -68,6 +68,14 @@ class BatchResult:
 
     def __len__(self) -> int:
         return len(self.q)
+
+    def __repr__(self) -> str:
+        n, ok = len(self.q), int(np.sum(self.success))
+        worst = f", largest error {np.max(self.error):.3g}" if n else ""
+        return (f"BatchResult({ok}/{n} solved within tol {self.tol:g}{worst}, "
+                f"{self.time_s * 1e3:.2f} ms)")
+
+    __str__ = __repr__
 
 
 @dataclass(frozen=True)

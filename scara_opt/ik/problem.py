@@ -22,7 +22,7 @@ import math
 import casadi as ca
 import numpy as np
 
-from scara_opt.robot import Array, Robot
+from scara_opt.model.robot import Array, Robot
 from scara_opt.target import Target
 
 #: rows of the angle target in ``par`` per task kind

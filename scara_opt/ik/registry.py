@@ -8,7 +8,7 @@ from typing import Any, TypeVar
 from scara_opt.errors import InputError, UnknownSolverError
 from scara_opt.ik.base import Solver
 from scara_opt.ik.result import IKResult
-from scara_opt.robot import Robot
+from scara_opt.model.robot import Robot
 from scara_opt.target import Target
 
 _REGISTRY: dict[str, Callable[..., Solver]] = {}

@@ -8,7 +8,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from scara_opt.errors import TargetError
-from scara_opt.robot import Robot
+from scara_opt.model.robot import Robot
 from scara_opt.target import Target
 
 Array = NDArray[np.float64]

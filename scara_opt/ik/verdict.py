@@ -36,7 +36,7 @@ from scara_opt.ik.result import (
     Status,
 )
 from scara_opt.ik.task import LIMIT_SLACK, config_errors, cost_of, error_from
-from scara_opt.robot import Array, Robot
+from scara_opt.model.robot import Array, Robot
 from scara_opt.target import Target
 
 #: a solver's search for a witness: q (nq,) reaching the target, or None

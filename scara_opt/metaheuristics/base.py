@@ -21,7 +21,7 @@ from scara_opt.errors import InputError
 from scara_opt.ik.auto import AutoSolver
 from scara_opt.ik.base import LazyGenerator, Solver, SolverOutput, check_number, default_q0
 from scara_opt.ik.task import config_errors, cost_batch, cost_of, wrap_angle
-from scara_opt.robot import Robot
+from scara_opt.model.robot import Robot
 from scara_opt.target import Target
 
 Array = NDArray[np.float64]

@@ -66,7 +66,7 @@ def _validation(robot: so.Robot, rep: PaperReport, out: Path) -> None:
 
 def _workspace(robot: so.Robot, rep: PaperReport, out: Path, quick: bool) -> None:
     try:
-        from scara_opt.workspace import workspace
+        from scara_opt.workspace_analysis import workspace
     except ImportError:  # pragma: no cover - the workspace module ships with the package
         rep.notes.append("workspace module not available")
         return

@@ -15,7 +15,7 @@ import numpy as np
 import pandas as pd
 
 import scara_opt as so
-from scara_opt.compare import compare, convergence, rank_methods, summarize
+from scara_opt.comparison import compare, convergence, rank_methods, summarize
 from scara_opt.ik.registry import method_label
 from scara_opt.plots import plot_boxes, plot_convergence, plot_time_vs_population
 from scara_opt.reports import Finding, PaperReport

@@ -23,10 +23,10 @@ from scara_opt.trajectory.quintic import quintic_blend, shortest_duration
 from scara_opt.trajectory.registry import (
     get_timing,
     register_timing,
+    ruckig_point_to_point,
     time_parameterize,
     timing_methods,
 )
-from scara_opt.trajectory.ruckig_backend import ruckig_point_to_point
 from scara_opt.trajectory.trajectory import Trajectory
 
 __all__ = [

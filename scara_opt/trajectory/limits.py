@@ -10,7 +10,7 @@ from numpy.typing import NDArray
 
 from scara_opt.checks import describe, float_array
 from scara_opt.errors import InputError, TrajectoryError
-from scara_opt.robot import Robot
+from scara_opt.model.robot import Robot
 
 Array = NDArray[np.float64]
 

@@ -19,13 +19,13 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from scara_opt.checks import check_robot, describe, float_array
+from scara_opt.checks import describe, float_array
 from scara_opt.errors import InputError, TrajectoryError
 from scara_opt.ik.base import check_seed
 from scara_opt.ik.registry import get_solver
 from scara_opt.ik.result import IKResult, Status
+from scara_opt.model.robot import Robot, check_robot
 from scara_opt.paths import as_targets
-from scara_opt.robot import Robot
 from scara_opt.target import Target
 
 Array = NDArray[np.float64]
@@ -152,11 +152,11 @@ class JointPath:
         """One line: points solved, largest errors, jumps."""
         if not len(self):
             return f"{self.method}: no points"
-        jumps = ", ".join(str(j.index) for j in self.jumps) or "none"
+        steps = ", ".join(str(j.index) for j in self.jumps)
+        jumps = f"jumps at steps {steps}" if steps else "no jumps"
         return (f"{self.method}: {int(self.solved.sum())}/{len(self)} points solved, max "
                 f"position error {np.linalg.norm(self.position_error, axis=1).max():.3g} m, "
-                f"max angle error {np.abs(self.angle_error).max():.3g} rad, jumps at steps "
-                f"{jumps}")
+                f"max angle error {np.abs(self.angle_error).max():.3g} rad, {jumps}")
 
     def __repr__(self) -> str:
         return f"JointPath({self.summary()})"

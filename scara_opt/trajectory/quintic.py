@@ -31,7 +31,7 @@ from scipy.interpolate import PPoly
 
 from scara_opt.errors import TrajectoryError
 from scara_opt.trajectory.limits import Limits
-from scara_opt.trajectory.registry import check_option_flag, register_timing
+from scara_opt.trajectory.methods import TimingMethod, check_option_flag
 from scara_opt.trajectory.trajectory import Trajectory, concatenate
 
 log = logging.getLogger(__name__)
@@ -70,7 +70,6 @@ def quintic_segment(qa: Array, qb: Array, duration: float) -> list[PPoly]:
     return out
 
 
-@register_timing("quintic", options={"enforce_limits": True}, takes_duration=True)
 def quintic_trajectory(Q: Array, limits: Limits, duration: float | None = None, *,
                        enforce_limits: bool = True) -> Trajectory:
     """Rest-to-rest quintic through the waypoints ``Q`` (n, nq) [rad or m].
@@ -118,3 +117,8 @@ def quintic_trajectory(Q: Array, limits: Limits, duration: float | None = None, 
         log.warning("quintic duration %.6g s is %s", duration, excess)
         traj = replace(traj, notes=f"{note}, {excess}")
     return traj
+
+
+#: the registry entry (read by :mod:`scara_opt.trajectory.registry`)
+METHOD = TimingMethod("quintic", quintic_trajectory, {"enforce_limits": True},
+                      takes_duration=True)

@@ -8,47 +8,26 @@ name. Backends import their heavy library (toppra, ruckig) inside the call, not 
 from __future__ import annotations
 
 import logging
-import math
 import time
 from collections.abc import Callable
-from dataclasses import dataclass, field, replace
+from dataclasses import replace
 from typing import Any
 
 from scara_opt import checks
-from scara_opt.checks import check_real, check_robot, describe
+from scara_opt.checks import check_real, describe
 from scara_opt.errors import InputError, SolverOptionError, UnknownSolverError
-from scara_opt.ik.base import check_flag, check_number
-from scara_opt.robot import Robot
+from scara_opt.model.robot import Robot, check_robot
+from scara_opt.trajectory import quintic, ruckig_backend, toppra_backend
 from scara_opt.trajectory.limits import Limits, resolve_limits
+from scara_opt.trajectory.methods import Backend, TimingMethod
 from scara_opt.trajectory.trajectory import Trajectory
 from scara_opt.trajectory.waypoints import prepare_waypoints
 
 log = logging.getLogger(__name__)
 
-#: a backend: ``(Q (n, nq), limits, duration or None, **options) -> Trajectory``
-Backend = Callable[..., Trajectory]
-
-
-@dataclass(frozen=True)
-class TimingMethod:
-    """A registered timing method.
-
-    Attributes:
-        name: registry key.
-        backend: the function doing the work.
-        options: every accepted option with its default.
-        uses_jerk: whether it honours ``jmax``.
-        takes_duration: whether it accepts a fixed ``duration``.
-    """
-
-    name: str
-    backend: Backend
-    options: dict[str, Any] = field(default_factory=dict)
-    uses_jerk: bool = False
-    takes_duration: bool = False
-
-
-_REGISTRY: dict[str, TimingMethod] = {}
+#: the registered methods: the built-in backends' entries, then any register_timing adds
+_REGISTRY: dict[str, TimingMethod] = {m.name: m for m in (quintic.METHOD, toppra_backend.METHOD,
+                                                          ruckig_backend.METHOD)}
 
 #: longest fixed duration [s] (about 32 years): the quintic's coefficients divide by
 #: duration**5, which must stay far from overflow
@@ -78,12 +57,7 @@ def register_timing(name: str, *, options: dict[str, Any] | None = None,
 
 def timing_methods() -> list[str]:
     """Names of the registered timing methods, sorted."""
-    _load_builtin()
     return sorted(_REGISTRY)
-
-
-def _load_builtin() -> None:
-    from scara_opt.trajectory import quintic, ruckig_backend, toppra_backend  # noqa: F401
 
 
 def get_timing(method: str) -> TimingMethod:
@@ -92,42 +66,12 @@ def get_timing(method: str) -> TimingMethod:
     Raises:
         UnknownSolverError: not registered (the message lists the names).
     """
-    _load_builtin()
     if not isinstance(method, str):
         raise InputError(f"method must be one timing method name (a str) from "
                          f"{sorted(_REGISTRY)}; got {describe(method)}")
     if method not in _REGISTRY:
         raise UnknownSolverError(method, _REGISTRY, kind="time-parameterisation method")
     return _REGISTRY[method]
-
-
-def check_option(method: str, name: str, value: Any, low: float, high: float = math.inf, *,
-                 integer: bool = False, low_open: bool = False, high_open: bool = False,
-                 default: Any = None) -> None:
-    """:func:`~scara_opt.ik.base.check_number` for an option of timing ``method``.
-
-    Raises:
-        InputError: wrong type, NaN or out of range; names the method, option, value, range
-            and ``default``.
-    """
-    try:
-        check_number(name, value, low, high, integer=integer, low_open=low_open,
-                     high_open=high_open)
-    except InputError as exc:
-        raise InputError(f"method {method!r}: {exc}; pass one in that range, or omit {name}= "
-                         f"for the default {default!r}") from None
-
-
-def check_option_flag(method: str, name: str, value: Any) -> None:
-    """Refuse a flag option of timing ``method`` that is not True or False.
-
-    Raises:
-        InputError: names the method, the option and the value given.
-    """
-    try:
-        check_flag(name, value)
-    except InputError as exc:
-        raise InputError(f"method {method!r}: {exc}") from None
 
 
 def _check_duration(duration: object, entry: TimingMethod) -> float | None:
@@ -208,3 +152,23 @@ def time_parameterize(path: object, robot: Robot | None = None, method: str = "t
     return replace(traj, compute_time_s=elapsed)
 
 
+def ruckig_point_to_point(q_start: object, q_goal: object, robot: Robot | None = None,
+                          vmax: object | None = None, amax: object | None = None,
+                          jmax: object | None = None) -> Trajectory:
+    """Jerk-limited, time-optimal rest-to-rest move from ``q_start`` to ``q_goal``.
+
+    Args:
+        q_start: (nq,) start configuration [rad or m].
+        q_goal: (nq,) goal configuration [rad or m].
+        robot: the robot (default limits, joint names, position-limit check), or ``None``.
+        vmax: velocity limits, scalar or (nq,) [rad/s or m/s]; default the robot's.
+        amax: acceleration limits, scalar or (nq,) [rad/s² or m/s²]; default the robot's.
+        jmax: jerk limits, scalar or (nq,) [rad/s³ or m/s³]; default 10/s × amax.
+
+    Raises:
+        InputError, JointLimitError, TrajectoryError: as for
+        :func:`~scara_opt.trajectory.time_parameterize`; TrajectoryError also when
+        ``q_goal`` equals ``q_start`` (there is no move to time).
+    """
+    return time_parameterize([q_start, q_goal], robot, method="ruckig", vmax=vmax, amax=amax,
+                             jmax=jmax)

@@ -25,9 +25,8 @@ from numpy.typing import NDArray
 from scipy.interpolate import PPoly
 
 from scara_opt.errors import TrajectoryError
-from scara_opt.robot import Robot
 from scara_opt.trajectory.limits import Limits
-from scara_opt.trajectory.registry import register_timing
+from scara_opt.trajectory.methods import TimingMethod
 from scara_opt.trajectory.trajectory import Trajectory, concatenate
 
 Array = NDArray[np.float64]
@@ -92,7 +91,6 @@ def ruckig_segment(qa: Array, qb: Array, limits: Limits) -> tuple[list[PPoly], f
     return [_profile_pieces(prof, T) for prof in profiles], T
 
 
-@register_timing("ruckig", uses_jerk=True)
 def ruckig_trajectory(Q: Array, limits: Limits, duration: float | None = None) -> Trajectory:
     """Jerk-limited trajectory through ``Q`` (n, nq), stopping at every waypoint.
 
@@ -116,25 +114,5 @@ def ruckig_trajectory(Q: Array, limits: Limits, duration: float | None = None) -
                       notes="free Ruckig: rest-to-rest between consecutive waypoints")
 
 
-def ruckig_point_to_point(q_start: object, q_goal: object, robot: Robot | None = None,
-                          vmax: object | None = None, amax: object | None = None,
-                          jmax: object | None = None) -> Trajectory:
-    """Jerk-limited, time-optimal rest-to-rest move from ``q_start`` to ``q_goal``.
-
-    Args:
-        q_start: (nq,) start configuration [rad or m].
-        q_goal: (nq,) goal configuration [rad or m].
-        robot: the robot (default limits, joint names, position-limit check), or ``None``.
-        vmax: velocity limits, scalar or (nq,) [rad/s or m/s]; default the robot's.
-        amax: acceleration limits, scalar or (nq,) [rad/s² or m/s²]; default the robot's.
-        jmax: jerk limits, scalar or (nq,) [rad/s³ or m/s³]; default 10/s × amax.
-
-    Raises:
-        InputError, JointLimitError, TrajectoryError: as for
-        :func:`~scara_opt.trajectory.time_parameterize`; TrajectoryError also when
-        ``q_goal`` equals ``q_start`` (there is no move to time).
-    """
-    from scara_opt.trajectory.registry import time_parameterize
-
-    return time_parameterize([q_start, q_goal], robot, method="ruckig", vmax=vmax, amax=amax,
-                             jmax=jmax)
+#: the registry entry (read by :mod:`scara_opt.trajectory.registry`)
+METHOD = TimingMethod("ruckig", ruckig_trajectory, uses_jerk=True)

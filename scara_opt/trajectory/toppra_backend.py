@@ -35,7 +35,7 @@ from scipy.interpolate import CubicSpline, PPoly
 
 from scara_opt.errors import TrajectoryError
 from scara_opt.trajectory.limits import Limits
-from scara_opt.trajectory.registry import check_option, register_timing
+from scara_opt.trajectory.methods import TimingMethod, check_option
 from scara_opt.trajectory.trajectory import Trajectory, stretch
 
 log = logging.getLogger(__name__)
@@ -111,7 +111,6 @@ def timed_pieces(spline: CubicSpline, grid: Array, sd: Array) -> tuple[Array, Ar
     return np.concatenate([[0.0], np.cumsum(dt)]), coeffs
 
 
-@register_timing("toppra", options=OPTIONS)
 def toppra_trajectory(Q: Array, limits: Limits, duration: float | None = None, *,
                       margin: float = 0.005, grid_per_segment: int = 4,
                       min_grid: int = 100, max_refine: int = 3) -> Trajectory:
@@ -224,3 +223,7 @@ def _overshoot(traj: Trajectory) -> float:
     ratios = traj.check_limits()
     factor = max(float(ratios["velocity"].max()), math.sqrt(float(ratios["acceleration"].max())))
     return factor * (1.0 + 1e-12) if factor > 1.0 else 1.0
+
+
+#: the registry entry (read by :mod:`scara_opt.trajectory.registry`)
+METHOD = TimingMethod("toppra", toppra_trajectory, OPTIONS)

@@ -72,18 +72,17 @@ from numpy.typing import NDArray
 
 from scara_opt.checks import (
     check_memory,
-    check_robot,
     count_text,
     describe,
     float_array,
     is_real,
     memory_guard,
 )
-from scara_opt.dh import LENGTH_UNITS
 from scara_opt.errors import InputError, URDFError
 from scara_opt.ik.analytic import NotScaraError, scara_geometry, solve_batch
 from scara_opt.ik.base import check_seed, default_q0
-from scara_opt.robot import Array, Robot
+from scara_opt.model.dh import LENGTH_UNITS
+from scara_opt.model.robot import Array, Robot, check_robot
 
 #: average samples per grid cell when the cell size is chosen automatically
 SAMPLES_PER_CELL = 10

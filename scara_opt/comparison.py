@@ -31,7 +31,6 @@ from scara_opt.checks import (
     check_int,
     check_memory,
     check_options_dict,
-    check_robot,
     count_text,
     describe,
 )
@@ -39,7 +38,7 @@ from scara_opt.errors import InputError
 from scara_opt.ik.base import check_seed, check_tol
 from scara_opt.ik.registry import get_solver, solve_ik, solvers
 from scara_opt.ik.result import IKResult
-from scara_opt.robot import Robot
+from scara_opt.model.robot import Robot, check_robot
 from scara_opt.target import Target, as_target
 
 #: the exact reference methods added to every comparison (``reference=True``)

@@ -9,7 +9,7 @@ import pandas as pd
 import pytest
 
 import scara_opt as so
-from scara_opt.compare import COLUMNS, compare, convergence, rank_methods, summarize
+from scara_opt.comparison import COLUMNS, compare, convergence, rank_methods, summarize
 
 TARGETS = [[-0.23, 0.20, -0.07], [-0.23, 0.20, -0.20], [0.30, 0.10, -0.06]]
 SAME = [c for c in COLUMNS if c not in ("time_s", "setup_s", "history")]

@@ -1,0 +1,378 @@
+r"""Denavit–Hartenberg tables to URDF: the bundled robots are written this way.
+
+A robot file (``robots/<name>.toml``) holds the paper's DH table in the paper's
+own units. :func:`load_dh` reads it into a :class:`DHRobot` (SI inside) and
+:func:`dh_to_urdf` writes the URDF that :class:`scara_opt.Robot` loads.
+
+Conventions, per row ``i``:
+
+* standard DH: :math:`T_i = R_z(\theta_i) T_z(d_i) T_x(a_i) R_x(\alpha_i)`;
+* modified DH (Craig): :math:`T_i = R_x(\alpha_{i-1}) T_x(a_{i-1}) R_z(\theta_i) T_z(d_i)`,
+  with the row's own ``alpha`` and ``a`` standing for :math:`\alpha_{i-1}, a_{i-1}`.
+
+A joint variable ``q`` enters its row as ``offset + sign * q``: ``theta`` is the
+offset of a revolute row, ``d`` of a prismatic row, and ``sign = -1`` models a
+"−d3" entry. ``python -m scara_opt.dh`` regenerates every bundled URDF.
+"""
+
+from __future__ import annotations
+
+import difflib
+import math
+import tomllib
+from dataclasses import dataclass, field
+from pathlib import Path
+from xml.sax.saxutils import quoteattr
+
+import numpy as np
+import pinocchio as pin
+
+from scara_opt.errors import JointLimitError, URDFError
+
+__all__ = ["ANGLE_UNITS", "CONVENTIONS", "DHJoint", "DHRobot", "JOINT_TYPES", "LENGTH_UNITS",
+           "bundled_dir", "dh_to_urdf", "joint_frames", "load_dh", "main", "regenerate"]
+
+LENGTH_UNITS = {"m": 1.0, "cm": 0.01, "mm": 0.001, "in": 0.0254}
+ANGLE_UNITS = {"rad": 1.0, "deg": math.pi / 180.0}
+JOINT_TYPES = ("revolute", "prismatic", "fixed")
+CONVENTIONS = ("standard", "modified")
+#: the keys a robot file may hold: top level (``footprint`` is read by
+#: scara_opt.workspace_analysis), each ``[[joints]]`` row and the ``[tool]`` table
+FILE_KEYS = ("name", "title", "source", "notes", "convention", "length_unit", "angle_unit",
+             "joints", "tool", "footprint")
+JOINT_KEYS = ("name", "type", "a", "alpha", "d", "theta", "sign", "lower", "upper", "velocity",
+              "acceleration")
+TOOL_KEYS = ("xyz", "rpy")
+
+
+@dataclass(frozen=True)
+class DHJoint:
+    """One DH row in SI units [m, rad]; limits are those of the joint variable ``q``."""
+
+    name: str
+    type: str
+    a: float = 0.0
+    alpha: float = 0.0
+    d: float = 0.0
+    theta: float = 0.0
+    sign: float = 1.0
+    lower: float = 0.0
+    upper: float = 0.0
+    velocity: float = 1.0
+    acceleration: float = 1.0
+
+    def __post_init__(self) -> None:
+        if self.type not in JOINT_TYPES:
+            raise URDFError(
+                f"joint {self.name!r}: type {self.type!r} is not one of {JOINT_TYPES}"
+            )
+        if self.sign not in (1.0, -1.0):
+            raise URDFError(f"joint {self.name!r}: sign must be +1 or -1, got {self.sign}")
+        values = (self.a, self.alpha, self.d, self.theta, self.lower, self.upper,
+                  self.velocity, self.acceleration)
+        if not all(math.isfinite(v) for v in values):
+            raise URDFError(f"joint {self.name!r}: every DH entry and limit must be finite")
+        if self.type != "fixed":
+            if not self.lower < self.upper:
+                raise JointLimitError(
+                    f"joint {self.name!r}: lower limit {self.lower} is not below upper "
+                    f"limit {self.upper}; swap them or fix the robot file",
+                    joint=self.name,
+                )
+            if self.velocity <= 0 or self.acceleration <= 0:
+                raise JointLimitError(
+                    f"joint {self.name!r}: velocity and acceleration limits must be > 0, "
+                    f"got {self.velocity} and {self.acceleration}",
+                    joint=self.name,
+                )
+
+
+@dataclass(frozen=True)
+class DHRobot:
+    """A robot described by a DH table (SI units) plus its tool transform and provenance."""
+
+    name: str
+    joints: tuple[DHJoint, ...]
+    convention: str = "standard"
+    tool: np.ndarray = field(default_factory=lambda: np.eye(4))
+    source: str = ""
+    notes: str = ""
+
+    def __post_init__(self) -> None:
+        if self.convention not in CONVENTIONS:
+            raise URDFError(
+                f"robot {self.name!r}: convention {self.convention!r} is not one of {CONVENTIONS}"
+            )
+        if not any(j.type != "fixed" for j in self.joints):
+            raise URDFError(f"robot {self.name!r} has no movable joint; add a DH row that moves")
+
+
+def _rz(angle: float) -> np.ndarray:
+    T = np.eye(4)
+    T[:2, :2] = [[math.cos(angle), -math.sin(angle)], [math.sin(angle), math.cos(angle)]]
+    return T
+
+
+def _rx(angle: float) -> np.ndarray:
+    T = np.eye(4)
+    T[1:3, 1:3] = [[math.cos(angle), -math.sin(angle)], [math.sin(angle), math.cos(angle)]]
+    return T
+
+
+def _tz(dist: float) -> np.ndarray:
+    T = np.eye(4)
+    T[2, 3] = dist
+    return T
+
+
+def _tx(dist: float) -> np.ndarray:
+    T = np.eye(4)
+    T[0, 3] = dist
+    return T
+
+
+def joint_frames(robot: DHRobot) -> tuple[list[tuple[DHJoint, np.ndarray]], np.ndarray]:
+    """Split the table into joint origins and the flange placement.
+
+    Returns:
+        ``(joints, flange)``: for each movable row, ``(joint, origin)`` with ``origin``
+        the 4×4 placement of the joint frame (before its motion about/along its z
+        axis) in the previous joint's moving frame; ``flange`` is the 4×4 placement
+        of the last DH frame in the last joint's moving frame. Fixed rows are folded
+        into the next placement.
+    """
+    out: list[tuple[DHJoint, np.ndarray]] = []
+    carry = np.eye(4)
+    for j in robot.joints:
+        if robot.convention == "standard":
+            whole = _rz(j.theta) @ _tz(j.d) @ _tx(j.a) @ _rx(j.alpha)
+        else:
+            whole = _rx(j.alpha) @ _tx(j.a) @ _rz(j.theta) @ _tz(j.d)
+        if j.type == "fixed":
+            carry = carry @ whole
+            continue
+        if robot.convention == "standard":
+            # the variable sits at the front: _rz(theta) for revolute, _tz(d) after Rz for prismatic
+            before = _rz(j.theta) if j.type == "revolute" else _rz(j.theta) @ _tz(j.d)
+            after = _tx(j.a) @ _rx(j.alpha)
+            if j.type == "revolute":
+                after = _tz(j.d) @ after
+        else:
+            # Rz and Tz commute, so the whole row can precede the motion
+            before, after = whole, np.eye(4)
+        out.append((j, carry @ before))
+        carry = after
+    return out, carry
+
+
+def _fmt(x: float) -> str:
+    """A geometry number: round-off below 1e-15 (from rotation matrices) written as 0."""
+    return "0" if abs(x) < 1e-15 else repr(float(x))
+
+
+def _exact(x: float) -> str:
+    """A limit, written exactly (a tiny one must not become 0: no limit, or no range)."""
+    return "0" if x == 0 else repr(float(x))
+
+
+def _origin(T: np.ndarray) -> str:
+    xyz = " ".join(_fmt(v) for v in T[:3, 3])
+    rpy = " ".join(_fmt(v) for v in pin.rpy.matrixToRpy(T[:3, :3]))
+    return f'<origin xyz="{xyz}" rpy="{rpy}"/>'
+
+
+def dh_to_urdf(robot: DHRobot) -> str:
+    """Write the URDF (as a string) of a DH robot.
+
+    Links are ``base_link``, ``link1`` … ``linkN`` (one per movable joint), ``flange``
+    (the last DH frame) and ``tool`` (the flange times the tool transform). The
+    acceleration limit, which URDF lacks, is kept in a ``<scara_opt acceleration=…/>``
+    child of each joint [rad/s² or m/s²]; parsers that do not know it ignore it.
+    """
+    frames, flange = joint_frames(robot)
+    lines = [
+        '<?xml version="1.0"?>',
+        "<!-- Generated by scara_opt.dh from robots/"
+        f"{robot.name}.toml; do not edit: edit the TOML and run python -m scara_opt.dh -->",
+        f"<robot name={quoteattr(robot.name)}>",
+        '  <link name="base_link"/>',
+    ]
+    parent = "base_link"
+    for k, (j, origin) in enumerate(frames, start=1):
+        child = f"link{k}"
+        lines += [
+            f'  <link name="{child}"/>',
+            f"  <joint name={quoteattr(j.name)} type=\"{j.type}\">",
+            f'    <parent link="{parent}"/>',
+            f'    <child link="{child}"/>',
+            f"    {_origin(origin)}",
+            f'    <axis xyz="0 0 {_fmt(j.sign)}"/>',
+            f'    <limit lower="{_exact(j.lower)}" upper="{_exact(j.upper)}" effort="0" '
+            f'velocity="{_exact(j.velocity)}"/>',
+            f'    <scara_opt acceleration="{_exact(j.acceleration)}"/>',
+            "  </joint>",
+        ]
+        parent = child
+    for name, T, par in (("flange", flange, parent), ("tool", robot.tool, "flange")):
+        lines += [
+            f'  <link name="{name}"/>',
+            f'  <joint name="{name}_joint" type="fixed">',
+            f'    <parent link="{par}"/>',
+            f'    <child link="{name}"/>',
+            f"    {_origin(T)}",
+            "  </joint>",
+        ]
+    lines.append("</robot>")
+    return "\n".join(lines) + "\n"
+
+
+def _check_keys(table: dict, accepted: tuple[str, ...], where: str) -> None:
+    """Refuse keys a robot file does not know (a misspelt key would silently be ignored)."""
+    unknown = [k for k in table if k not in accepted]
+    if unknown:
+        hints = "".join(f" ({k!r}: did you mean {m[0]!r}?)" for k in unknown
+                        if (m := difflib.get_close_matches(k, accepted, 1)))
+        raise URDFError(f"{where} has unknown key(s) {', '.join(map(repr, unknown))}{hints}; "
+                        f"accepted keys: {', '.join(accepted)}; fix or remove them")
+
+
+def _finite(value: object) -> bool:
+    return isinstance(value, (int, float)) and not isinstance(value, bool) and math.isfinite(value)
+
+
+def _number(row: dict, key: str, where: str, default: float = 0.0) -> float:
+    value = row.get(key, default)
+    if not _finite(value):
+        raise URDFError(f"{where}: {key} must be a finite number, got {value!r}")
+    return float(value)
+
+
+def _vector(table: dict, key: str, where: str) -> np.ndarray:
+    value = table.get(key, [0, 0, 0])
+    if not (isinstance(value, list) and len(value) == 3 and all(map(_finite, value))):
+        raise URDFError(f"{where}: {key} must be a list of 3 finite numbers, got {value!r}")
+    return np.array(value, float)
+
+
+def _text(table: dict, key: str, where: str, default: str) -> str:
+    """A text entry (name, title, source, ...): a TOML string, or ``default`` when absent."""
+    value = table.get(key, default)
+    if not isinstance(value, str):
+        raise URDFError(f"{where}: {key} must be a string (in quotes), got {value!r}")
+    return value
+
+
+def _table(value: object, where: str) -> dict:
+    if not isinstance(value, dict):
+        raise URDFError(f"{where} must be a TOML table (key = value lines), got {value!r}")
+    return value
+
+
+def load_dh(path: str | Path) -> DHRobot:
+    """Read a robot file (TOML with a DH table in stated units) into SI units.
+
+    Args:
+        path: a ``.toml`` file with ``length_unit``, ``angle_unit``, ``convention``,
+            ``[[joints]]`` rows and optional ``[tool]`` (``xyz``, ``rpy``); the keys allowed
+            are :data:`FILE_KEYS`, :data:`JOINT_KEYS` and :data:`TOOL_KEYS`.
+
+    Raises:
+        URDFError: missing file, TOML syntax, unknown key, unit or joint type, bad or
+            non-finite entries.
+        JointLimitError: a lower limit not below its upper limit, or a limit <= 0.
+    """
+    path = Path(path)
+    where = f"robot file {str(path)!r}"
+    try:
+        data = tomllib.loads(path.read_text(encoding="utf-8"))
+    except FileNotFoundError:
+        raise URDFError(f"{where} does not exist; check the path") from None
+    except UnicodeDecodeError as exc:
+        raise URDFError(f"{where} is not UTF-8 text ({exc.reason} at byte {exc.start}); pass a "
+                        "TOML robot file") from None
+    except OSError as exc:
+        raise URDFError(f"{where} cannot be read ({exc.strerror}); pass a TOML robot "
+                        "file") from None
+    except tomllib.TOMLDecodeError as exc:
+        raise URDFError(f"{where} is not valid TOML: {exc}") from None
+    _check_keys(data, FILE_KEYS, where)
+    lu, au = data.get("length_unit"), data.get("angle_unit")
+    if not (isinstance(lu, str) and lu in LENGTH_UNITS and isinstance(au, str)
+            and au in ANGLE_UNITS):
+        raise URDFError(
+            f"{where}: length_unit must be one of {sorted(LENGTH_UNITS)} and "
+            f"angle_unit one of {sorted(ANGLE_UNITS)}; got {lu!r} and {au!r}"
+        )
+    L, A = LENGTH_UNITS[lu], ANGLE_UNITS[au]
+    rows = data.get("joints")
+    if not isinstance(rows, list) or not rows:
+        raise URDFError(f"{where} has no [[joints]] rows")
+    joints = []
+    for i, row in enumerate(rows):
+        row = _table(row, f"{where}: joints entry {i + 1}")
+        name = _text(row, "name", f"{where}: joints entry {i + 1}", f"joint{i + 1}")
+        at = f"{where}: joint {name!r}"
+        _check_keys(row, JOINT_KEYS, at)
+        jtype = _text(row, "type", at, "")
+        unit = A if jtype == "revolute" else L  # unit of the joint variable
+        joints.append(
+            DHJoint(
+                name=name,
+                type=jtype,
+                a=_number(row, "a", at) * L,
+                alpha=_number(row, "alpha", at) * A,
+                d=_number(row, "d", at) * L,
+                theta=_number(row, "theta", at) * A,
+                sign=_number(row, "sign", at, 1.0),
+                lower=_number(row, "lower", at) * unit,
+                upper=_number(row, "upper", at) * unit,
+                velocity=_number(row, "velocity", at, 1.0) * unit,
+                acceleration=_number(row, "acceleration", at, 1.0) * unit,
+            )
+        )
+    tool = np.eye(4)
+    if "tool" in data:
+        table = _table(data["tool"], f"{where}: [tool]")
+        _check_keys(table, TOOL_KEYS, f"{where}: [tool]")
+        tool[:3, :3] = pin.rpy.rpyToMatrix(_vector(table, "rpy", f"{where}: [tool]") * A)
+        tool[:3, 3] = _vector(table, "xyz", f"{where}: [tool]") * L
+    _text(data, "title", where, "")
+    return DHRobot(
+        name=_text(data, "name", where, path.stem),
+        joints=tuple(joints),
+        convention=_text(data, "convention", where, "standard"),
+        tool=tool,
+        source=_text(data, "source", where, ""),
+        notes=_text(data, "notes", where, ""),
+    )
+
+
+def bundled_dir() -> Path:
+    """The folder of the bundled robot files (installed wheel or source checkout)."""
+    here = Path(__file__).resolve().parent
+    for candidate in (here.parent / "robots", here.parent.parent / "robots"):
+        if candidate.is_dir():
+            return candidate
+    raise URDFError("the bundled robots folder is missing; reinstall scara-opt")
+
+
+def regenerate(folder: Path | None = None) -> list[Path]:
+    """Rewrite ``<name>.urdf`` beside every ``<name>.toml`` in ``folder``; return the paths."""
+    folder = bundled_dir() if folder is None else Path(folder)
+    written = []
+    for toml_path in sorted(folder.glob("*.toml")):
+        urdf = toml_path.with_suffix(".urdf")
+        urdf.write_text(dh_to_urdf(load_dh(toml_path)))
+        written.append(urdf)
+    return written
+
+
+def main() -> int:
+    """``python -m scara_opt.dh``: regenerate every bundled URDF; returns the exit code."""
+    for p in regenerate():
+        print(f"wrote {p}")
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())
