@@ -7,7 +7,8 @@ within the joint limits (no library's own flag is trusted). In one run:
 * ours: ``lm`` (the fast solver, cold from the default start), ``lm`` with ``jit=True``
   (iterations compiled to C; needs a C compiler), ``solve_many`` (the batch entry point,
   time per target), ``auto`` (the default route), ``ipopt`` cold, IPOPT from the fast
-  solver's answer (``q0`` = that answer: IPOPT's cost near a solution), ``analytic`` (the closed form);
+  solver's answer (``q0`` = that answer: IPOPT's cost near a solution), ``analytic`` (the
+  closed form);
 * the candidate the issue probed, casadi ``sqpmethod`` with ``qrqp`` on the same NLP (raw,
   one start from the default ``q0``): it is why the fast solver is a bounded LM;
 * roboticstoolbox-python (the optional ``bench`` extra): ``ik_LM`` (C++) and ``ikine_LM``
@@ -17,9 +18,9 @@ within the joint limits (no library's own flag is trusted). In one run:
 
 Prints success, success at 1e-9 m, median and p95 per solve and the ratio to ``ik_LM``,
 then the goals of issue 8: 100 % at 1e-9 m; fast median <= 0.1 ms (about 2x ahead of
-``ik_LM``); IPOPT from the fast answer <= 1.5 ms median. The ``lm core`` row times the iterations alone
-(same starts, but no input checks, generator seeding or result judging: the base's work),
-to show where the rest of a solve goes.
+``ik_LM``); IPOPT from the fast answer <= 1.5 ms median. The ``lm core`` row times the
+iterations alone (same starts, but no input checks, generator seeding or result judging:
+the base's work), to show where the rest of a solve goes.
 Times are wall clock on a possibly shared machine: compare ratios within one run.
 
 Usage: ``python benchmarks/bench_ik_peers.py [--quick]`` (``--quick``: 200 targets).
@@ -36,11 +37,11 @@ import casadi as ca
 import numpy as np
 
 import scara_opt as so
-from scara_opt.model.dh import bundled_dir, load_dh
 from scara_opt.ik.base import default_q0
-from scara_opt.ik.problem import ik_objective, nlp_params
 from scara_opt.ik.lm import cached_step, lm_search, random_starts
 from scara_opt.ik.lm_batch import solve_many
+from scara_opt.ik.problem import ik_objective, nlp_params
+from scara_opt.model.dh import bundled_dir, load_dh
 
 N = 200 if "--quick" in sys.argv else 1000
 ROBOTS = ["zavar2024", "fang", "peng2025"]
@@ -198,7 +199,8 @@ def goals(robot: so.Robot, P: np.ndarray, rows: dict[str, tuple[np.ndarray, np.n
 
     print(f"  goals: lm 100 % at 1e-9 m: {exact:.1%} ({'met' if exact == 1.0 else 'NOT met'})"
           f"; lm median <= 0.1 ms: {med * 1e3:.3f} ms ({verdict(med, GOAL_MEDIAN)}); "
-          f"ipopt from the lm answer <= 1.5 ms: {cert * 1e3:.3f} ms ({verdict(cert, GOAL_CERTIFY)})")
+          f"ipopt from the lm answer <= 1.5 ms: {cert * 1e3:.3f} ms "
+          f"({verdict(cert, GOAL_CERTIFY)})")
     if base:
         print(f"         lm vs ik_LM: {base / med:.2f}x faster (goal ~2x); the iterations "
               f"alone take {core * 1e3:.3f} ms ({core / med:.0%} of a solve_ik call)")

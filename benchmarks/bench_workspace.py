@@ -1,7 +1,8 @@
 """Workspace speed: 60,000 Monte Carlo samples with FK and the occupancy grid, vs numpy.
 
-Times :func:`scara_opt.workspace_analysis.workspace` (sampling, batch FK, the footprint check where a
-robot file declares one, automatic grid, area, ranges) on every bundled robot, and a plain
+Times :func:`scara_opt.workspace_analysis.workspace` (sampling, batch FK, the footprint
+check where a robot file declares one, automatic grid, area, ranges) on every bundled robot,
+and a plain
 numpy baseline measured in the same run: zavar2024's closed-form FK (eq. 5) on the same
 number of uniform samples plus ``np.histogram2d`` for the occupied cells. Prints the time
 and its ratio to the baseline.

@@ -29,8 +29,8 @@ from pathlib import Path
 import numpy as np
 
 import scara_opt as so
-from scara_opt.plots import draw_robot
 from scara_opt.model.catalogue import ROBOTS_EXTRA, example_robot_data_urdf
+from scara_opt.plots import draw_robot
 
 URDF = "panda_description/urdf/panda.urdf"  # below example-robot-data's robots/ folder
 TIP = "panda_hand_tcp"

@@ -9,6 +9,7 @@ import pytest
 
 import scara_opt as so
 from scara_opt import checks
+from scara_opt.model.robot import check_robot
 
 
 def test_human_bytes_and_counts_read_well():
@@ -86,6 +87,6 @@ def test_check_robot_tells_to_load_a_name_first():
     Mutation: check_robot without the str branch -> fails (generic message).
     """
     with pytest.raises(so.InputError, match=r"so.load_robot\('zavar2024'\)"):
-        checks.check_robot("zavar2024")
+        check_robot("zavar2024")
     with pytest.raises(so.InputError, match=r"None \(NoneType\)"):
-        checks.check_robot(None)
+        check_robot(None)
