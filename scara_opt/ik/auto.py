@@ -66,14 +66,14 @@ class AutoSolver(Solver):
         max_iter: fast-solver iterations per start (default 100).
         ipopt_restarts: IPOPT's further random starts when the fast solver misses
             (default 20, as ``ipopt``'s own).
-        jit: compile the fast solver's iterations to C (default False; see
-            :class:`~scara_opt.ik.lm.LevenbergMarquardtSolver`).
+        jit: the fast solver's iterations compiled to C, cached per machine (default True;
+            see :class:`~scara_opt.ik.lm.LevenbergMarquardtSolver`).
     """
 
     name = "auto"
     label = "auto (LM + IPOPT)"
     defaults: ClassVar[dict[str, Any]] = {"restarts": 10, "max_iter": 100,
-                                          "ipopt_restarts": 20, "jit": False}
+                                          "ipopt_restarts": 20, "jit": True}
 
     def check_options(self) -> None:
         """restarts, ipopt_restarts >= 0 and max_iter >= 1 (integers), jit a bool."""

@@ -54,14 +54,17 @@ def check_q0(robot: Robot, q0: object | None) -> Array | None:
     if q0 is None:
         return None
     q = robot.check_q(q0, "q0")
-    for name, kind, v, lo, hi in zip(robot.joint_names, robot.joint_types, q, robot.lower,
-                                     robot.upper, strict=True):
+    lower, upper = robot.lower, robot.upper
+    if np.all(q >= lower) and np.all(q <= upper):
+        return q
+    for name, kind, v, lo, hi in zip(robot.joint_names, robot.joint_types, q, lower, upper,
+                                     strict=True):
         if not lo - LIMIT_SLACK <= v <= hi + LIMIT_SLACK:
             unit = "rad" if kind == "revolute" else "m"
             raise JointLimitError(
                 f"q0: joint {name!r} = {v:.4g} {unit} is outside [{lo:.4g}, {hi:.4g}] {unit}; "
                 "pass q0 inside the limits or q0=None", joint=name)
-    return np.clip(q, robot.lower, robot.upper)
+    return np.clip(q, lower, upper)
 
 
 def check_number(name: str, value: Any, low: float, high: float = math.inf, *,

@@ -40,18 +40,17 @@ A miss is judged by :mod:`scara_opt.ik.verdict` (``unreachable`` only with a cer
 from __future__ import annotations
 
 import math
-import os
-import tempfile
 import threading
 from collections.abc import Iterable, Iterator, Sequence
 from dataclasses import dataclass, field
 from itertools import chain
+from pathlib import Path
 from typing import Any, ClassVar
 
 import casadi as ca
 import numpy as np
 
-from scara_opt.errors import InputError
+from scara_opt.ik import problem
 from scara_opt.ik.base import (
     MAX_ITER,
     MAX_RESTARTS,
@@ -63,7 +62,10 @@ from scara_opt.ik.base import (
 )
 from scara_opt.ik.problem import ANGLE_SIZE, n_params, nlp_params, task_residual
 from scara_opt.ik.registry import register_solver
+from scara_opt.model import symbolic
+from scara_opt.model.batch_fk import kinematic_key
 from scara_opt.model.buffers import FunctionArrays
+from scara_opt.model.compiled import compiled, source_hash
 from scara_opt.model.robot import Array, Robot
 from scara_opt.target import Target
 
@@ -246,41 +248,47 @@ def build_slide_step(robot: Robot, kind: str) -> ca.Function:
 
 
 _BUILDERS = {"lm": build_lm_step, "slide": build_slide_step}
+#: the source the iterations are built from: part of the compiled cache's key
+_CODE = source_hash(Path(__file__), problem.__file__, symbolic.__file__)
 
 
-def _finish(f: ca.Function, jit: bool) -> ca.Function:
-    """``f`` with common subexpressions merged, compiled to C if ``jit``.
-
-    Raises:
-        InputError: ``jit=True`` but casadi finds no C compiler.
-    """
+def _merged(f: ca.Function, name: str) -> ca.Function:
+    """``f`` renamed ``name`` with its common subexpressions merged (fewer instructions)."""
     outputs = f.call(f.sx_in())
-    if hasattr(ca, "cse"):  # casadi >= 3.6: ~10-30 % fewer virtual-machine instructions
+    if hasattr(ca, "cse"):  # casadi >= 3.6: ~10-30 % fewer instructions
         outputs = ca.cse(outputs)
-    opts: dict[str, Any] = {}
-    if jit:  # sources and objects go to the temp directory, removed with the Function
-        opts = {"jit": True, "compiler": "shell", "jit_name": f"scara_opt_{f.name()}",
-                "jit_options": {"flags": ["-O2"], "directory": tempfile.gettempdir() + os.sep}}
-    try:
-        return ca.Function(f.name(), f.sx_in(), outputs, f.name_in(), f.name_out(), opts)
-    except RuntimeError as exc:
-        raise InputError(f"jit=True compiles the iterations to C at run time and needs a C "
-                         f"compiler (casadi's 'shell' compiler, e.g. gcc): {exc}; install one "
-                         "or pass jit=False") from None
+    return ca.Function(name, f.sx_in(), outputs, f.name_in(), f.name_out())
+
+
+def step_function(robot: Robot, phase: str, kind: str, jit: bool = True) -> ca.Function:
+    """The ``phase`` ("lm" or "slide") Function of one target, built or loaded once.
+
+    With ``jit`` it is the C compiled once per machine and kept in the cache folder
+    (:mod:`scara_opt.model.compiled`: loaded in well under a millisecond in later processes;
+    where no C compiler works, casadi's virtual machine runs it). Without, the virtual
+    machine always. The cache key holds the robot's kinematics, the task kind and the
+    source of the modules that build it, so a change to any compiles anew.
+    """
+    cache: dict[tuple, ca.Function] = robot.__dict__.setdefault("_ik_lm_cache", {})
+    if (phase, kind, jit) not in cache:
+        key = kinematic_key(robot)
+        name = f"scara_opt_{phase}_{kind}_{key[:12]}"
+
+        def build() -> ca.Function:
+            return _merged(_BUILDERS[phase](robot, kind), name)
+
+        cache[(phase, kind, jit)] = compiled(name, f"{key} {phase} {kind} {_CODE}", build) \
+            if jit else build()
+    return cache[(phase, kind, jit)]
 
 
 def cached_step(robot: Robot, phase: str, kind: str, n: int = 1,
-                jit: bool = False) -> ca.Function:
-    """The ``phase`` ("lm" or "slide") Function, mapped over ``n`` columns, built once.
-
-    With ``jit`` it is compiled to C (~10x faster iterations; needs a C compiler, and
-    ~0.5 s per robot, task kind and phase to build).
-    """
-    cache: dict[tuple, ca.Function] = robot.__dict__.setdefault("_ik_lm_cache", {})
-    if (phase, kind, 1, jit) not in cache:
-        cache[(phase, kind, 1, jit)] = _finish(_BUILDERS[phase](robot, kind), jit)
+                jit: bool = True) -> ca.Function:
+    """:func:`step_function` mapped over ``n`` columns (one per target), built once."""
+    cache: dict[tuple, ca.Function] = robot.__dict__.setdefault("_ik_lm_maps", {})
     if (phase, kind, n, jit) not in cache:
-        cache[(phase, kind, n, jit)] = cache[(phase, kind, 1, jit)].map(n)
+        f = step_function(robot, phase, kind, jit)
+        cache[(phase, kind, n, jit)] = f if n == 1 else f.map(n)
     return cache[(phase, kind, n, jit)]
 
 
@@ -299,7 +307,7 @@ class PhaseArrays:
     box: Array
 
 
-def phase_arrays(robot: Robot, kind: str, n: int = 1, jit: bool = False) -> PhaseArrays:
+def phase_arrays(robot: Robot, kind: str, n: int = 1, jit: bool = True) -> PhaseArrays:
     """This thread's :class:`PhaseArrays` for ``robot``, task kind and ``n`` columns."""
     cache: dict[tuple, PhaseArrays] = robot.__dict__.setdefault("_ik_lm_arrays", {})
     key = (kind, n, jit, threading.get_ident())
@@ -324,7 +332,7 @@ def limits(robot: Robot) -> tuple[Array, Array]:
 
 def residual_tol(weights: Sequence[float], tol: float) -> float:
     """‖r‖² [weighted m², rad²] at which a start has converged, for the caller's ``tol``."""
-    return (TOL_FACTOR * tol * min(weights)) ** 2
+    return (TOL_FACTOR * tol * float(min(weights))) ** 2
 
 
 # ---------------------------------------------------------------------- one target
@@ -425,7 +433,7 @@ class Search:
 
 
 def lm_search(robot: Robot, target: Target, q_ref: Array, starts: Iterable[Array], *,
-              tol: float, max_iter: int, jit: bool = False, box: Array | None = None) -> Search:
+              tol: float, max_iter: int, jit: bool = True, box: Array | None = None) -> Search:
     """The three phases from each start in turn until one converges.
 
     Args:
@@ -435,7 +443,7 @@ def lm_search(robot: Robot, target: Target, q_ref: Array, starts: Iterable[Array
         starts: start configurations (nq,) within the limits, drawn lazily in order.
         tol: residual [m, rad] the caller judges against.
         max_iter: iterations per start.
-        jit: compile the iterations to C (see :func:`cached_step`).
+        jit: the iterations compiled to C (see :func:`step_function`).
         box: ``limits(robot)[0]`` if the caller has it already.
 
     Returns:
@@ -501,13 +509,14 @@ class LevenbergMarquardtSolver(Solver):
     Options:
         restarts: further seeded random starts after a start stalls (default 10).
         max_iter: iterations per start, all phases (default 100).
-        jit: compile the iterations to C at first use (default False: casadi's virtual
-            machine, no compiler needed); ~10x faster iterations, needs a C compiler.
+        jit: run the iterations compiled to C, once per machine and cached (default True;
+            casadi's virtual machine where no C compiler works; False: the virtual machine
+            always).
     """
 
     name = "lm"
     label = "LM"
-    defaults: ClassVar[dict[str, Any]] = {"restarts": 10, "max_iter": 100, "jit": False}
+    defaults: ClassVar[dict[str, Any]] = {"restarts": 10, "max_iter": 100, "jit": True}
 
     def check_options(self) -> None:
         """restarts >= 0 and max_iter >= 1 (integers), jit a bool."""

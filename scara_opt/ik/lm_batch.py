@@ -224,7 +224,7 @@ class _Batch:
 
 def solve_many(robot: Robot, targets: object, q0s: object | None = None, *,
                tol: float = 1e-9, max_iter: int = 100, restarts: int = 10,
-               seed: int | None = 0, jit: bool = False) -> BatchResult:
+               seed: int | None = 0, jit: bool = True) -> BatchResult:
     """Solve IK for many targets at once with the fast solver (``method="lm"``).
 
     Args:
@@ -237,7 +237,8 @@ def solve_many(robot: Robot, targets: object, q0s: object | None = None, *,
         max_iter: iterations per start and target.
         restarts: further seeded random starts for a target whose start stalls.
         seed: seed of each target's generator (the draws of a single solve with it).
-        jit: compile the iterations to C (~10x faster; needs a C compiler at run time).
+        jit: the iterations compiled to C, cached per machine (default True; casadi's
+            virtual machine where no compiler works; False: the virtual machine always).
 
     Returns:
         BatchResult: configurations, honest residuals and success flags, one row each.

@@ -101,6 +101,18 @@ def error_from(dp: Array, dang: float | None) -> float:
 
 
 def config_errors(robot: Robot, target: Target, q: Array) -> tuple[Array, float | None]:
-    """Position error (3,) and angle error of one configuration (one Pinocchio FK)."""
-    dp, dang = errors_from_poses(robot, target, robot.fk(q)[None])
-    return dp[0], None if dang is None else float(dang[0])
+    """Position error (3,) and angle error of one configuration (one Pinocchio FK).
+
+    The same numbers as :func:`errors_from_poses`, with scalar arithmetic: this runs once
+    per solve, where numpy's per-call cost on 3×3 blocks would dominate.
+    """
+    T = robot.fk(q)
+    dp = T[:3, 3] - target.position
+    if target.kind == "position":
+        return dp, None
+    if target.kind == "yaw":
+        e1, e2 = robot.yaw_basis()
+        x = T[:3, 0]
+        return dp, float(wrap_angle(math.atan2(float(x @ e2), float(x @ e1)) - target.yaw))
+    frob = math.sqrt(float(np.sum((T[:3, :3] - target.rotation) ** 2)))
+    return dp, 2.0 * math.asin(min(frob / (2.0 * math.sqrt(2.0)), 1.0))

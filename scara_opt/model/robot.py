@@ -205,13 +205,27 @@ class Robot:
 
     @property
     def lower(self) -> Array:
-        """Lower joint limits (nq,) [rad or m]; ``-inf`` for continuous joints."""
-        return np.array(self.model.lowerPositionLimit, float)
+        """Lower joint limits (nq,) [rad or m]; ``-inf`` for continuous joints (read-only)."""
+        return self._limits()[0]
 
     @property
     def upper(self) -> Array:
-        """Upper joint limits (nq,) [rad or m]; ``+inf`` for continuous joints."""
-        return np.array(self.model.upperPositionLimit, float)
+        """Upper joint limits (nq,) [rad or m]; ``+inf`` for continuous joints (read-only)."""
+        return self._limits()[1]
+
+    def _limits(self) -> tuple[Array, Array]:
+        """The model's position limits as read-only arrays, made once.
+
+        A robot's limits never change: :meth:`with_limits` returns a new robot.
+        """
+        cached = self.__dict__.get("_limit_arrays")
+        if cached is None:
+            cached = (np.array(self.model.lowerPositionLimit, float),
+                      np.array(self.model.upperPositionLimit, float))
+            for a in cached:
+                a.setflags(write=False)
+            self.__dict__["_limit_arrays"] = cached
+        return cached
 
     @property
     def sampling_lower(self) -> Array:
