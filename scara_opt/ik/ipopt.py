@@ -160,7 +160,7 @@ class IpoptSolver(Solver):
     r"""IK by IPOPT on the casadi NLPs (see the module docstring for the problems and rules).
 
     Options:
-        restarts: further seeded random starts after the first misses (default 20; none
+        restarts: further seeded random starts after the first misses (default 50; none
             once a start is as close as a certificate proves possible).
         max_iter: IPOPT iterations per start and NLP (default 100).
         regularization: weight :math:`\lambda` of the pull toward ``q0`` in the closest NLP
@@ -172,7 +172,7 @@ class IpoptSolver(Solver):
 
     name = "ipopt"
     label = "IPOPT"
-    defaults = {"restarts": 20, "max_iter": 100, "regularization": 1e-8, "polish": True,
+    defaults = {"restarts": 50, "max_iter": 100, "regularization": 1e-8, "polish": True,
                 "verbose": False}
 
     def check_options(self) -> None:

@@ -223,7 +223,7 @@ class _Batch:
 
 
 def solve_many(robot: Robot, targets: object, q0s: object | None = None, *,
-               tol: float = 1e-9, max_iter: int = 100, restarts: int = 10,
+               tol: float = 1e-9, max_iter: int = 100, restarts: int = 50,
                seed: int | None = 0, jit: bool = True) -> BatchResult:
     """Solve IK for many targets at once with the fast solver (``method="lm"``).
 
