@@ -7,6 +7,7 @@ redundant joints); this module wraps it in the solver interface.
 
 from __future__ import annotations
 
+import time
 from typing import Any
 
 import numpy as np
@@ -96,9 +97,8 @@ class AnalyticSolver(Solver):
         check_fixed(self.options["fixed"])
 
     def prepare(self, robot: Robot, kind: str) -> None:
-        """Read the robot's SCARA geometry once, and build IPOPT's NLP for a miss (cached)."""
+        """Read the robot's SCARA geometry once (IPOPT's NLPs are built at a first miss)."""
         scara_geometry(robot)
-        IpoptSolver().prepare(robot, kind)
 
     def _solve(self, robot: Robot, target: Target, q0: Array | None,
                rng: np.random.Generator, tol: float) -> SolverOutput:
@@ -112,11 +112,15 @@ class AnalyticSolver(Solver):
         values = held_values(robot, geom, q_ref, fixed)
         held = {robot.joint_names.index(name): float(values[robot.joint_names.index(name)])
                 for name in (fixed or {})}
-        closest = IpoptSolver()._solve(robot, target, q_ref, rng, tol, held=held)
+        ipopt = IpoptSolver()
+        start = time.perf_counter()
+        ipopt.prepare(robot, target.kind)
+        setup = time.perf_counter() - start
+        closest = ipopt._solve(robot, target, q_ref, rng, tol, held=held)
         names = ", ".join(f"{robot.joint_names[k]} = {v:.4g}" for k, v in held.items())
         infeasible_held = bool(held) and bool(solve_all(robot, target, q_ref))
         return SolverOutput(q=closest.q, iterations=closest.iterations,
-                            evaluations=closest.evaluations, held=infeasible_held,
+                            evaluations=closest.evaluations, held=infeasible_held, setup_s=setup,
                             message="no closed-form branch within the limits"
                                     + (f" with {names} held" if held else "")
                                     + "; q from IPOPT's closest configuration")

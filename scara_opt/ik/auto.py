@@ -19,6 +19,7 @@ targets out of reach.
 
 from __future__ import annotations
 
+import time
 from collections.abc import Iterator
 from itertools import chain
 from typing import Any, ClassVar
@@ -96,14 +97,20 @@ class AutoSolver(Solver):
         return self._fallback(robot, target, q0, rng, tol, found)
 
     def prepare(self, robot: Robot, kind: str) -> None:
-        """Build the fast solver's iterations and IPOPT's NLPs of this task kind."""
+        """Build (or load) the fast solver's iterations of this task kind.
+
+        IPOPT's NLPs are built only when a target first needs them (their build time is
+        then reported as setup, not search time).
+        """
         LevenbergMarquardtSolver(jit=self.options["jit"]).prepare(robot, kind)
-        IpoptSolver(restarts=int(self.options["ipopt_restarts"])).prepare(robot, kind)
 
     def _fallback(self, robot: Robot, target: Target, q0: Array | None,
                  rng: np.random.Generator, tol: float, found: Search) -> SolverOutput:
         """IPOPT's multi-start after the fast solver missed; the closer answer is kept."""
         ipopt = IpoptSolver(restarts=int(self.options["ipopt_restarts"]))
+        start = time.perf_counter()
+        ipopt.prepare(robot, target.kind)
+        setup = time.perf_counter() - start
         out = ipopt._solve(robot, target, q0, rng, tol)  # the template's hook: no re-judging
         fast = search_output(found)
         closer = out if _error(robot, target, out.q) <= _error(robot, target, found.q) else fast
@@ -113,7 +120,7 @@ class AutoSolver(Solver):
         return SolverOutput(q=closer.q, iterations=fast.iterations + out.iterations,
                             evaluations=fast.evaluations + out.evaluations,
                             history=np.concatenate([fast.history, out.history]),
-                            message=message)
+                            message=message, setup_s=setup)
 
 
 def _error(robot: Robot, target: Target, q: Array) -> float:

@@ -212,9 +212,10 @@ class Solver(ABC):
         setup = time.perf_counter() - start
         start = time.perf_counter()
         out = self._solve(robot, target, q0a, rng, tol)
-        elapsed = time.perf_counter() - start
+        elapsed = time.perf_counter() - start - out.setup_s
         return judge(robot, target, out, tol=tol, method=self.name, seed=seed, time_s=elapsed,
-                     setup_s=setup, search=lambda: self.witness(robot, target, q0a, seed, tol))
+                     setup_s=setup + out.setup_s,
+                     search=lambda: self.witness(robot, target, q0a, seed, tol))
 
     def prepare(self, robot: Robot, kind: str) -> None:
         """Build what the solver builds once per robot and task kind (cached on the robot).

@@ -100,6 +100,8 @@ class SolverOutput:
         history: best cost per iteration.
         message: specifics to append to the standard message.
         held: the solve was infeasible because of joints the caller held (``fixed``).
+        setup_s: one-off setup done inside the search (a fallback's first build) [s]: the
+            base moves it from ``time_s`` to ``setup_s``.
     """
 
     q: Array
@@ -108,6 +110,7 @@ class SolverOutput:
     history: Array = field(default_factory=lambda: np.zeros(0))
     message: str = ""
     held: bool = False
+    setup_s: float = 0.0
 
 
 @dataclass(frozen=True, repr=False)
