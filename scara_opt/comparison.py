@@ -49,7 +49,8 @@ EXACT_METHODS = ("analytic", "ipopt")
 BYTES_PER_JOB = 3000
 
 COLUMNS = ["method", "population", "budget_iterations", "seed", "target", "x", "y", "z",
-           "abs_err_x", "abs_err_y", "abs_err_z", "yaw_error", "error", "cost", "status",
+           "reached_x", "reached_y", "reached_z", "abs_err_x", "abs_err_y", "abs_err_z",
+           "yaw_error", "error", "cost", "status",
            "success", "reason", "time_s", "setup_s", "evaluations", "iterations",
            "history_len", "history"]
 
@@ -80,7 +81,9 @@ def _row(job: _Job, res: IKResult) -> dict[str, Any]:
     return {
         "method": job.method, "population": job.population, "budget_iterations": job.iterations,
         "seed": job.seed, "target": job.target_index, "x": job.target.position[0],
-        "y": job.target.position[1], "z": job.target.position[2], "abs_err_x": err[0],
+        "y": job.target.position[1], "z": job.target.position[2],
+        **{f"reached_{a}": job.target.position[k] + res.position_error[k]
+           for k, a in enumerate("xyz")}, "abs_err_x": err[0],
         "abs_err_y": err[1], "abs_err_z": err[2], "yaw_error": res.yaw_error,
         "error": res.error, "cost": res.cost, "status": res.status.value, "success": res.success,
         "reason": res.reason.value, "time_s": res.time_s, "setup_s": res.setup_s,
@@ -144,7 +147,8 @@ def compare(robot: Robot, targets: Iterable[Target | object], methods: Sequence[
     entry; above :data:`scara_opt.checks.MAX_BYTES` the call is refused.
 
     Returns:
-        DataFrame with columns :data:`COLUMNS`: per-axis absolute error [m], error, cost,
+        DataFrame with columns :data:`COLUMNS`: target and reached position [m], per-axis
+        absolute error [m], error, cost,
         status, time [s], evaluations, iterations, history length and the history itself.
 
     Raises:
@@ -327,7 +331,8 @@ def summarize(table: pd.DataFrame, tol: float = 1e-6) -> pd.DataFrame:
 
 #: unit suffixes for CSV files (SI; ``error`` and ``cost`` are in m, or m and rad together
 #: when the target has a tool angle)
-UNIT_NAMES = {"x": "x_m", "y": "y_m", "z": "z_m", "abs_err_x": "abs_err_x_m",
+UNIT_NAMES = {"x": "x_m", "y": "y_m", "z": "z_m", "reached_x": "reached_x_m",
+              "reached_y": "reached_y_m", "reached_z": "reached_z_m", "abs_err_x": "abs_err_x_m",
               "abs_err_y": "abs_err_y_m", "abs_err_z": "abs_err_z_m",
               "yaw_error": "yaw_error_rad", "error": "error_m_rad", "cost": "cost_m_rad"}
 

@@ -12,6 +12,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
+from scara_opt.comparison import takes_budget
 from scara_opt.ik.registry import method_label
 
 if TYPE_CHECKING:
@@ -159,7 +160,8 @@ def plot_convergence(curves: Mapping[tuple[str, Any], np.ndarray], path: str | P
     return fig
 
 
-def plot_time_vs_population(summary: pd.DataFrame, path: str | Path | None = None) -> Figure:
+def plot_time_vs_population(summary: pd.DataFrame, path: str | Path | None = None,
+                            title: str = "median time per solve") -> Figure:
     """Median time per solve against population size, one line per method (zavar2024 Fig. 5)."""
     fig = _figure(figsize=(6, 4))
     ax = fig.add_subplot()
@@ -170,28 +172,27 @@ def plot_time_vs_population(summary: pd.DataFrame, path: str | Path | None = Non
     ax.set_ylabel("median time per solve [ms]\n(one-off setup excluded)")
     ax.set_yscale("log")
     ax.legend()
+    ax.set_title(title, fontsize=9)
     fig.tight_layout()
     _save(fig, path)
     return fig
 
 
-def _unit_of(column: str) -> str:
-    """The SI unit of a :func:`scara_opt.comparison.compare` column (for axis labels)."""
-    if column.endswith("_s"):
-        return "s"
-    if column.startswith("yaw"):
-        return "rad"
-    if column.startswith("abs_err"):
-        return "m"
-    if column in ("error", "cost"):
-        return "m, or m and rad"
-    return "-"
+#: axis labels of :func:`scara_opt.comparison.compare` columns (SI units)
+LABELS = {"abs_err_x": "|x error| [m]", "abs_err_y": "|y error| [m]",
+          "abs_err_z": "|z error| [m]", "yaw_error": "|tool-angle error| [rad]",
+          "error": "error [m, or m and rad]", "cost": "cost, eq. (8) [m]",
+          "time_s": "time per solve [s]", "setup_s": "one-off setup [s]"}
+
+
+def _label(column: str) -> str:
+    return LABELS.get(column, column)
 
 
 def plot_boxes(table: pd.DataFrame, columns: Sequence[str], path: str | Path | None = None,
-               by: str = "method", log: bool = True) -> Figure:
-    """Box plots of ``columns`` grouped by ``by`` (zavar2024 Fig. 7: errors, cost, time)."""
-    fig = _figure(figsize=(3.6 * len(columns), 3.6))
+               by: str = "method", log: bool = True, title: str = "") -> Figure:
+    """Box plots of ``columns`` grouped by ``by``, one panel per column, over all runs."""
+    fig = _figure(figsize=(3.6 * len(columns), 3.9))
     groups = sorted(table[by].unique())
     for i, col in enumerate(columns):
         ax = fig.add_subplot(1, len(columns), i + 1)
@@ -200,9 +201,63 @@ def plot_boxes(table: pd.DataFrame, columns: Sequence[str], path: str | Path | N
         ax.boxplot(data, tick_labels=ticks)
         if log:
             ax.set_yscale("log")
-        ax.set_title(col)
-        ax.set_ylabel(f"{col} [{_unit_of(col)}]")
-        ax.tick_params(axis="x", labelrotation=45)
+        ax.set_ylabel(_label(col))
+        for tick in ax.get_xticklabels():
+            tick.set(rotation=45, ha="right", rotation_mode="anchor")
+    if title:
+        fig.suptitle(title)
     fig.tight_layout()
+    _save(fig, path)
+    return fig
+
+
+def plot_path_runs(table: pd.DataFrame, columns: Sequence[str], path: str | Path | None = None,
+                   title: str = "") -> Figure:
+    """A path rerun by several methods (zavar2024 Fig. 7), one line per method.
+
+    Where each point was reached, and each of ``columns`` per path point (median over seeds,
+    log scale).
+
+    ``table`` is :func:`scara_opt.comparison.compare`'s, the targets in path order. The first
+    panel is the xy plane [m]: target points as open circles, each run's reached point as a
+    dot of its method's colour. Exact zeros are drawn at 1e-17 (a log axis has no zero); the
+    exact methods are dashed.
+    """
+    methods = sorted(table["method"].unique())
+    ncol = 3
+    nrow = (len(columns) + 1 + ncol - 1) // ncol
+    fig = _figure(figsize=(5.2 * ncol, 4.0 * nrow + 0.8))
+    style = {m: {"color": f"C{i % 10}", "ls": "-" if takes_budget(m) else "--"}
+             for i, m in enumerate(methods)}
+    ax = fig.add_subplot(nrow, ncol, 1)
+    points = table.drop_duplicates("target").sort_values("target")
+    for m in methods:
+        runs = table[table["method"] == m]
+        ax.plot(runs["reached_x"], runs["reached_y"], ".", ms=5, color=style[m]["color"])
+    ax.plot(points["x"], points["y"], "o", mfc="none", mec="k", ms=11, label="target point")
+    for _, p in points.iterrows():
+        ax.annotate(str(int(p["target"]) + 1), (p["x"], p["y"]), fontsize=7,
+                    xytext=(6, 6), textcoords="offset points")
+    ax.set_aspect("equal", adjustable="datalim")
+    ax.set_xlabel("x [m]")
+    ax.set_ylabel("y [m]")
+    ax.set_title("targets (circles) and every run's reached point (dots)")
+    handles = ax.get_legend_handles_labels()
+    for i, col in enumerate(columns):
+        ax = fig.add_subplot(nrow, ncol, i + 2)
+        for m in methods:
+            med = table[table["method"] == m].groupby("target")[col].median()
+            ax.semilogy(med.index + 1, np.maximum(med.to_numpy(float), 1e-17), marker="o",
+                        ms=3, label=method_label(m), **style[m])
+        ax.set_xlabel("path point")
+        ax.set_ylabel(_label(col))
+        ax.set_title(f"{_label(col).split(' [')[0]} per point, median over seeds", fontsize=10)
+    lines, labels = ax.get_legend_handles_labels()
+    fig.legend(handles[0] + lines, handles[1] + labels, loc="lower center",
+               ncol=len(methods) + 1, fontsize=9)
+    fig.text(0.995, 0.005, "log axes: exact zeros drawn at 1e-17", ha="right", fontsize=7)
+    if title:
+        fig.suptitle(title)
+    fig.tight_layout(rect=(0, 0.05, 1, 1))
     _save(fig, path)
     return fig

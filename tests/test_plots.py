@@ -41,3 +41,36 @@ def test_animate_refuses_a_wrong_file_or_rate(robots, tmp_path, name, fps, match
     with pytest.raises(so.InputError, match=match):
         animate(robots["zavar2024"], np.zeros((3, 4)), tmp_path / name, fps=fps)
     assert not (tmp_path / name).exists()
+
+
+def test_path_figure_draws_reached_points_and_per_point_medians(robots, tmp_path):
+    """zavar2024 Fig. 7 rerun: the xy panel's dots are where each run ended (FK of its q),
+    not the targets, and each per-point line is the median over seeds of that column.
+
+    Mutations caught: ``reached_x`` computed as target - error (dots mirrored off the arm's
+    reach); the xy panel plotting the target columns instead of the reached ones; a line of
+    the mean instead of the median.
+    """
+    from scara_opt.comparison import compare
+    from scara_opt.plots import plot_path_runs
+
+    robot = robots["zavar2024"]
+    # the second target is 0.1 m beyond the arm's 0.4 m reach: its reached point differs
+    targets = [so.Target([0.3, 0.0, -0.07]), so.Target([0.5, 0.0, -0.07])]
+    table = compare(robot, targets, methods=["ipopt", "pso"], populations=[20], iterations=20,
+                    seeds=[0, 1, 2], tol=1e-9, progress=False)
+    far = so.solve_ik(robot, targets[1], method="ipopt")
+    row = table[(table["method"] == "ipopt") & (table["target"] == 1)].iloc[0]
+    reached = row[["reached_x", "reached_y", "reached_z"]].to_numpy(float)
+    np.testing.assert_allclose(reached, robot.position(far.q), atol=1e-12)
+    assert reached[0] < 0.41
+
+    fig = plot_path_runs(table, ["abs_err_x", "time_s"], tmp_path / "circle.png", title="t")
+    xy = fig.axes[0]
+    dots = np.concatenate([np.column_stack(line.get_data()) for line in xy.lines[:-1]])
+    np.testing.assert_allclose(np.sort(dots[:, 0]), np.sort(table["reached_x"]), atol=1e-15)
+    err = fig.axes[1]
+    pso = [line for line in err.lines if line.get_label() == "PSO"][0]
+    runs = table[table["method"] == "pso"].groupby("target")["abs_err_x"].median()
+    np.testing.assert_allclose(pso.get_ydata(), np.maximum(runs.to_numpy(), 1e-17))
+    assert (tmp_path / "circle.png").stat().st_size > 0

@@ -17,7 +17,7 @@ import pandas as pd
 import scara_opt as so
 from scara_opt.comparison import compare, convergence, rank_methods, summarize
 from scara_opt.ik.registry import method_label
-from scara_opt.plots import plot_boxes, plot_convergence, plot_time_vs_population
+from scara_opt.plots import plot_boxes, plot_convergence, plot_path_runs, plot_time_vs_population
 from scara_opt.reports import Finding, PaperReport
 from scara_opt.reports import verdicts as rules
 
@@ -81,7 +81,9 @@ def run(out: Path, quick: bool = False) -> PaperReport:
     plot_convergence(convergence(table[table["method"].isin(methods)]), rep.figures[-1],
                      title="zavar2024 Fig. 4: median best cost, target (-0.23, 0.20, -0.07) m")
     rep.figures.append(out / "zavar2024_fig5_time_vs_population.png")
-    plot_time_vs_population(summary[summary["method"].isin(methods)], rep.figures[-1])
+    plot_time_vs_population(summary[summary["method"].isin(methods)], rep.figures[-1],
+                            title="zavar2024 Fig. 5: time per solve, target (-0.23, 0.20, "
+                                  f"-0.07) m, 200 iterations, {len(seeds)} seeds")
     _table2_findings(summary, methods, rep)
     _circle(robot, rep, out, methods, seeds)
     return rep
@@ -158,9 +160,15 @@ def _circle(robot: so.Robot, rep: PaperReport, out: Path, methods: list[str],
     table = compare(robot, circle, methods=methods, populations=[60], iterations=200,
                     seeds=seeds, tol=1e-9, progress=False)
     rep.add_table("fig7_circle_runs", table.drop(columns=["history"]), out)
+    columns = ["abs_err_x", "abs_err_y", "abs_err_z", "cost", "time_s"]
+    setting = f"population 60 x 200 iterations, {len(seeds)} seeds per method"
     rep.figures.append(out / "zavar2024_fig7_circle.png")
-    plot_boxes(table, ["abs_err_x", "abs_err_y", "abs_err_z", "cost", "time_s"],
-               rep.figures[-1])
+    plot_path_runs(table, columns, rep.figures[-1],
+                   title=f"zavar2024 Fig. 7 rerun: circle r = 0.30 m, z = -0.07 m, "
+                         f"{len(circle)} points; {setting}")
+    rep.figures.append(out / "zavar2024_fig7_boxes.png")
+    plot_boxes(table, columns, rep.figures[-1],
+               title=f"zavar2024 Fig. 7 rerun, all runs on the circle r = 0.30 m: {setting}")
     meta = table[table["method"].isin(methods)]
     g = meta.assign(ok=meta["error"] <= 1e-6).groupby("method")
     score = pd.DataFrame({"share": g["ok"].mean(), "x_error": g["abs_err_x"].median()})
