@@ -39,7 +39,7 @@ def _save(fig: Figure, path: str | Path | None) -> Path | None:
 
 
 def draw_robot(robot: Robot, q: object, ax: Axes | None = None, path: str | Path | None = None,
-               color: str = "C0", label: str | None = None) -> Axes:
+               color: str = "C0", label: str | None = None, title: str | None = None) -> Axes:
     """Draw the arm at ``q`` as a 3-D stick figure through every joint origin and the tip.
 
     Args:
@@ -49,6 +49,7 @@ def draw_robot(robot: Robot, q: object, ax: Axes | None = None, path: str | Path
         path: save the figure here (PNG) when given.
         color: line colour.
         label: legend label.
+        title: axes title; default: the robot's name.
 
     Returns:
         The axes drawn into.
@@ -58,14 +59,15 @@ def draw_robot(robot: Robot, q: object, ax: Axes | None = None, path: str | Path
         fig = _figure(figsize=(6, 5))
         ax = fig.add_subplot(projection="3d")
     ax.plot(pts[:, 0], pts[:, 1], pts[:, 2], "-o", color=color, lw=3, ms=5, label=label)
-    ax.plot([pts[0, 0]], [pts[0, 1]], [pts[0, 2]], "ks", ms=9)
-    ax.plot([pts[-1, 0]], [pts[-1, 1]], [pts[-1, 2]], "*", color="C3", ms=12)
+    first = not any(line.get_label() == "base" for line in ax.lines)
+    ax.plot([pts[0, 0]], [pts[0, 1]], [pts[0, 2]], "ks", ms=9, label="base" if first else None)
+    ax.plot([pts[-1, 0]], [pts[-1, 1]], [pts[-1, 2]], "*", color="C3", ms=12,
+            label="tool tip" if first else None)
     ax.set_xlabel("x [mm]")
     ax.set_ylabel("y [mm]")
     ax.set_zlabel("z [mm]")
-    ax.set_title(f"{robot.name}")
-    if label:
-        ax.legend()
+    ax.set_title(title or robot.name, fontsize=10)
+    ax.legend(fontsize="small")
     _set_equal(ax)
     _save(ax.figure, path)
     return ax

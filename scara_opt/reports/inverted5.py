@@ -65,5 +65,6 @@ def run(out: Path, quick: bool = False) -> PaperReport:
     rep.figures.append(Path(out) / "inverted5_poses.png")
     res = so.solve_ik(robot, target, q0=[1.5 * IN, 0.5, 1.0, 0.0, 1.5 * IN])
     draw_robot(robot, res.q, ax=ax, color="C1", label="IK of (9, 5, -3) in",
-               path=rep.figures[-1])
+               path=rep.figures[-1], title="inverted5 Fig. 3 pose and the IK of (9, 5, -3) in "
+                                           "(228.6, 127, -76.2) mm, method auto")
     return rep

@@ -79,13 +79,17 @@ def plot_errors(results: dict[str, JointPath], path: Path) -> Path:
     for name, jp in results.items():
         for ax, values in zip(axes, (jp.position_error[:, 0], jp.position_error[:, 2],
                                      jp.angle_error), strict=True):
-            ax.semilogy(np.abs(values) + 1e-18, ".-", ms=3, lw=0.6, label=name)
+            ax.semilogy(np.maximum(np.abs(values), 1e-18), ".-", ms=3, lw=0.6,
+                        label=method_label(name))
     for ax, title in zip(axes, ("|x error| [m] (Fig. 10)", "|z error| [m] (Fig. 11)",
                                 "|tool angle error| [rad]"), strict=True):
         ax.set_title(title)
         ax.set_xlabel("point")
         ax.grid(True, lw=0.3)
     axes[0].legend(fontsize="small")
+    n = len(next(iter(results.values())))
+    fig.suptitle(f"nguyen Figs. 10-11: errors along the cutting contour ({n} points), "
+                 "log scale, exact zeros drawn at 1e-18")
     fig.savefig(path, dpi=110)
     return path
 
@@ -97,7 +101,7 @@ def plot_joints(robot: so.Robot, results: dict[str, JointPath], path: Path) -> P
     for name, jp in results.items():
         for k, ax in enumerate(axes):
             scale = np.degrees(1.0) if robot.joint_types[k] == "revolute" else 1000.0
-            ax.plot(jp.q[:, k] * scale, ".-", ms=3, lw=0.6, label=name)
+            ax.plot(jp.q[:, k] * scale, ".-", ms=3, lw=0.6, label=method_label(name))
     for k, ax in enumerate(axes):
         unit = "deg" if robot.joint_types[k] == "revolute" else "mm"
         ax.set_title(f"{robot.joint_names[k]} [{unit}]")
@@ -113,7 +117,9 @@ def plot_postures(robot: so.Robot, jp: JointPath, path: Path) -> Path:
     """Figs. 14-15: a few postures of the arm along the path."""
     ax = None
     for k, idx in enumerate(np.linspace(0, len(jp) - 1, 4).astype(int)):
-        ax = draw_robot(robot, jp.q[idx], ax=ax, color=f"C{k}", label=f"point {idx + 1}")
+        ax = draw_robot(robot, jp.q[idx], ax=ax, color=f"C{k}", label=f"point {idx + 1}",
+                        title=f"nguyen Figs. 14-15: postures along the cutting contour "
+                              f"({len(jp)} points, IPOPT)")
     ax.figure.savefig(path, dpi=110, bbox_inches="tight")
     return path
 

@@ -56,9 +56,13 @@ def _validation(robot: so.Robot, rep: PaperReport, out: Path) -> None:
         f"{len(branches)} solutions counting the +-360 deg wrist turns", verdict,
         "the wrist's +-360 deg range doubles each branch",
         "matched if the closed form finds exactly 2 elbow branches, each solved", "ik"))
-    ax = draw_robot(widened, widened.lower, label="(no branch)") if not branches else None
+    title = ("peng2025 Figs. 9-10: closed-form branches of the validation pose, "
+             "stroke widened to [-5, 40] mm")
+    ax = (draw_robot(widened, widened.lower, label="(no branch)", title=title)
+          if not branches else None)
     for k, b in enumerate(branches[:2]):
-        ax = draw_robot(widened, b.q, ax=ax, color=f"C{k}", label=f"branch {k + 1}")
+        ax = draw_robot(widened, b.q, ax=ax, color=f"C{k}", title=title,
+                        label=f"branch {k + 1}: theta2 = {np.degrees(b.q[2]):.4g} deg")
     path = out / "peng2025_fig9_fig10_branches.png"
     ax.figure.savefig(path, dpi=120, bbox_inches="tight")
     rep.figures.append(path)

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from collections.abc import Sequence
 from pathlib import Path
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
@@ -14,6 +14,7 @@ if TYPE_CHECKING:
     from scara_opt.trajectory.trajectory import Trajectory
 
 _ROWS = (("q", "", None), ("qd", "/s", "vmax"), ("qdd", "/s²", "amax"))
+_LIMIT_NAMES = {"vmax": "± velocity limit", "amax": "± acceleration limit"}
 
 
 def new_figure(nrows: int, ncols: int, size: tuple[float, float] = (3.2, 2.4)) -> Figure:
@@ -70,14 +71,19 @@ def plot_trajectories(trajectories: Sequence[Trajectory], path: str | Path,
             if bound is not None:
                 val = getattr(lim, bound)[k]
                 for sign in (-1, 1):
-                    ax.axhline(sign * val, color="k", ls="--", lw=0.8)
+                    ax.axhline(sign * val, color="k", ls="--", lw=0.8,
+                               label=_LIMIT_NAMES[bound] if sign > 0 else None)
             elif np.isfinite(lim.lower[k]) and np.isfinite(lim.upper[k]):
-                for val in (lim.lower[k], lim.upper[k]):
-                    ax.axhline(val, color="k", ls=":", lw=0.8)
+                for val, side in ((lim.lower[k], "lower"), (lim.upper[k], "upper")):
+                    ax.axhline(val, color="k", ls=":", lw=0.8, label=f"{side} position limit")
             ax.grid(True, lw=0.3)
         axes[0, k].set_title(name)
         axes[-1, k].set_xlabel("t [s]")
-    axes[0, 0].legend(fontsize="small")
+    handles: dict[str, Any] = {}
+    for ax in axes[:, 0]:
+        for h, lb in zip(*ax.get_legend_handles_labels(), strict=True):
+            handles.setdefault(lb, h)
+    axes[0, 0].legend(list(handles.values()), list(handles), fontsize="x-small")
     fig.suptitle(title or ", ".join(f"{lb}: {tr.duration:.3f} s"
                                     for tr, lb in zip(trajectories, labels, strict=True)))
     path = Path(path)
