@@ -34,7 +34,7 @@ import numpy as np
 import pinocchio as pin
 
 import scara_opt as so
-from scara_opt.model.dh import load_dh
+from scara_opt.model.dh_file import load_dh
 
 DATA = Path(__file__).resolve().parent.parent / "tests" / "data"
 N = 100 if "--quick" in sys.argv else 500

@@ -41,7 +41,7 @@ from scara_opt.ik.base import default_q0
 from scara_opt.ik.lm import cached_step, lm_search, random_starts
 from scara_opt.ik.lm_batch import solve_many
 from scara_opt.ik.problem import ik_objective, nlp_params
-from scara_opt.model.dh import bundled_dir, load_dh
+from scara_opt.model.dh_file import bundled_dir, load_dh
 
 N = 200 if "--quick" in sys.argv else 1000
 ROBOTS = ["zavar2024", "fang", "peng2025"]

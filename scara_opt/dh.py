@@ -6,7 +6,8 @@
 import sys
 
 from scara_opt.model.dh import *  # noqa: F403  (re-exports)
-from scara_opt.model.dh import main
+from scara_opt.model.dh_file import *  # noqa: F403
+from scara_opt.model.dh_file import main
 
 if __name__ == "__main__":
     sys.exit(main())

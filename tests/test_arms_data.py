@@ -14,7 +14,8 @@ import math
 import numpy as np
 import pytest
 
-from scara_opt.model.dh import dh_to_urdf, load_dh
+from scara_opt.model.dh import dh_to_urdf
+from scara_opt.model.dh_file import load_dh
 from tests.conftest import DATA, random_q
 
 ARMS = ["ur5_dh", "panda_dh"]
@@ -73,7 +74,7 @@ def test_arm_urdf_is_up_to_date_with_its_toml(name):
     expected = dh_to_urdf(load_dh(DATA / f"{name}.toml"))
     assert (DATA / f"{name}.urdf").read_text() == expected, (
         f"tests/data/{name}.urdf is stale: run "
-        "python -c \"from scara_opt.model.dh import regenerate; regenerate('tests/data')\""
+        "python -c \"from scara_opt.model.dh_file import regenerate; regenerate('tests/data')\""
     )
 
 

@@ -8,7 +8,8 @@ import numpy as np
 import pytest
 
 import scara_opt as so
-from scara_opt.model.dh import DHJoint, DHRobot, bundled_dir, dh_to_urdf, load_dh
+from scara_opt.model.dh import DHJoint, DHRobot, dh_to_urdf
+from scara_opt.model.dh_file import bundled_dir, load_dh
 from tests.conftest import BUNDLED, random_q
 
 

@@ -19,7 +19,7 @@ from scara_opt.model.urdf_checks import check_tip
 
 def list_robots() -> list[str]:
     """Names of the bundled robots (``robots/<name>.toml``)."""
-    from scara_opt.model.dh import bundled_dir
+    from scara_opt.model.dh_file import bundled_dir
 
     return sorted(p.stem for p in bundled_dir().glob("*.toml"))
 
@@ -36,7 +36,7 @@ def load_robot(name: str | Path, tip: str | None = None) -> Robot:
         URDFError: the file is malformed (see :meth:`Robot.from_urdf` and
             :func:`scara_opt.dh.load_dh`).
     """
-    from scara_opt.model.dh import bundled_dir, load_dh
+    from scara_opt.model.dh_file import bundled_dir, load_dh
 
     if not isinstance(name, (str, PathLike)):
         raise InputError(f"name must be a bundled robot name ({', '.join(list_robots())}) or "

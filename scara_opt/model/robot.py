@@ -24,10 +24,13 @@ import numpy as np
 import pinocchio as pin
 from numpy.typing import NDArray
 
-from scara_opt.checks import check_real, describe, float_array, is_real
-from scara_opt.errors import InputError, JointLimitError, TargetError, URDFError
+from scara_opt.checks import describe
+from scara_opt.errors import InputError, URDFError
 from scara_opt.model import batch_fk
+from scara_opt.model.copies import rebuild_robot, with_limits
+from scara_opt.model.joint_checks import JointChecks
 from scara_opt.model.symbolic import build_symbolic_fk
+from scara_opt.model.tool_angle import ToolAngle
 from scara_opt.model.urdf_checks import (
     accelerations,
     check_tip,
@@ -57,7 +60,7 @@ Array = NDArray[np.float64]
 __all__ = ["Array", "ChainJoint", "Robot", "check_robot"]
 
 
-class Robot:
+class Robot(JointChecks, ToolAngle):
     """The serial chain of revolute/prismatic joints from a URDF's root link to a tip frame.
 
     Joints off that chain are locked (see the module docstring for the rules on trees,
@@ -261,7 +264,7 @@ class Robot:
         cached NLPs and closed-form geometry are built once per process, not once per job.
         """
         limits = (tuple(self.lower), tuple(self.upper))
-        return (_rebuild_robot, (self._init_args, self.metadata, limits))
+        return (rebuild_robot, (type(self), self._init_args, self.metadata, limits))
 
     def with_limits(self, **ranges: tuple[float, float]) -> Robot:
         """A copy with some joints' position limits replaced, by joint name [rad or m].
@@ -273,90 +276,12 @@ class Robot:
             JointLimitError: unknown joint, not a pair of numbers (bools and strings
                 refused), non-finite values, lower >= upper, or a width that overflows.
         """
-        # a fresh object with the constructor's attributes, none of the caches (copy.copy
-        # would go through __reduce__ and hand back the per-process rebuilt robot itself)
-        new = object.__new__(Robot)
-        new.__dict__.update({k: self.__dict__[k] for k in _CORE})
-        new.model = pin.Model(self.model)
-        new.metadata = dict(self.metadata)
-        new._local = threading.local()
-        lower, upper = new.model.lowerPositionLimit.copy(), new.model.upperPositionLimit.copy()
-        for name, value in ranges.items():
-            if name not in self.joint_names:
-                raise JointLimitError(f"with_limits: no joint named {name!r}; joints: "
-                                      f"{self.joint_names}", joint=name)
-            pair = tuple(value) if isinstance(value, (tuple, list, np.ndarray)) else ()
-            if len(pair) != 2 or not all(map(is_real, pair)):
-                raise JointLimitError(f"with_limits: {name} needs a (lower, upper) pair of "
-                                      f"numbers [rad or m]; got {describe(value)}", joint=name)
-            try:
-                lo, hi = (float(v) for v in pair)
-            except OverflowError:  # ints beyond the float range
-                lo, hi = -math.inf, math.inf
-            if not (math.isfinite(lo) and math.isfinite(hi) and lo < hi
-                    and math.isfinite(hi - lo)):
-                raise JointLimitError(
-                    f"with_limits: joint {name!r} range ({lo}, {hi}) is not finite with lower < "
-                    "upper (and a finite width); pass (lower, upper) in rad or m", joint=name)
-            k = self.joint_names.index(name)
-            lower[k], upper[k] = lo, hi
-        new.model.lowerPositionLimit, new.model.upperPositionLimit = lower, upper
-        return new
+        return with_limits(self, ranges)
 
     def __repr__(self) -> str:
         joints = ", ".join(f"{name}:{kind[0].upper()}"
                            for name, kind in zip(self.joint_names, self.joint_types, strict=True))
         return f"Robot({self.name!r}, nq={self.nq}, joints=[{joints}], tip={self.tip!r})"
-
-    # ------------------------------------------------------------------ input checks
-    def check_q(self, q: object, name: str = "q") -> Array:
-        """Return ``q`` as a float array of shape (nq,), or raise :class:`InputError`."""
-        try:
-            arr = float_array(q, name)
-        except InputError:
-            raise InputError(f"{name} must be numeric, one value per joint "
-                             f"{self.joint_names}; got {describe(q)}") from None
-        if arr.shape != (self.nq,):
-            raise InputError(
-                f"{name} must have shape ({self.nq},), one value per joint {self.joint_names} "
-                f"[rad or m]; got shape {arr.shape}"
-            )
-        bad = ~np.isfinite(arr)
-        if bad.any():
-            names = [self.joint_names[i] for i in np.flatnonzero(bad)]
-            raise InputError(f"{name} has non-finite values (NaN or inf) at joints {names}; "
-                             "pass finite joint values")
-        return arr
-
-    def check_q_batch(self, Q: object, name: str = "Q") -> Array:
-        """Return ``Q`` as a float array of shape (n, nq), or raise :class:`InputError`."""
-        try:
-            arr = float_array(Q, name)
-        except InputError:
-            raise InputError(f"{name} must be a numeric array of shape (n, {self.nq}); got "
-                             f"{describe(Q)}") from None
-        if arr.ndim != 2 or arr.shape[1] != self.nq:
-            raise InputError(
-                f"{name} must have shape (n, {self.nq}), one row per configuration; "
-                f"got shape {arr.shape}"
-            )
-        if not np.isfinite(arr).all():
-            rows = np.flatnonzero(~np.isfinite(arr).all(axis=1))
-            raise InputError(f"{name} has non-finite values in rows {rows[:10].tolist()}; "
-                             "pass finite joint values")
-        return arr
-
-    def within_limits(self, q: object, tol: float = 0.0) -> bool | NDArray[np.bool_]:
-        """Whether ``q`` (nq,) — or each row of (n, nq) — lies within [lower - tol, upper + tol].
-
-        Raises:
-            InputError: ``q`` not numeric or misshaped; ``tol`` not a finite number >= 0.
-        """
-        tol = check_real("tol", tol, 0.0, unit="rad or m")
-        arr = float_array(q, "q")
-        arr = self.check_q(arr) if arr.ndim == 1 else self.check_q_batch(arr)
-        ok = np.all((arr >= self.lower - tol) & (arr <= self.upper + tol), axis=-1)
-        return bool(ok) if arr.ndim == 1 else ok
 
     # ------------------------------------------------------------------ kinematics
     def fk(self, q: object) -> Array:
@@ -416,65 +341,6 @@ class Robot:
         """
         return build_symbolic_fk(self.chain, self.tip_placement, name=f"fk_{self.name}")
 
-    # ------------------------------------------------------------------ planar tool angle
-    @cached_property
-    def yaw_axis(self) -> Array | None:
-        """World axis (3,) about which the tool turns, if every revolute axis is parallel.
-
-        That holds for SCARA-type chains (and stays true for every ``q``, since rotating
-        about parallel axes keeps them parallel). ``None`` otherwise: such a robot has no
-        single tool angle, and a yaw target is refused for it.
-        """
-        q0 = np.clip(np.zeros(self.nq), self.lower, self.upper)
-        data = self.data
-        pin.forwardKinematics(self.model, data, q0)
-        axes = [data.oMi[k].rotation @ j.axis
-                for k, j in enumerate(self.chain, start=1) if j.kind == "revolute"]
-        if not axes:
-            return None
-        n = axes[0] / np.linalg.norm(axes[0])
-        if all(np.linalg.norm(np.cross(n, a)) < 1e-9 for a in axes[1:]):
-            return n
-        return None
-
-    def yaw(self, q: object) -> float:
-        """Tool angle [rad] about :attr:`yaw_axis`, in (-π, π].
-
-        Measured as the angle of the tool's x-axis in the plane normal to the axis, from
-        the world axis of :meth:`yaw_basis` ``e1`` toward ``e2`` (for a SCARA with a
-        vertical axis: the angle from world x to the tool x-axis, :math:`θ_1+θ_2+θ_4`).
-
-        Raises:
-            TargetError: the robot has no yaw axis (see :attr:`yaw_axis`).
-        """
-        e1, e2 = self.yaw_basis()
-        x = self.fk(q)[:3, 0]
-        return float(math.atan2(x @ e2, x @ e1))
-
-    def yaw_basis(self) -> tuple[Array, Array]:
-        """Orthonormal (e1, e2) spanning the plane normal to :attr:`yaw_axis`, e1 × e2 = axis.
-
-        Computed once (read-only arrays): every yaw cost and error uses it.
-        """
-        basis: tuple[Array, Array] | None = self.__dict__.get("_yaw_basis")
-        if basis is not None:
-            return basis
-        n = self.yaw_axis
-        if n is None:
-            raise TargetError(
-                f"robot {self.name!r} has no single tool-angle axis (its revolute axes are not "
-                "all parallel); give a full rotation= instead of yaw="
-            )
-        ref = np.array([1.0, 0.0, 0.0]) if abs(n[0]) < 0.9 else np.array([0.0, 1.0, 0.0])
-        e1 = ref - (ref @ n) * n
-        e1 /= np.linalg.norm(e1)
-        e2 = np.cross(n, e1)
-        e1.setflags(write=False)
-        e2.setflags(write=False)
-        self.__dict__["_yaw_basis"] = (e1, e2)
-        return e1, e2
-
-
 def check_robot(robot: object, name: str = "robot") -> Robot:
     """``robot`` if it is a :class:`~scara_opt.Robot`; a str gets told to load it first.
 
@@ -488,28 +354,3 @@ def check_robot(robot: object, name: str = "robot") -> Robot:
                          f"first, robot = so.load_robot({robot!r}), and pass that")
     raise InputError(f"{name} must be a scara_opt.Robot (so.load_robot(name) or "
                      f"so.Robot.from_urdf(path)); got {describe(robot)}")
-
-
-#: the attributes :class:`Robot`'s constructor sets; everything else in its ``__dict__`` is a
-#: cache (casadi Functions, IPOPT solvers, the SCARA geometry, ...) that a copy must not share
-_CORE = ("tip", "_init_args", "model", "locked", "name", "source", "notes", "metadata",
-         "chain", "tip_id", "tip_placement", "_acceleration", "_velocity")
-
-
-_REBUILT: dict[tuple, Robot] = {}
-
-
-
-def _rebuild_robot(init_args: tuple, metadata: dict, limits: tuple) -> Robot:
-    """Unpickle a :class:`Robot` (see :meth:`Robot.__reduce__`); one instance per process."""
-    key = (init_args, limits)
-    if key not in _REBUILT:
-        text, tip, name, where, source, notes, mesh_dir = init_args
-        robot = Robot(text, tip, name=name, where=where, source=source, notes=notes,
-                      mesh_dir=mesh_dir, metadata=metadata)
-        lower, upper = np.array(limits[0]), np.array(limits[1])
-        if not (np.array_equal(lower, robot.lower) and np.array_equal(upper, robot.upper)):
-            robot = robot.with_limits(**{n: (lo, hi) for n, lo, hi in
-                                         zip(robot.joint_names, lower, upper, strict=True)})
-        _REBUILT[key] = robot
-    return _REBUILT[key]

@@ -1,0 +1,178 @@
+"""Robot files: a DH table in TOML (``robots/<name>.toml``) read into a :class:`DHRobot`.
+
+Values are in the file's own units (``length_unit``, ``angle_unit``) and converted to SI;
+unknown or misspelt keys are refused. ``python -m scara_opt.dh`` regenerates every
+bundled URDF (:func:`regenerate`).
+"""
+
+from __future__ import annotations
+
+import difflib
+import math
+import tomllib
+from pathlib import Path
+
+import numpy as np
+import pinocchio as pin
+
+from scara_opt.errors import URDFError
+from scara_opt.model.dh import (
+    ANGLE_UNITS,
+    FILE_KEYS,
+    JOINT_KEYS,
+    LENGTH_UNITS,
+    TOOL_KEYS,
+    DHJoint,
+    DHRobot,
+    dh_to_urdf,
+)
+
+__all__ = ["bundled_dir", "load_dh", "main", "regenerate"]
+
+
+def _check_keys(table: dict, accepted: tuple[str, ...], where: str) -> None:
+    """Refuse keys a robot file does not know (a misspelt key would silently be ignored)."""
+    unknown = [k for k in table if k not in accepted]
+    if unknown:
+        hints = "".join(f" ({k!r}: did you mean {m[0]!r}?)" for k in unknown
+                        if (m := difflib.get_close_matches(k, accepted, 1)))
+        raise URDFError(f"{where} has unknown key(s) {', '.join(map(repr, unknown))}{hints}; "
+                        f"accepted keys: {', '.join(accepted)}; fix or remove them")
+
+
+def _finite(value: object) -> bool:
+    return isinstance(value, (int, float)) and not isinstance(value, bool) and math.isfinite(value)
+
+
+def _number(row: dict, key: str, where: str, default: float = 0.0) -> float:
+    value = row.get(key, default)
+    if not _finite(value):
+        raise URDFError(f"{where}: {key} must be a finite number, got {value!r}")
+    return float(value)
+
+
+def _vector(table: dict, key: str, where: str) -> np.ndarray:
+    value = table.get(key, [0, 0, 0])
+    if not (isinstance(value, list) and len(value) == 3 and all(map(_finite, value))):
+        raise URDFError(f"{where}: {key} must be a list of 3 finite numbers, got {value!r}")
+    return np.array(value, float)
+
+
+def _text(table: dict, key: str, where: str, default: str) -> str:
+    """A text entry (name, title, source, ...): a TOML string, or ``default`` when absent."""
+    value = table.get(key, default)
+    if not isinstance(value, str):
+        raise URDFError(f"{where}: {key} must be a string (in quotes), got {value!r}")
+    return value
+
+
+def _table(value: object, where: str) -> dict:
+    if not isinstance(value, dict):
+        raise URDFError(f"{where} must be a TOML table (key = value lines), got {value!r}")
+    return value
+
+
+def load_dh(path: str | Path) -> DHRobot:
+    """Read a robot file (TOML with a DH table in stated units) into SI units.
+
+    Args:
+        path: a ``.toml`` file with ``length_unit``, ``angle_unit``, ``convention``,
+            ``[[joints]]`` rows and optional ``[tool]`` (``xyz``, ``rpy``); the keys allowed
+            are :data:`FILE_KEYS`, :data:`JOINT_KEYS` and :data:`TOOL_KEYS`.
+
+    Raises:
+        URDFError: missing file, TOML syntax, unknown key, unit or joint type, bad or
+            non-finite entries.
+        JointLimitError: a lower limit not below its upper limit, or a limit <= 0.
+    """
+    path = Path(path)
+    where = f"robot file {str(path)!r}"
+    try:
+        data = tomllib.loads(path.read_text(encoding="utf-8"))
+    except FileNotFoundError:
+        raise URDFError(f"{where} does not exist; check the path") from None
+    except UnicodeDecodeError as exc:
+        raise URDFError(f"{where} is not UTF-8 text ({exc.reason} at byte {exc.start}); pass a "
+                        "TOML robot file") from None
+    except OSError as exc:
+        raise URDFError(f"{where} cannot be read ({exc.strerror}); pass a TOML robot "
+                        "file") from None
+    except tomllib.TOMLDecodeError as exc:
+        raise URDFError(f"{where} is not valid TOML: {exc}") from None
+    _check_keys(data, FILE_KEYS, where)
+    lu, au = data.get("length_unit"), data.get("angle_unit")
+    if not (isinstance(lu, str) and lu in LENGTH_UNITS and isinstance(au, str)
+            and au in ANGLE_UNITS):
+        raise URDFError(
+            f"{where}: length_unit must be one of {sorted(LENGTH_UNITS)} and "
+            f"angle_unit one of {sorted(ANGLE_UNITS)}; got {lu!r} and {au!r}"
+        )
+    L, A = LENGTH_UNITS[lu], ANGLE_UNITS[au]
+    rows = data.get("joints")
+    if not isinstance(rows, list) or not rows:
+        raise URDFError(f"{where} has no [[joints]] rows")
+    joints = []
+    for i, row in enumerate(rows):
+        row = _table(row, f"{where}: joints entry {i + 1}")
+        name = _text(row, "name", f"{where}: joints entry {i + 1}", f"joint{i + 1}")
+        at = f"{where}: joint {name!r}"
+        _check_keys(row, JOINT_KEYS, at)
+        jtype = _text(row, "type", at, "")
+        unit = A if jtype == "revolute" else L  # unit of the joint variable
+        joints.append(
+            DHJoint(
+                name=name,
+                type=jtype,
+                a=_number(row, "a", at) * L,
+                alpha=_number(row, "alpha", at) * A,
+                d=_number(row, "d", at) * L,
+                theta=_number(row, "theta", at) * A,
+                sign=_number(row, "sign", at, 1.0),
+                lower=_number(row, "lower", at) * unit,
+                upper=_number(row, "upper", at) * unit,
+                velocity=_number(row, "velocity", at, 1.0) * unit,
+                acceleration=_number(row, "acceleration", at, 1.0) * unit,
+            )
+        )
+    tool = np.eye(4)
+    if "tool" in data:
+        table = _table(data["tool"], f"{where}: [tool]")
+        _check_keys(table, TOOL_KEYS, f"{where}: [tool]")
+        tool[:3, :3] = pin.rpy.rpyToMatrix(_vector(table, "rpy", f"{where}: [tool]") * A)
+        tool[:3, 3] = _vector(table, "xyz", f"{where}: [tool]") * L
+    _text(data, "title", where, "")
+    return DHRobot(
+        name=_text(data, "name", where, path.stem),
+        joints=tuple(joints),
+        convention=_text(data, "convention", where, "standard"),
+        tool=tool,
+        source=_text(data, "source", where, ""),
+        notes=_text(data, "notes", where, ""),
+    )
+
+
+def bundled_dir() -> Path:
+    """The folder of the bundled robot files (installed wheel or source checkout)."""
+    here = Path(__file__).resolve().parent
+    for candidate in (here.parent / "robots", here.parent.parent / "robots"):
+        if candidate.is_dir():
+            return candidate
+    raise URDFError("the bundled robots folder is missing; reinstall scara-opt")
+
+
+def regenerate(folder: Path | None = None) -> list[Path]:
+    """Rewrite ``<name>.urdf`` beside every ``<name>.toml`` in ``folder``; return the paths."""
+    folder = bundled_dir() if folder is None else Path(folder)
+    written = []
+    for toml_path in sorted(folder.glob("*.toml")):
+        urdf = toml_path.with_suffix(".urdf")
+        urdf.write_text(dh_to_urdf(load_dh(toml_path)))
+        written.append(urdf)
+    return written
+
+
+def main() -> int:
+    """``python -m scara_opt.dh``: regenerate every bundled URDF; returns the exit code."""
+    for p in regenerate():
+        print(f"wrote {p}")
+    return 0
