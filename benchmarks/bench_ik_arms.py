@@ -122,13 +122,15 @@ def peers(robot: so.Robot, toml: Path | None, urdf: Path, poses: list[np.ndarray
             R = rtb_robot(toml, robot)
         except ImportError:
             R = None
-        if R is not None and not same_model(robot, lambda q: R.fkine(q).A):
+        # the ETS (links and tool) of the DHRobot: DHRobot.ik_LM itself answers for a
+        # different frame on the modified-DH Panda with a tool (0/100 there, success flags
+        # set), while ETS.ik_LM solves the chain whose fkine we check
+        E = R.ets() if R is not None else None
+        if E is not None and not same_model(robot, lambda q: E.fkine(q).A):
             print(f"  (rtb: its DH model of {robot.name} differs from ours: no row)")
-        elif R is not None:
-            untool = np.linalg.inv(R.tool.A)  # ik_LM solves for the last link, not the tool
-
+        elif E is not None:
             def rtb_solve(k: int) -> tuple[np.ndarray, bool]:
-                sol = R.ik_LM(poses[k] @ untool, q0=q0, tol=RTB_TOL, joint_limits=True)
+                sol = E.ik_LM(poses[k], q0=q0, tol=RTB_TOL, joint_limits=True)
                 return np.asarray(sol.q, float), bool(sol.success)
 
             rows["rtb ik_LM (C++, tol 1e-13)"] = timed(rtb_solve, len(poses))
