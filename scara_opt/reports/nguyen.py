@@ -62,11 +62,11 @@ def plot_path(robot: so.Robot, results: dict[str, JointPath], path: Path) -> Pat
               scale=25, label="tool angle A (tangent)")
     for name, jp in results.items():
         tip = robot.positions(jp.q)
-        ax.plot(tip[:, 0], tip[:, 2], ".", ms=4, label=f"tip, {name}")
+        ax.plot(tip[:, 0], tip[:, 2], ".", ms=4, label=f"tip, {method_label(name)}")
     ax.set_aspect("equal")
     ax.set_xlabel("x [m]")
     ax.set_ylabel("z [m]")
-    ax.set_title("nguyen Fig. 9 (representative contour): end-effector path")
+    ax.set_title(f"nguyen Fig. 9 (representative contour): end-effector path, {len(P)} points")
     ax.legend(fontsize="small", loc="upper left", bbox_to_anchor=(1.02, 1.0))
     fig.savefig(path, dpi=110)
     return path
