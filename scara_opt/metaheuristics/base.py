@@ -313,6 +313,14 @@ def greedy(old: Population, X: Array, f: Array) -> None:
     old.f[better] = f[better]
 
 
+def survivors(X: Array, f: Array, X_new: Array, f_new: Array, n: int) -> Population:
+    """Elitist survival: the ``n`` cheapest rows of ``X`` (m, nq) and ``X_new`` (k, nq).
+
+    :func:`truncate` of the two stacked, old rows first (so ties keep the old), sorted by cost.
+    """
+    return truncate(np.concatenate([X, X_new]), np.concatenate([f, f_new]), n)
+
+
 def truncate(X: Array, f: Array, n: int) -> Population:
     """The ``n`` cheapest rows of ``X`` (m, nq) with costs ``f`` (m,), sorted by cost.
 
