@@ -124,12 +124,13 @@ class Problem:
         Reflection as a maximum: below ``lower``, ``2 lower - x`` is the larger of the two;
         above, ``x`` is (equal at the limit), so ``max(x, 2 lower - x)`` is exactly the
         reflected value, in one ufunc instead of a comparison and a ``where`` (the same at
-        ``upper`` with a minimum). Bit for bit the rule above; half the time (issue 18).
+        ``upper`` with a minimum). After both reflections no value is above ``upper``, so
+        the clip only has the lower limit left to enforce. Bit for bit the rule above; half
+        the time (issue 18).
         """
         Y = np.maximum(X, self._mirror_lo - X)
         Y = np.minimum(Y, self._mirror_hi - Y)
         np.maximum(Y, self.lower, out=Y)
-        np.minimum(Y, self.upper, out=Y)
         if self._any_periodic:
             Y[:, self.periodic] = wrap_angle(X[:, self.periodic])
         return Y
