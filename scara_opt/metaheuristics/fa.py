@@ -160,25 +160,16 @@ def sweep_all(X: Array, f: Array, span: Array, beta0: float, gamma: float, step:
     new = Xs.copy()
     first_dimmer = np.searchsorted(fs, fs, side="right")  # rows >= this are dimmer than row k
     w = span**-2.0                                        # r² in joint ranges
-    # The generation's draws at once, in the order of the moves: per attractor, u then v
-    # for its m dimmer fireflies ((2, m, nq)), then the brightest's walk. A Generator fills
-    # arrays in order, so these are the numbers one draw per attractor gave (issue 18: the
-    # same stream, ~100 fewer calls a generation). Rows of nq: each row is one firefly.
-    starts = first_dimmer[::-1][first_dimmer[::-1] < n]   # attractors with dimmer fireflies
-    top = first_dimmer[0]                                 # the brightest: a random step only
-    R = rng.random((int(2 * (n - starts).sum()) + top, nq))
-    walk = (R - 0.5) * step                               # (v - 1/2) ⊙ step, for every row
-    row = 0
     for k in range(n - 1, -1, -1):                        # attractor: dimmest to brightest
         s = first_dimmer[k]
         if s == n:
             continue
-        m = n - s
         D = Xs[k] - new[s:]                               # (m, nq), m = fireflies dimmer than k
         beta = beta0 * np.exp(-gamma * np.einsum("ij,ij,j->i", D, D, w))
-        new[s:] += beta[:, None] * R[row:row + m] * D + walk[row + m:row + 2 * m]
-        row += 2 * m
-    new[:top] += walk[row:]
+        u, v = rng.random((2, n - s, nq))
+        new[s:] += beta[:, None] * u * D + (v - 0.5) * step
+    top = first_dimmer[0]                                 # the brightest: a random step only
+    new[:top] += (rng.random((top, nq)) - 0.5) * step
     out = np.empty_like(new)
     out[order] = new
     return out
