@@ -107,3 +107,21 @@ def test_position_cost_equals_task_cost_batch(zavar):
         problem = Problem(zavar, target, 1e-9)
         assert np.array_equal(problem.cost(X), cost_batch(zavar, target, X))
         assert problem.evaluations == 100
+
+
+def test_batch_fk_one_chunk_path_matches_the_chunked_path_and_owns_its_rows(zavar):
+    """The one-chunk fast path of ``batch_fk.evaluate`` gives the chunked path's rows, and
+    returns its own array (the next call reuses the buffers).
+
+    Mutation: returning ``f.res["rows"][:n]`` without ``.copy()`` fails (the first result
+    changes when the second batch is evaluated).
+    """
+    from scara_opt.model import batch_fk
+
+    rng = np.random.default_rng(2)
+    Q = rng.uniform(zavar.lower, zavar.upper, (batch_fk.CHUNK + 100, zavar.nq))
+    chunked = batch_fk.evaluate(zavar, "pose", Q)          # two chunks: the loop
+    first = batch_fk.evaluate(zavar, "pose", Q[:100])      # one chunk: the fast path
+    assert np.array_equal(first, chunked[:100])
+    batch_fk.evaluate(zavar, "pose", Q[100:200])
+    assert np.array_equal(first, chunked[:100])
