@@ -4,8 +4,10 @@ Each cell is a new Python process (``subprocess``) that imports scara_opt, loads
 (timed apart) and then times its first :func:`scara_opt.solve_ik` (default method) and a
 second one on another target (the warm baseline, measured in the same process). Two
 passes: with the machine's cache folder as it is (compiled FK and NLPs reused across
-processes), and with an empty cache folder (``SCARA_OPT_CACHE`` set to a new temporary
-folder: what the very first run on a machine pays). Ratios: first / warm.
+processes; a cell whose Functions were never compiled on this machine compiles them
+here: run twice for the warm figures), and with an empty cache folder per cell
+(``SCARA_OPT_CACHE`` set to a new temporary folder: what the very first run on a machine
+pays). Ratios: first / warm.
 
 Usage: python benchmarks/bench_first_call.py [--robots a,b] [--no-cold]
 """
@@ -71,11 +73,8 @@ def main() -> None:
     parser.add_argument("--robots", default=",".join(so.list_robots()))
     parser.add_argument("--no-cold", action="store_true", help="skip the empty-cache pass")
     args = parser.parse_args()
-    passes = [("machine cache", dict(os.environ))]
-    if not args.no_cold:
-        cold = tempfile.mkdtemp(prefix="scara_opt_cache_")
-        passes.append(("empty cache", dict(os.environ, SCARA_OPT_CACHE=cold)))
-    for label, env in passes:
+    passes = ["machine cache"] + ([] if args.no_cold else ["empty cache"])
+    for label in passes:
         print(f"\n{label}: first solve_ik of a fresh process (default method), ms")
         head = (f"{'robot':<10} {'kind':<9} {'import':>7} {'load':>7} {'first':>8} "
                 f"{'warm':>7} {'first/warm':>10} {'<=50ms':>6}")
@@ -83,8 +82,9 @@ def main() -> None:
         print("-" * len(head))
         for robot in args.robots.split(","):
             for kind in KINDS:
+                env = dict(os.environ)
                 if label == "empty cache":  # each cell pays the cold cache
-                    env = dict(env, SCARA_OPT_CACHE=tempfile.mkdtemp(prefix="scara_opt_cache_"))
+                    env["SCARA_OPT_CACHE"] = tempfile.mkdtemp(prefix="scara_opt_cache_")
                 r = run(robot, kind, env)
                 if "skip" in r:
                     print(f"{robot:<10} {kind:<9} refused ({r['skip']})")
