@@ -6,6 +6,10 @@ Prints, in one run:
   on one elbow branch) — goal (issue 5): <= 50 ms;
 * ruckig's compute time per trajectory (fang's two moves, point to point) and per
   segment of the 100-waypoint path;
+* the wrappers against the raw libraries on the same input, in the same run (issue 18):
+  ``time_parameterize(method="ruckig")`` against Ruckig's own ``calculate`` on fang's
+  moves (goal <= 3x), ``method="toppra"`` against raw toppra (spline, the same two
+  constraints and grid, ``compute_trajectory``) on the 100-waypoint arc (goal <= 1.2x);
 * the durations of toppra and ruckig divided by the shortest quintic's (the baseline,
   computed in the same run under the same limits) on fang's moves (Tables 2-3), the
   zavar2024 circle of ten points (with its elbow flip) and the 100-waypoint arc.
@@ -24,8 +28,9 @@ import scara_opt as so
 from scara_opt import paths
 from scara_opt.trajectory import ik_path, resolve_limits, time_parameterize
 from scara_opt.trajectory.ruckig_backend import ruckig_segment
+from scara_opt.trajectory.toppra_backend import OPTIONS, chord_parameter
 
-REPEATS = 7
+REPEATS = 21
 N_WAYPOINTS = 100
 DEG, MM = math.pi / 180, 1e-3
 FANG_MOVES = {  # Tables 2 and 3, (deg, deg, mm, deg)
@@ -43,6 +48,42 @@ def best_ms(fn, *args, **kwargs) -> float:
         fn(*args, **kwargs)
         times.append(time.perf_counter() - t)
     return min(times) * 1e3
+
+
+def raw_ruckig(qa: np.ndarray, qb: np.ndarray, limits) -> object:
+    """Ruckig's own calculation, inputs built beforehand: returns a timed ``calculate``."""
+    import ruckig
+
+    nq = len(qa)
+    otg, inp, traj = ruckig.Ruckig(nq), ruckig.InputParameter(nq), ruckig.Trajectory(nq)
+    inp.current_position, inp.target_position = list(qa), list(qb)
+    inp.max_velocity, inp.max_acceleration = list(limits.vmax), list(limits.amax)
+    inp.max_jerk = list(limits.jmax)
+    inp.synchronization = ruckig.Synchronization.Time
+    return lambda: otg.calculate(inp, traj)
+
+
+def raw_toppra(Q: np.ndarray, limits) -> object:
+    """Raw toppra on our path and first grid: spline, constraints, ``compute_trajectory``."""
+    import toppra
+    import toppra.algorithm as algo
+    import toppra.constraint as constraint
+
+    s = chord_parameter(Q, limits.vmax)
+    per = max(OPTIONS["grid_per_segment"], math.ceil(OPTIONS["min_grid"] / (len(Q) - 1)))
+    frac = np.arange(per) / per
+    grid = np.append((s[:-1, None] + np.diff(s)[:, None] * frac).ravel(), s[-1])
+    scale = 1.0 - OPTIONS["margin"]
+
+    def run() -> object:
+        path = toppra.SplineInterpolator(s, Q)
+        cons = [constraint.JointVelocityConstraint(limits.vmax * scale),
+                constraint.JointAccelerationConstraint(
+                    limits.amax * scale,
+                    discretization_scheme=constraint.DiscretizationType.Interpolation)]
+        instance = algo.TOPPRA(cons, path, gridpoints=grid, solver_wrapper="seidel")
+        return instance.compute_trajectory(0.0, 0.0)
+    return run
 
 
 def cases() -> dict[str, tuple[so.Robot, object]]:
@@ -79,6 +120,22 @@ def main() -> None:
         raw = best_ms(ruckig_segment, Q[0], Q[1], limits)
         print(f"ruckig, {name} (one trajectory): {full:.3f} ms through time_parameterize, "
               f"{raw:.3f} ms for Ruckig's calculation and the conversion to polynomials")
+
+    print("\nwrappers against the raw libraries, same input, same run:")
+    arc_Q = arc.q if hasattr(arc, "q") else np.asarray(arc)
+    raw = best_ms(raw_toppra(arc_Q, resolve_limits(robot, robot.nq)))
+    ours = best_ms(time_parameterize, arc, robot, method="toppra")
+    print(f"toppra, {N_WAYPOINTS}-waypoint arc: {ours:.2f} ms through time_parameterize, "
+          f"{raw:.2f} ms raw toppra: {ours / raw:.2f}x (goal <= 1.2x: "
+          f"{'met' if ours <= 1.2 * raw else 'NOT met'})")
+    for name in FANG_MOVES:
+        robot, Q = table[name]
+        limits = resolve_limits(robot, robot.nq, need_jerk=True)
+        raw = best_ms(raw_ruckig(Q[0], Q[1], limits))
+        ours = best_ms(time_parameterize, Q, robot, method="ruckig")
+        print(f"ruckig, {name}: {ours:.3f} ms through time_parameterize, {raw:.4f} ms "
+              f"Ruckig's calculate: {ours / raw:.0f}x (goal <= 3x: "
+              f"{'met' if ours <= 3 * raw else 'NOT met'})")
 
     print(f"\n{'path':<26}{'quintic [s]':>12}{'toppra [s]':>12}{'ruckig [s]':>12}"
           f"{'toppra/quintic':>16}{'ruckig/quintic':>16}")

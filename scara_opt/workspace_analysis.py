@@ -116,8 +116,13 @@ class Plane:
     labels: tuple[str, str, str]
 
     def coords(self, points: Array) -> Array:
-        """Plane coordinates (..., 2) [m] of world points (..., 3) [m]."""
-        return np.stack([points @ self.e1, points @ self.e2], axis=-1)
+        """Plane coordinates (..., 2) [m] of world points (..., 3) [m].
+
+        A view of (2, ...) contiguous rows, so reducing over the samples (``min(axis=0)``)
+        runs along contiguous memory: ~100x faster at 60,000 samples than on (m, 2) in C
+        order, whose inner loop is two long (issue 18).
+        """
+        return np.moveaxis(np.stack([points @ self.e1, points @ self.e2]), 0, -1)
 
     def height(self, points: Array) -> Array:
         """Height (...,) [m] of world points (..., 3) along :attr:`n`."""
@@ -420,6 +425,15 @@ def _auto_cell(uv: Array) -> float:
     return min(coarse, math.sqrt(SAMPLES_PER_CELL * rough / m))
 
 
+def _column_extremes(A: Array) -> Array:
+    """(2, k) least and greatest value of each column of ``A`` (m, k).
+
+    Column by column: numpy reduces a C-ordered (m, 3) array over axis 0 with an inner
+    loop three long, ~20x slower at 60,000 rows (issue 18).
+    """
+    return np.array([[c.min() for c in A.T], [c.max() for c in A.T]])
+
+
 # ---------------------------------------------------------------------- the result
 @dataclass(frozen=True, eq=False)
 class Workspace:
@@ -715,7 +729,7 @@ def workspace(robot: Robot, n: int = 60_000, seed: int | np.random.Generator | N
     h, r = plane.height(P), plane.radius(P)
     return Workspace(
         robot=robot, points=P, q=Q, n_samples=int(n), seed=seed, plane=plane, footprint=zone,
-        grid=occupancy, bounds=np.stack([P.min(axis=0), P.max(axis=0)]),
+        grid=occupancy, bounds=_column_extremes(P),
         z_range=(float(P[:, 2].min()), float(P[:, 2].max())),
         height_range=(float(h.min()), float(h.max())),
         radial_range=(float(r.min()), float(r.max())), xy_area=0.0 if flat else occupancy.area,

@@ -15,6 +15,7 @@ from scara_opt.metaheuristics.base import (
     PopulationSolver,
     Problem,
     check_number,
+    survivors,
     truncate,
 )
 
@@ -87,7 +88,7 @@ class AntColonySolver(PopulationSolver[Population]):
         guide = np.minimum(np.searchsorted(cum, cum[-1] * rng.random(k), side="right"), k - 1)
         sigma = self.options["xi"] * abs_deviation_sums(S)[guide] / (k - 1)
         ants = problem.repair(S[guide] + sigma * rng.standard_normal(S.shape))
-        return truncate(np.vstack([S, ants]), np.concatenate([state.f, problem.cost(ants)]), k)
+        return survivors(S, state.f, ants, problem.cost(ants), k)
 
 
 @lru_cache(maxsize=32)

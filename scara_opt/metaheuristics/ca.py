@@ -14,6 +14,7 @@ from scara_opt.metaheuristics.base import (
     PopulationSolver,
     Problem,
     check_number,
+    survivors,
     truncate,
 )
 
@@ -86,7 +87,7 @@ class CulturalSolver(PopulationSolver[Culture]):
         direction = np.where(gap == 0.0, eps, np.abs(eps) * np.sign(gap))
         children = problem.repair(X + self.options["step"] * (state.high - state.low) * direction)
         f = problem.cost(children)
-        merged = truncate(np.vstack([X, children]), np.concatenate([state.f, f]), X.shape[0])
+        merged = survivors(X, state.f, children, f, X.shape[0])
         return self._accept(merged)
 
     def _accept(self, pop: Population) -> Culture:

@@ -12,6 +12,7 @@ from scara_opt.metaheuristics.base import (
     PopulationSolver,
     Problem,
     check_number,
+    survivors,
     truncate,
 )
 
@@ -113,4 +114,4 @@ class GeneticSolver(PopulationSolver[Population]):
         step = sigma * problem.span * rng.standard_normal((n, nq))
         children = problem.repair(children + mutate * step)
         fc = problem.cost(children)
-        return truncate(np.vstack([X, children]), np.concatenate([f, fc]), n)
+        return survivors(X, f, children, fc, n)

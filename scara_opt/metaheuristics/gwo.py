@@ -15,6 +15,7 @@ from scara_opt.metaheuristics.base import (
     PopulationSolver,
     Problem,
     check_number,
+    survivors,
     truncate,
 )
 
@@ -82,12 +83,12 @@ class GreyWolfSolver(PopulationSolver[Pack]):
         L = state.leaders[:, None, :]                      # (3, 1, nq)
         r1, r2 = rng.random((2, 3, *state.X.shape))        # (3, n, nq) each
         A, C = 2.0 * a * r1 - a, 2.0 * r2
-        X = problem.repair((L - A * np.abs(C * L - state.X)).mean(axis=0))
+        X = problem.repair(np.add.reduce(L - A * np.abs(C * L - state.X)) / 3.0)  # the mean
         f = problem.cost(X)
         if self.options["greedy"]:  # every wolf keeps its best; the leaders are the 3 best wolves
             keep = f >= state.f
             X[keep], f[keep] = state.X[keep], state.f[keep]
             lead = truncate(X, f, 3)
         else:
-            lead = truncate(np.vstack([state.leaders, X]), np.concatenate([state.leader_f, f]), 3)
+            lead = survivors(state.leaders, state.leader_f, X, f, 3)
         return Pack(X, f, leaders=lead.X, leader_f=lead.f)

@@ -114,7 +114,7 @@ class ShuffledFrogSolver(PopulationSolver[Frogs]):
         best = M[rows, np.argmin(f[M], axis=1)]
         worst = M[rows, np.argmax(f[M], axis=1)]
         todo = worst != best          # a memeplex of equal frogs has nothing to learn
-        for leader in (X[best], np.broadcast_to(X[np.argmin(f)], X[best].shape)):
+        for leader in (X[best], X[np.full(best.shape, np.argmin(f))]):
             if todo.any():
                 self._leap(problem, state, worst, leader, todo, rng)
         w = worst[todo]
@@ -129,7 +129,8 @@ class ShuffledFrogSolver(PopulationSolver[Frogs]):
         w = worst[todo]
         r = rng.random((w.shape[0], 1))
         cap = self.options["max_leap"]
-        D = np.clip(r * self.options["leap"] * (leader[todo] - state.X[w]), -cap, cap)
+        D = np.minimum(np.maximum(r * self.options["leap"] * (leader[todo] - state.X[w]), -cap),
+                       cap)
         cand = problem.repair(state.X[w] + D)
         fc = problem.cost(cand)
         better = fc < state.f[w]

@@ -88,6 +88,11 @@ def _arrays(robot: Robot, output: str, size: int) -> FunctionArrays:
 def evaluate(robot: Robot, output: str, Q: Array) -> Array:
     """Rows (n, rows) of ``output`` for checked configurations ``Q`` (n, nq)."""
     n = Q.shape[0]
+    if 0 < n <= CHUNK:  # one chunk (every population): no loop, one copy out
+        f = _arrays(robot, output, max(8, 1 << (n - 1).bit_length()))
+        f.arg["q"][:n] = Q
+        f()
+        return f.res["rows"][:n].copy()
     rows = ROWS.get(output, 3 * (len(robot.chain) + 1))
     out = np.empty((n, rows))
     for start in range(0, n, CHUNK):

@@ -65,6 +65,8 @@ def stretch(pp: PPoly, factor: float) -> PPoly:
 
 def concatenate(pieces: list[PPoly]) -> PPoly:
     """One PPoly from consecutive ones, each starting at time 0, laid end to end in time."""
+    if len(pieces) == 1 and pieces[0].x[0] == 0.0:  # one already starts at 0: nothing to lay
+        return pieces[0]
     deg = max(p.c.shape[0] for p in pieces)
     xs, cs, t0 = [np.zeros(1)], [], 0.0
     for p in pieces:
