@@ -124,6 +124,20 @@ def test_payload_never_makes_a_move_faster():
         assert np.all(np.diff(durations) > 0), durations
 
 
+def test_torque_excess_between_grid_points_is_removed_by_a_time_stretch():
+    """No margin, a coarse grid: the 1 kHz check finds the excess and time is stretched.
+
+    Mutation: stretch_factor returns 1.0 -> fails (no stretch); without its STRETCH_SLACK ->
+    fails (1 + 3e-10 at the moved samples).
+    """
+    robot = so.load_robot("fang")
+    path = np.array([[0.0, 0.0, 0.0, -0.26], [-0.6, 1.1, 0.02, -0.6], [-1.12, 2.25, 0.015, -1.07]])
+    traj = so.time_parameterize(path, robot, vmax=BIG, amax=BIG, payload=2.0, margin=0.0,
+                                min_grid=6, grid_per_segment=1, max_refine=0)
+    assert "stretching time" in traj.notes
+    assert traj.check_limits()["torque"].max() <= 1.0
+
+
 def test_torque_limited_timing_is_never_faster_than_without():
     """Adding the torque constraint can only slow a move (same velocity/acceleration limits)."""
     robot = so.load_robot("zavar2024")

@@ -35,6 +35,9 @@ Array = NDArray[np.float64]
 #: sampling rate of the torque check [Hz]
 CHECK_RATE = 1000.0
 
+#: relative extra time stretch beyond the sampled excess (the samples move with the stretch)
+STRETCH_SLACK = 1e-6
+
 
 @dataclass(frozen=True)
 class Payload:
@@ -234,7 +237,8 @@ class RobotDynamics:
         with np.errstate(divide="ignore", invalid="ignore"):
             x = np.where(np.abs(d) > 0, room / np.abs(d), np.inf)
         x_min = float(x.min())
-        return 1.0 if x_min >= 1.0 else 1.0 / math.sqrt(x_min)
+        # slack: the stretched trajectory is sampled at other points of the path
+        return 1.0 if x_min >= 1.0 else (1.0 + STRETCH_SLACK) / math.sqrt(x_min)
 
     def toppra_constraint(self, scale: float = 1.0) -> object:
         """toppra's ``JointTorqueConstraint`` for limits ``scale × τ_max`` (interpolation)."""
