@@ -305,3 +305,19 @@ def test_inertial_data_of_a_robot_file_reach_the_urdf_and_the_robot(tmp_path):
     np.testing.assert_allclose(Y.inertia, np.diag([0.001, 0.01, 0.01]), atol=1e-15)
     np.testing.assert_array_equal(robot.torque_limit, [20.0])
     assert robot.has_inertia
+
+
+def test_fang_report_times_the_table_2_move_at_0_1_2_kg():
+    """The fang report's beyond-the-paper rows are computed: torque-only time grows with the
+    payload; within the assumed rate limits the torques stay below their limits.
+
+    Mutation: payload_timing passes payload=0.0 whatever the mass -> fails.
+    """
+    from scara_opt.reports.fang import payload_timing
+
+    table = payload_timing(so.load_robot("fang"))
+    assert list(table["payload_kg"]) == [0.0, 1.0, 2.0]
+    assert np.all(np.diff(table["torque_only_s"]) > 0)
+    assert np.all(np.diff(table["assumed_limits_max_torque_ratio"]) > 0)
+    assert (table[["assumed_limits_max_torque_ratio", "torque_only_max_torque_ratio"]]
+            <= 1.0).all().all()
