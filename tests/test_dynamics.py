@@ -226,6 +226,7 @@ def test_bundled_robots_carry_inertias_and_torque_limits():
     ({"payload": 1.0, "payload_frame": "gripper"}, so.FrameNotFoundError, "'gripper'"),
     ({"torque_limits": True, "method": "ruckig"}, so.InputError, "does not limit joint torque"),
     ({"payload": 1.0, "torque_limits": False}, so.InputError, "torque_limits=False"),
+    ({"payload_frame": "tip"}, so.InputError, "without payload="),
     ({"payload": 100.0, "torque_limits": True}, None, None),
 ])
 def test_bad_torque_input_raises_the_specific_error(kwargs, error, match):
@@ -321,3 +322,16 @@ def test_fang_report_times_the_table_2_move_at_0_1_2_kg():
     assert np.all(np.diff(table["assumed_limits_max_torque_ratio"]) > 0)
     assert (table[["assumed_limits_max_torque_ratio", "torque_only_max_torque_ratio"]]
             <= 1.0).all().all()
+
+
+@pytest.mark.parametrize("old, new", [('<mass value="2.0"/>', '<mass value="-2"/>'),
+                                      ('<origin xyz="0.5 0 0"/><mass', '<origin xyz="nan 0 0"/>'
+                                       '<mass')])
+def test_a_urdf_with_a_negative_mass_or_nan_inertial_is_refused(old, new):
+    """<inertial> with a negative mass or a NaN centre of mass: URDFError naming the link.
+
+    urdfdom drops the NaN one silently (the link then weighs nothing) and loads the
+    negative mass. Mutation: Robot without check_urdf_inertials -> fails.
+    """
+    with pytest.raises(so.URDFError, match="link 'arm' has <(mass|inertial)"):
+        so.Robot(link_urdf().replace(old, new, 1), "tip")

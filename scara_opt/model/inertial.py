@@ -13,6 +13,7 @@ prismatic one; ``effort="0"`` (URDF's "not given") means no limit (``inf``).
 from __future__ import annotations
 
 import math
+import xml.etree.ElementTree as ET
 
 import numpy as np
 import pinocchio as pin
@@ -67,6 +68,46 @@ def check_inertial(where: str, mass: float, com: Array, inertia: Array, effort: 
             f"(eigenvalues {eig.tolist()}, each must be >= 0, and ixx + iyy >= izz, "
             "iyy + izz >= ixx, ixx + izz >= iyy); give (ixx, ixy, ixz, iyy, iyz, izz) about "
             "the centre of mass")
+
+
+def _numbers(text: str | None, count: int, default: str) -> list[float] | None:
+    """``count`` finite numbers parsed from an attribute (``default`` when absent), or None."""
+    try:
+        values = [float(v) for v in (default if text is None else text).split()]
+    except ValueError:
+        return None
+    return values if len(values) == count and all(map(math.isfinite, values)) else None
+
+
+def check_urdf_inertials(text: str, where: str) -> None:
+    """Refuse ``<inertial>`` elements the URDF parser would silently drop or misread.
+
+    urdfdom skips an ``<inertial>`` it cannot parse (a ``nan``, a missing value) with a
+    message on stderr, and the link then weighs nothing: refused here instead.
+
+    Raises:
+        URDFError: naming the link, the element and the value.
+    """
+    for link in ET.fromstring(text).iter("link"):
+        for inertial in link.findall("inertial"):
+            at = f"{where}: link {link.get('name')!r}"
+            mass = inertial.find("mass")
+            raw = None if mass is None else mass.get("value")
+            value = _numbers(raw, 1, "")
+            if value is None or value[0] < 0:
+                raise URDFError(f"{at} has <mass value={raw!r}>; give a finite mass >= 0 [kg]")
+            origin = inertial.find("origin")
+            for key in ("xyz", "rpy"):
+                raw = None if origin is None else origin.get(key)
+                if _numbers(raw, 3, "0 0 0") is None:
+                    raise URDFError(f"{at} has <inertial><origin {key}={raw!r}>; give 3 finite "
+                                    "numbers [m or rad]")
+            inertia = inertial.find("inertia")
+            for key in ("ixx", "ixy", "ixz", "iyy", "iyz", "izz"):
+                raw = None if inertia is None else inertia.get(key)
+                if _numbers(raw, 1, "") is None:
+                    raise URDFError(f"{at} has <inertia {key}={raw!r}>; every <inertial> needs "
+                                    "<inertia> with 6 finite numbers [kg·m²]")
 
 
 def check_model_inertias(model: pin.Model, where: str) -> None:

@@ -28,7 +28,7 @@ from scara_opt.checks import describe
 from scara_opt.errors import InputError, URDFError
 from scara_opt.model import batch_fk
 from scara_opt.model.copies import rebuild_robot, with_limits
-from scara_opt.model.inertial import InertialData, check_model_inertias
+from scara_opt.model.inertial import InertialData, check_model_inertias, check_urdf_inertials
 from scara_opt.model.joint_checks import JointChecks
 from scara_opt.model.symbolic import build_symbolic_fk
 from scara_opt.model.tool_angle import ToolAngle
@@ -102,6 +102,7 @@ class Robot(JointChecks, ToolAngle, InertialData):
         self.model, self.locked = build_model(urdf_text, urdf, path_to(by_child, root, self.tip),
                                                where)
         unbound_continuous(self.model, urdf)
+        check_urdf_inertials(urdf_text, where)
         check_model_inertias(self.model, where)
         self._local = threading.local()
         self.name = name or urdf.robot.name

@@ -115,8 +115,9 @@ def time_parameterize(path: object, robot: Robot | None = None, method: str = "t
         torque_limits: joint torque limits [N·m revolute, N prismatic] (``"toppra"`` only,
             needs a robot with inertial data): ``True`` for the robot's own
             (``robot.torque_limit``), a scalar or (nq,); ``None`` = not torque-limited,
-            unless ``payload`` is given (then the robot's own). τ = Pinocchio's RNEA,
-            gravity included; checked at 1 kHz in ``check_limits()["torque"]``.
+            unless ``payload`` is given (then the robot's own); ``False`` = not limited.
+            τ = Pinocchio's RNEA, gravity included; checked at 1 kHz in
+            ``check_limits()["torque"]``.
         payload: a load at ``payload_frame``: mass [kg], ``(mass, com (3,) [m])`` or
             ``(mass, com, inertia (3, 3) [kg·m²] about the com)``, com in that frame.
         payload_frame: the frame (link) carrying the payload; default the robot's tip.
@@ -159,7 +160,10 @@ def time_parameterize(path: object, robot: Robot | None = None, method: str = "t
     Q = prepare_waypoints(path, robot, allow_jumps=allow_jumps, drop_duplicates=drop_duplicates)
     limits: Limits = resolve_limits(robot, Q.shape[1], vmax, amax, jmax, entry.uses_jerk)
     extra = {}
-    if torque_limits is not None or payload is not None or payload_frame is not None:
+    if payload_frame is not None and payload is None:
+        raise InputError(f"payload_frame={payload_frame!r} without payload=: pass the payload "
+                         "(mass [kg], or (mass, com[, inertia])) or drop payload_frame=")
+    if not (torque_limits is None or torque_limits is False) or payload is not None:
         extra["dynamics"] = _dynamics(entry, robot, torque_limits, payload, payload_frame)
     start = time.perf_counter()
     traj = entry.backend(Q, limits, fixed, **{**entry.options, **options}, **extra)
