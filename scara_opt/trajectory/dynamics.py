@@ -213,11 +213,14 @@ class RobotDynamics:
                                      for q in Q]).reshape(Q.shape))
 
     def _check_static(self, g: Array) -> None:
-        static = np.abs(g) / self.tau_max
+        with np.errstate(over="ignore", invalid="ignore"):
+            static = np.where(np.isfinite(g), np.abs(g) / self.tau_max, np.inf)
         if static.max() > 1.0:
             k = int(np.unravel_index(np.argmax(static), static.shape)[1])
+            need = np.abs(g[:, k]).max()
+            text = f"{need:.4g}" if np.isfinite(need) else "an overflowing torque"
             raise DynamicsError(
-                f"gravity alone needs {np.abs(g[:, k]).max():.4g} at joint "
+                f"gravity alone needs {text} at joint "
                 f"{self.joint_names[k]!r}, above its torque limit {self.tau_max[k]:.4g} "
                 "[N·m or N]: no timing holds the load; lighten the payload or raise "
                 "torque_limits=")
@@ -234,7 +237,7 @@ class RobotDynamics:
         self._check_static(g)
         lim = self.tau_max
         room = np.where(d > 0, lim - g, lim + g)
-        with np.errstate(divide="ignore", invalid="ignore"):
+        with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
             x = np.where(np.abs(d) > 0, room / np.abs(d), np.inf)
         x_min = float(x.min())
         # slack: the stretched trajectory is sampled at other points of the path

@@ -205,7 +205,8 @@ def _solve(path: Any, s: Array, per_segment: int, limits: Limits, scale: float,
         raise TrajectoryError(
             f"toppra could not parameterise the path ({data.return_code}); check the "
             "waypoints (nearly duplicate ones make the spline degenerate) or try "
-            "method='ruckig'")
+            "method='ruckig'" + ("; under torque limits, also whether the limits can hold "
+                                 "the payload along the path" if dynamics is not None else ""))
     sd = np.maximum(np.asarray(data.sd_vec, dtype=float), 0.0)
     stalled = np.flatnonzero(sd[:-1] + sd[1:] <= 0.0)
     if stalled.size:

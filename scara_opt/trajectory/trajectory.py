@@ -239,10 +239,14 @@ class Trajectory:
 
         Raises:
             DynamicsError: the robot has no inertial data or no torque limits.
-            InputError, FrameNotFoundError: bad ``torque_limits``, ``payload`` or frame.
+            InputError: ``robot`` not a Robot with nq joints; bad ``torque_limits`` or
+                ``payload``.
+            FrameNotFoundError: ``payload_frame`` is not a frame of the robot.
         """
+        from scara_opt.model.robot import check_robot
         from scara_opt.trajectory.dynamics import RobotDynamics
 
+        check_robot(robot)
         if robot.nq != self.nq:
             raise InputError(f"robot {robot.name!r} has {robot.nq} joints, the trajectory "
                              f"{self.nq}; pass the robot it was timed for")
