@@ -364,3 +364,17 @@ def test_every_bundled_robot_times_a_move_with_2_kg_within_its_torques(name):
     held = so.time_parameterize(Q, robot, payload=2.0)
     assert held.check_limits()["torque"].max() <= 1.0
     assert held.duration >= free.duration * (1 - 1e-9)
+
+
+def test_csv_of_a_torque_limited_trajectory_has_the_torques(tmp_path):
+    """to_csv adds <joint>_torque_Nm / _N columns: the point mass's m r² q̈ at each row."""
+    robot = so.Robot(link_urdf(mass=2.0, r=0.5, effort=4.0), "tip")
+    traj = so.time_parameterize([[-1.0], [1.0]], robot, vmax=BIG, amax=BIG, torque_limits=True)
+    data = np.genfromtxt(traj.to_csv(tmp_path / "t.csv", dt=0.01), delimiter=",", names=True)
+    assert "j_torque_Nm" in data.dtype.names
+    np.testing.assert_allclose(data["j_torque_Nm"], 0.5 * data["j_rad_per_s2"], atol=1e-9)
+    assert np.abs(data["j_torque_Nm"]).max() <= 4.0
+    lift = so.Robot(lift_urdf(), "slide")
+    traj = so.time_parameterize([[0.0], [0.1]], lift, vmax=BIG, amax=BIG, torque_limits=True)
+    data = np.genfromtxt(traj.to_csv(tmp_path / "l.csv"), delimiter=",", names=True)
+    np.testing.assert_allclose(data["z_torque_N"], 2.0 * (data["z_m_per_s2"] + G), atol=1e-9)

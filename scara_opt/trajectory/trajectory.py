@@ -255,6 +255,9 @@ class Trajectory:
     def to_csv(self, path: str | Path, dt: float = 0.01) -> Path:
         """Write t, q, qd, qdd on the grid ``dt`` to a CSV file; units in the column names.
 
+        A torque-limited trajectory adds each joint's torque ``<joint>_torque_Nm`` (or
+        ``_N`` for a prismatic joint), Pinocchio's RNEA with the payload it was timed for.
+
         Returns:
             The path written.
         """
@@ -265,6 +268,11 @@ class Trajectory:
             u = {"rad": "rad", "m": "m"}.get(self.limits.unit(k), "unit")
             cols += [q[:, k], qd[:, k], qdd[:, k]]
             header += [f"{name}_{u}", f"{name}_{u}_per_s", f"{name}_{u}_per_s2"]
+        if self.dynamics is not None:
+            tau = self.dynamics.torques(q, qd, qdd)
+            for k, name in enumerate(self.limits.joint_names):
+                cols.append(tau[:, k])
+                header.append(f"{name}_torque_{'N' if self.limits.unit(k) == 'm' else 'Nm'}")
         path = Path(path)
         np.savetxt(path, np.column_stack(cols), delimiter=",", header=",".join(header),
                    comments="", fmt="%.10g")
