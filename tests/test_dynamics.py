@@ -296,7 +296,11 @@ def test_bad_inertial_data_in_a_robot_file_raise_urdf_error(tmp_path, extra, mat
 
 
 def test_inertial_data_of_a_robot_file_reach_the_urdf_and_the_robot(tmp_path):
-    """mass, com (file units), inertia and effort come through in SI: mm → m, kg·m² as given."""
+    """mass, com (file units), inertia and effort come through in SI: mm → m, kg·m² as given.
+
+    Mutation: com not converted from the file's length unit -> fails; dh_to_urdf writing
+    effort="0" -> fails (no torque limit).
+    """
     path = tmp_path / "ok.toml"
     path.write_text(HEAD + ROW + GOOD)
     robot = so.load_robot(path)
@@ -367,7 +371,11 @@ def test_every_bundled_robot_times_a_move_with_2_kg_within_its_torques(name):
 
 
 def test_csv_of_a_torque_limited_trajectory_has_the_torques(tmp_path):
-    """to_csv adds <joint>_torque_Nm / _N columns: the point mass's m r² q̈ at each row."""
+    """to_csv adds <joint>_torque_Nm / _N columns: m r² q̈ for the point mass, m (z̈ + g) for
+    the lift, at each row.
+
+    Mutation: every torque column suffixed _Nm (the prismatic one too) -> fails.
+    """
     robot = so.Robot(link_urdf(mass=2.0, r=0.5, effort=4.0), "tip")
     traj = so.time_parameterize([[-1.0], [1.0]], robot, vmax=BIG, amax=BIG, torque_limits=True)
     data = np.genfromtxt(traj.to_csv(tmp_path / "t.csv", dt=0.01), delimiter=",", names=True)
