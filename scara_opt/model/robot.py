@@ -94,6 +94,7 @@ class Robot(JointChecks, ToolAngle, InertialData):
                              f"{describe(urdf_text)}")
         check_tip(tip)
         check_xml(urdf_text, where)
+        check_urdf_inertials(urdf_text, where)
         urdf = load_urdf(urdf_text, mesh_dir, where)
         by_child, root = check_tree(urdf, where)
         self.tip = pick_tip(urdf, by_child, root, tip, where)
@@ -102,7 +103,6 @@ class Robot(JointChecks, ToolAngle, InertialData):
         self.model, self.locked = build_model(urdf_text, urdf, path_to(by_child, root, self.tip),
                                                where)
         unbound_continuous(self.model, urdf)
-        check_urdf_inertials(urdf_text, where)
         check_model_inertias(self.model, where)
         self._local = threading.local()
         self.name = name or urdf.robot.name
