@@ -174,6 +174,9 @@ def toppra_trajectory(Q: Array, limits: Limits, duration: float | None = None, *
         times = times * factor
         total *= factor
         factor = _overshoot(Trajectory(pieces, limits, "toppra", Q, times), dynamics)
+    if factor > 1.0:  # not seen in practice: the third stretch leaves round-off only
+        log.warning("toppra: a limit is still exceeded by x %.3g after stretching; see "
+                    "check_limits()", factor)
     if total > 1.0:
         note += f"; discretisation overshoot removed by stretching time x {total:.6f}"
         log.info("toppra: discretisation overshoot, time stretched by %.6f", total)
