@@ -14,6 +14,7 @@ from typing import Any
 from scara_opt import metaheuristics, paths  # noqa: F401  (metaheuristics register themselves)
 from scara_opt.comparison import compare
 from scara_opt.errors import (
+    DynamicsError,
     FrameNotFoundError,
     InputError,
     JointLimitError,
@@ -55,6 +56,7 @@ __all__ = [
     "__version__",
     "BatchResult",
     "compare",
+    "DynamicsError",
     "Footprint",
     "FrameNotFoundError",
     "get_solver",

@@ -89,3 +89,7 @@ class SolverOptionError(ScaraOptError, TypeError):
 
 class TrajectoryError(ScaraOptError, ValueError):
     """A path or its limits cannot be time-parameterised as asked."""
+
+
+class DynamicsError(ScaraOptError, ValueError):
+    """A robot lacks the inertial data or torque limits a dynamic computation needs."""

@@ -65,6 +65,12 @@ API = [
     ("time_parameterize", so.time_parameterize, {
         "path": Q2, "robot": ROBOT, "method": "quintic", "vmax": None, "amax": None,
         "duration": None, "allow_jumps": False, "drop_duplicates": False}),
+    ("time_parameterize_torque", so.time_parameterize, {
+        "path": Q2, "robot": ROBOT, "method": "toppra", "torque_limits": True, "payload": 1.0,
+        "payload_frame": "tool"}),
+    ("check_torque", so.time_parameterize(Q2, ROBOT).check_torque, {
+        "robot": ROBOT, "torque_limits": None, "payload": (1.0, [0, 0, 0.01]),
+        "payload_frame": None}),
     ("workspace", so.workspace, {"robot": ROBOT, "n": 200, "seed": 0, "grid": None,
                                  "footprint": True}),
     ("compare", so.compare, {"robot": ROBOT, "targets": [T], "methods": ["pso"],

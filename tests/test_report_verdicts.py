@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+from dataclasses import replace
+
 import numpy as np
 import pytest
 
@@ -36,9 +38,7 @@ def broken_solvers(monkeypatch: pytest.MonkeyPatch) -> None:
     for name, entry in list(timing_registry._REGISTRY.items()):
         backwards = (lambda fn: lambda Q, *a, **k: fn(np.ascontiguousarray(Q[::-1]), *a,
                                                       **k))(entry.backend)
-        monkeypatch.setitem(timing_registry._REGISTRY, name,
-                            timing_registry.TimingMethod(name, backwards, entry.options,
-                                                         entry.uses_jerk, entry.takes_duration))
+        monkeypatch.setitem(timing_registry._REGISTRY, name, replace(entry, backend=backwards))
 
 
 @pytest.mark.parametrize("paper", PAPERS)

@@ -332,7 +332,7 @@ def test_bad_urdf_velocity_or_effort_names_the_joint(key, value):
 
     Mutation: the check removed (Pinocchio's message names neither) -> fails.
     """
-    old = f'{key}="3.141592653589793"' if key == "velocity" else 'effort="0"'
+    old = f'{key}="3.141592653589793"' if key == "velocity" else 'effort="50.0"'
     text = ZAVAR_URDF.replace(old, f'{key}="{value}"', 1)
     with pytest.raises(so.URDFError, match=f"joint 'theta1' has <limit {key}=\"{value}\">"):
         so.Robot(text, "tool")

@@ -25,6 +25,7 @@ import numpy as np
 import pinocchio as pin
 
 from scara_opt.errors import JointLimitError, URDFError
+from scara_opt.model.inertial import check_inertial, inertia_matrix
 
 __all__ = ["ANGLE_UNITS", "CONVENTIONS", "DHJoint", "DHRobot", "JOINT_TYPES", "LENGTH_UNITS",
            "dh_to_urdf", "joint_frames"]
@@ -36,15 +37,21 @@ CONVENTIONS = ("standard", "modified")
 #: the keys a robot file may hold: top level (``footprint`` is read by
 #: scara_opt.workspace_analysis), each ``[[joints]]`` row and the ``[tool]`` table
 FILE_KEYS = ("name", "title", "source", "notes", "convention", "length_unit", "angle_unit",
-             "joints", "tool", "footprint")
+             "joints", "tool", "footprint", "dynamics_source")
 JOINT_KEYS = ("name", "type", "a", "alpha", "d", "theta", "sign", "lower", "upper", "velocity",
-              "acceleration")
+              "acceleration", "mass", "com", "inertia", "effort")
 TOOL_KEYS = ("xyz", "rpy")
 
 
 @dataclass(frozen=True)
 class DHJoint:
-    """One DH row in SI units [m, rad]; limits are those of the joint variable ``q``."""
+    """One DH row in SI units [m, rad]; limits are those of the joint variable ``q``.
+
+    Inertial data (optional, for torque-limited timing) describe the link the joint moves
+    (URDF ``link{k}``), in the joint's moving frame: ``mass`` [kg] (0: no body), ``com`` (3,)
+    [m], ``inertia`` ``(ixx, ixy, ixz, iyy, iyz, izz)`` about the centre of mass [kg·m²];
+    ``effort`` is the torque [N·m] (revolute) or force [N] (prismatic) limit, 0 for none.
+    """
 
     name: str
     type: str
@@ -57,6 +64,10 @@ class DHJoint:
     upper: float = 0.0
     velocity: float = 1.0
     acceleration: float = 1.0
+    mass: float = 0.0
+    com: tuple[float, float, float] = (0.0, 0.0, 0.0)
+    inertia: tuple[float, ...] = (0.0,) * 6
+    effort: float = 0.0
 
     def __post_init__(self) -> None:
         if self.type not in JOINT_TYPES:
@@ -69,6 +80,14 @@ class DHJoint:
                   self.velocity, self.acceleration)
         if not all(math.isfinite(v) for v in values):
             raise URDFError(f"joint {self.name!r}: every DH entry and limit must be finite")
+        if len(self.com) != 3 or len(self.inertia) != 6:
+            raise URDFError(f"joint {self.name!r}: com needs 3 numbers and inertia 6 (ixx, ixy, "
+                            f"ixz, iyy, iyz, izz); got {self.com!r} and {self.inertia!r}")
+        check_inertial(f"joint {self.name!r}", self.mass, np.array(self.com, float),
+                       inertia_matrix(self.inertia), self.effort)
+        if self.type == "fixed" and (self.mass or self.effort):
+            raise URDFError(f"joint {self.name!r}: a fixed row moves no link of its own; put its "
+                            "mass on the movable row before it and drop effort")
         if self.type != "fixed":
             if not self.lower < self.upper:
                 raise JointLimitError(
@@ -178,13 +197,27 @@ def _origin(T: np.ndarray) -> str:
     return f'<origin xyz="{xyz}" rpy="{rpy}"/>'
 
 
+def _link(name: str, j: DHJoint) -> list[str]:
+    """The ``<link>`` moved by row ``j``: empty, or with the row's ``<inertial>``."""
+    if j.mass == 0:
+        return [f'  <link name="{name}"/>']
+    com = " ".join(_exact(v) for v in j.com)
+    inertia = " ".join(f'{k}="{_exact(v)}"' for k, v in
+                       zip(("ixx", "ixy", "ixz", "iyy", "iyz", "izz"), j.inertia, strict=True))
+    return [f'  <link name="{name}">', "    <inertial>",
+            f'      <origin xyz="{com}" rpy="0 0 0"/>', f'      <mass value="{_exact(j.mass)}"/>',
+            f"      <inertia {inertia}/>",
+            "    </inertial>", "  </link>"]
+
+
 def dh_to_urdf(robot: DHRobot) -> str:
     """Write the URDF (as a string) of a DH robot.
 
     Links are ``base_link``, ``link1`` … ``linkN`` (one per movable joint), ``flange``
     (the last DH frame) and ``tool`` (the flange times the tool transform). The
     acceleration limit, which URDF lacks, is kept in a ``<scara_opt acceleration=…/>``
-    child of each joint [rad/s² or m/s²]; parsers that do not know it ignore it.
+    child of each joint [rad/s² or m/s²]; parsers that do not know it ignore it. A row's
+    ``mass`` > 0 gives ``link{k}`` an ``<inertial>``; its ``effort`` is ``<limit effort=>``.
     """
     frames, flange = joint_frames(robot)
     lines = [
@@ -197,15 +230,14 @@ def dh_to_urdf(robot: DHRobot) -> str:
     parent = "base_link"
     for k, (j, origin) in enumerate(frames, start=1):
         child = f"link{k}"
-        lines += [
-            f'  <link name="{child}"/>',
+        lines += _link(child, j) + [
             f"  <joint name={quoteattr(j.name)} type=\"{j.type}\">",
             f'    <parent link="{parent}"/>',
             f'    <child link="{child}"/>',
             f"    {_origin(origin)}",
             f'    <axis xyz="0 0 {_fmt(j.sign)}"/>',
-            f'    <limit lower="{_exact(j.lower)}" upper="{_exact(j.upper)}" effort="0" '
-            f'velocity="{_exact(j.velocity)}"/>',
+            f'    <limit lower="{_exact(j.lower)}" upper="{_exact(j.upper)}" '
+            f'effort="{_exact(j.effort)}" velocity="{_exact(j.velocity)}"/>',
             f'    <scara_opt acceleration="{_exact(j.acceleration)}"/>',
             "  </joint>",
         ]

@@ -26,6 +26,7 @@ from scara_opt.model.dh import (
     DHRobot,
     dh_to_urdf,
 )
+from scara_opt.model.inertial import check_inertial, inertia_matrix
 
 __all__ = ["bundled_dir", "load_dh", "main", "regenerate"]
 
@@ -58,6 +59,36 @@ def _vector(table: dict, key: str, where: str) -> np.ndarray:
     return np.array(value, float)
 
 
+def _inertial(row: dict, at: str, L: float) -> dict:
+    """A row's optional mass [kg], com [length unit], inertia [kg·m²] and effort [N·m or N].
+
+    Raises:
+        URDFError: a non-finite or mis-shaped entry, mass or effort <= 0, com or inertia
+            without mass, an inertia no body has (naming the joint and the value).
+    """
+    out: dict = {}
+    for key in ("mass", "effort"):
+        if key in row:
+            value = _number(row, key, at)
+            if value <= 0:
+                what = "[kg]" if key == "mass" else "[N·m for revolute, N for prismatic]"
+                raise URDFError(f"{at}: {key} must be > 0 {what}, got {row[key]!r}; give the "
+                                f"estimate or leave {key} out")
+            out[key] = value
+    if ("com" in row or "inertia" in row) and "mass" not in row:
+        raise URDFError(f"{at}: com and inertia describe a mass: add mass = ... [kg]")
+    if "mass" in out:
+        out["com"] = tuple(_vector(row, "com", at) * L)
+        six = row.get("inertia", [0.0] * 6)
+        if not (isinstance(six, list) and len(six) == 6 and all(map(_finite, six))):
+            raise URDFError(f"{at}: inertia must be a list of 6 finite numbers (ixx, ixy, ixz, "
+                            f"iyy, iyz, izz) [kg·m²], got {six!r}")
+        out["inertia"] = tuple(float(v) for v in six)
+        check_inertial(at, out["mass"], np.array(out["com"]), inertia_matrix(six),
+                       out.get("effort", 0.0))
+    return out
+
+
 def _text(table: dict, key: str, where: str, default: str) -> str:
     """A text entry (name, title, source, ...): a TOML string, or ``default`` when absent."""
     value = table.get(key, default)
@@ -78,11 +109,14 @@ def load_dh(path: str | Path) -> DHRobot:
     Args:
         path: a ``.toml`` file with ``length_unit``, ``angle_unit``, ``convention``,
             ``[[joints]]`` rows and optional ``[tool]`` (``xyz``, ``rpy``); the keys allowed
-            are :data:`FILE_KEYS`, :data:`JOINT_KEYS` and :data:`TOOL_KEYS`.
+            are :data:`FILE_KEYS`, :data:`JOINT_KEYS` and :data:`TOOL_KEYS`. A row's
+            optional ``mass`` [kg], ``com`` [length_unit, in the joint's moving frame],
+            ``inertia`` (ixx, ixy, ixz, iyy, iyz, izz) [kg·m², about the com] and
+            ``effort`` [N·m or N] go to the URDF's ``<inertial>`` and ``<limit effort=>``.
 
     Raises:
         URDFError: missing file, TOML syntax, unknown key, unit or joint type, bad or
-            non-finite entries.
+            non-finite entries; mass or effort <= 0, an inertia no body has.
         JointLimitError: a lower limit not below its upper limit, or a limit <= 0.
     """
     path = Path(path)
@@ -132,6 +166,7 @@ def load_dh(path: str | Path) -> DHRobot:
                 upper=_number(row, "upper", at) * unit,
                 velocity=_number(row, "velocity", at, 1.0) * unit,
                 acceleration=_number(row, "acceleration", at, 1.0) * unit,
+                **_inertial(row, at, L),
             )
         )
     tool = np.eye(4)
@@ -141,6 +176,7 @@ def load_dh(path: str | Path) -> DHRobot:
         tool[:3, :3] = pin.rpy.rpyToMatrix(_vector(table, "rpy", f"{where}: [tool]") * A)
         tool[:3, 3] = _vector(table, "xyz", f"{where}: [tool]") * L
     _text(data, "title", where, "")
+    _text(data, "dynamics_source", where, "")
     return DHRobot(
         name=_text(data, "name", where, path.stem),
         joints=tuple(joints),

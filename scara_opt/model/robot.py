@@ -28,6 +28,7 @@ from scara_opt.checks import describe
 from scara_opt.errors import InputError, URDFError
 from scara_opt.model import batch_fk
 from scara_opt.model.copies import rebuild_robot, with_limits
+from scara_opt.model.inertial import InertialData, check_model_inertias, check_urdf_inertials
 from scara_opt.model.joint_checks import JointChecks
 from scara_opt.model.symbolic import build_symbolic_fk
 from scara_opt.model.tool_angle import ToolAngle
@@ -60,7 +61,7 @@ Array = NDArray[np.float64]
 __all__ = ["Array", "ChainJoint", "Robot", "check_robot"]
 
 
-class Robot(JointChecks, ToolAngle):
+class Robot(JointChecks, ToolAngle, InertialData):
     """The serial chain of revolute/prismatic joints from a URDF's root link to a tip frame.
 
     Joints off that chain are locked (see the module docstring for the rules on trees,
@@ -77,6 +78,8 @@ class Robot(JointChecks, ToolAngle):
         locked: ``{joint name: value}`` of the joints off the path, held at their
             reference [rad or m]: zero, or mid-range when zero is outside the range.
         tip_placement: 4×4 placement of the tip in the last joint's frame [m].
+        torque_limit: (nq,) joint torque [N·m] / force [N] limits, ``inf`` where none;
+            ``has_inertia`` tells whether the links carry mass (:mod:`~.inertial`).
         source: where the robot comes from (paper, file path).
         metadata: extra data of a robot file (for bundled robots: the whole parsed TOML,
             e.g. a ``[footprint]`` table); empty for a plain URDF.
@@ -91,6 +94,7 @@ class Robot(JointChecks, ToolAngle):
                              f"{describe(urdf_text)}")
         check_tip(tip)
         check_xml(urdf_text, where)
+        check_urdf_inertials(urdf_text, where)
         urdf = load_urdf(urdf_text, mesh_dir, where)
         by_child, root = check_tree(urdf, where)
         self.tip = pick_tip(urdf, by_child, root, tip, where)
@@ -99,6 +103,7 @@ class Robot(JointChecks, ToolAngle):
         self.model, self.locked = build_model(urdf_text, urdf, path_to(by_child, root, self.tip),
                                                where)
         unbound_continuous(self.model, urdf)
+        check_model_inertias(self.model, where)
         self._local = threading.local()
         self.name = name or urdf.robot.name
         self.source = source or where

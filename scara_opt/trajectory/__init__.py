@@ -15,8 +15,13 @@ Every :class:`Trajectory` is a piecewise polynomial per joint; ``check_limits()`
 exact largest ratio of |qd| / vmax and |qdd| / amax per joint. Limits default to the
 robot's and are overridden per joint (``vmax``, ``amax``, ``jmax``); units are SI
 [rad, m, s].
+
+Torque limits (``"toppra"``): ``torque_limits=`` [N·m, N] and ``payload=`` add toppra's
+joint-torque constraint from Pinocchio's inverse dynamics (:mod:`.dynamics`, gravity
+included); ``check_limits()["torque"]`` is then the worst |τ| / τmax sampled at 1 kHz.
 """
 
+from scara_opt.trajectory.dynamics import Payload, RobotDynamics
 from scara_opt.trajectory.limits import JERK_PER_ACCELERATION, Limits, resolve_limits
 from scara_opt.trajectory.path import JointPath, Jump, find_jumps, ik_path
 from scara_opt.trajectory.quintic import quintic_blend, shortest_duration
@@ -34,6 +39,8 @@ __all__ = [
     "JointPath",
     "Jump",
     "Limits",
+    "Payload",
+    "RobotDynamics",
     "Trajectory",
     "find_jumps",
     "get_timing",

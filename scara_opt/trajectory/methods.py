@@ -31,6 +31,8 @@ class TimingMethod:
         options: every accepted option with its default.
         uses_jerk: whether it honours ``jmax``.
         takes_duration: whether it accepts a fixed ``duration``.
+        uses_torque: whether it honours joint torque limits (``torque_limits=``,
+            ``payload=``), given as its ``dynamics=`` argument.
     """
 
     name: str
@@ -38,6 +40,7 @@ class TimingMethod:
     options: dict[str, Any] = field(default_factory=dict)
     uses_jerk: bool = False
     takes_duration: bool = False
+    uses_torque: bool = False
 
 
 def check_option(method: str, name: str, value: Any, low: float, high: float = math.inf, *,

@@ -18,6 +18,7 @@ from scara_opt.checks import check_real, describe
 from scara_opt.errors import InputError, SolverOptionError, UnknownSolverError
 from scara_opt.model.robot import Robot, check_robot
 from scara_opt.trajectory import quintic, ruckig_backend, toppra_backend
+from scara_opt.trajectory.dynamics import RobotDynamics
 from scara_opt.trajectory.limits import Limits, resolve_limits
 from scara_opt.trajectory.methods import Backend, TimingMethod
 from scara_opt.trajectory.trajectory import Trajectory
@@ -88,8 +89,9 @@ def time_parameterize(path: object, robot: Robot | None = None, method: str = "t
                       vmax: object | None = None, amax: object | None = None,
                       jmax: object | None = None, duration: float | None = None, *,
                       allow_jumps: bool = False, drop_duplicates: bool = False,
-                      **options: Any) -> Trajectory:
-    """Time a joint path within joint velocity/acceleration (and jerk) limits.
+                      torque_limits: object | None = None, payload: object | None = None,
+                      payload_frame: str | None = None, **options: Any) -> Trajectory:
+    """Time a joint path within joint velocity/acceleration (and jerk, torque) limits.
 
     Args:
         path: a :class:`~scara_opt.trajectory.path.JointPath` or an (n, nq) array of joint
@@ -110,6 +112,15 @@ def time_parameterize(path: object, robot: Robot | None = None, method: str = "t
             True or False only.
         drop_duplicates: remove consecutive duplicate waypoints (logged) instead of refusing;
             True or False only.
+        torque_limits: joint torque limits [N·m revolute, N prismatic] (``"toppra"`` only,
+            needs a robot with inertial data): ``True`` for the robot's own
+            (``robot.torque_limit``), a scalar or (nq,); ``None`` = not torque-limited,
+            unless ``payload`` is given (then the robot's own); ``False`` = not limited.
+            τ = Pinocchio's RNEA, gravity included; checked at 1 kHz in
+            ``check_limits()["torque"]``.
+        payload: a load at ``payload_frame``: mass [kg], ``(mass, com (3,) [m])`` or
+            ``(mass, com, inertia (3, 3) [kg·m²] about the com)``, com in that frame.
+        payload_frame: the frame (link) carrying the payload; default the robot's tip.
         **options: method-specific options (an unknown one raises SolverOptionError):
             toppra ``margin``, ``grid_per_segment``, ``min_grid``, ``max_refine``; quintic
             ``enforce_limits``; ruckig none.
@@ -124,7 +135,11 @@ def time_parameterize(path: object, robot: Robot | None = None, method: str = "t
             with ``so.load_robot``); a flag that is not True/False; a zero, negative,
             infinite, NaN or misshaped limit, or one outside
             :data:`~scara_opt.trajectory.limits.LIMIT_RANGES`; an option value out of
-            range; ``jmax`` for a method without jerk.
+            range; ``jmax`` for a method without jerk; bad ``torque_limits`` or ``payload``
+            (negative or NaN mass, a limit <= 0), or either for a method without torque.
+        DynamicsError: torque-limited timing of a robot without inertial data or torque
+            limits, or a path where gravity alone exceeds a torque limit.
+        FrameNotFoundError: ``payload_frame`` is not a frame of the robot.
         JointLimitError: a waypoint outside the joint limits.
         TrajectoryError: fewer than two waypoints, consecutive duplicates, a JointPath with
             unreachable points or jumps, a fixed quintic duration below the shortest within
@@ -144,12 +159,34 @@ def time_parameterize(path: object, robot: Robot | None = None, method: str = "t
     fixed = _check_duration(duration, entry)
     Q = prepare_waypoints(path, robot, allow_jumps=allow_jumps, drop_duplicates=drop_duplicates)
     limits: Limits = resolve_limits(robot, Q.shape[1], vmax, amax, jmax, entry.uses_jerk)
+    extra = {}
+    if payload_frame is not None and payload is None:
+        raise InputError(f"payload_frame={payload_frame!r} without payload=: pass the payload "
+                         "(mass [kg], or (mass, com[, inertia])) or drop payload_frame=")
+    if not (torque_limits is None or torque_limits is False) or payload is not None:
+        extra["dynamics"] = _dynamics(entry, robot, torque_limits, payload, payload_frame)
     start = time.perf_counter()
-    traj = entry.backend(Q, limits, fixed, **{**entry.options, **options})
+    traj = entry.backend(Q, limits, fixed, **{**entry.options, **options}, **extra)
     elapsed = time.perf_counter() - start
     log.debug("%s: %d waypoints timed to %.4f s in %.2f ms", method, len(Q), traj.duration,
               elapsed * 1e3)
     return replace(traj, compute_time_s=elapsed)
+
+
+def _dynamics(entry: TimingMethod, robot: Robot | None, torque_limits: object,
+              payload: object, payload_frame: str | None) -> RobotDynamics:
+    """The inverse dynamics for a torque-limited timing, checked (see time_parameterize)."""
+    if not entry.uses_torque:
+        with_torque = [m.name for m in _REGISTRY.values() if m.uses_torque]
+        raise InputError(f"method {entry.name!r} does not limit joint torque; drop "
+                         f"torque_limits=/payload= or use method={with_torque[0]!r}")
+    if robot is None:
+        raise InputError("torque_limits= and payload= need the robot (its inertial data): pass "
+                         "robot=")
+    if torque_limits is False:
+        raise InputError("torque_limits=False with a payload: a payload only matters under "
+                         "torque limits; pass torque_limits=True (the robot's own) or values")
+    return RobotDynamics(robot, torque_limits, payload, payload_frame)
 
 
 def ruckig_point_to_point(q_start: object, q_goal: object, robot: Robot | None = None,

@@ -12,6 +12,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, field
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import numpy as np
 from numpy.typing import NDArray
@@ -20,6 +21,10 @@ from scipy.interpolate import PPoly
 from scara_opt.checks import check_memory, check_real, describe, float_array
 from scara_opt.errors import InputError
 from scara_opt.trajectory.limits import Limits
+
+if TYPE_CHECKING:
+    from scara_opt.model.robot import Robot
+    from scara_opt.trajectory.dynamics import RobotDynamics
 
 Array = NDArray[np.float64]
 
@@ -89,6 +94,8 @@ class Trajectory:
         waypoint_times: (n,) when it passes them [s].
         compute_time_s: wall-clock time of the computation [s].
         notes: what the backend did beyond the obvious (safety margin, stretch factor, ...).
+        dynamics: the inverse dynamics and torque limits it was timed for (with any
+            payload), or ``None`` when it was not torque-limited.
     """
 
     pieces: tuple[PPoly, ...]
@@ -98,6 +105,7 @@ class Trajectory:
     waypoint_times: Array
     compute_time_s: float = 0.0
     notes: str = ""
+    dynamics: RobotDynamics | None = None
     _derivs: dict = field(default_factory=dict, init=False)
 
     @property
@@ -205,19 +213,52 @@ class Trajectory:
         """Largest ``|qd| / vmax`` and ``|qdd| / amax`` per joint (and jerk for ruckig).
 
         The maxima are exact over the whole trajectory (see the module docstring), so any
-        sample of it is at or below them; a ratio <= 1 means the limit holds.
+        sample of it is at or below them; a ratio <= 1 means the limit holds. A
+        torque-limited trajectory adds ``"torque"``: the largest ``|τ| / τ_max`` per joint
+        with τ from Pinocchio's RNEA sampled at 1 kHz (and the end), payload included.
 
         Returns:
             ``{"velocity": (nq,), "acceleration": (nq,)}``, plus ``"jerk"`` when the
-            trajectory was timed with a jerk limit.
+            trajectory was timed with a jerk limit and ``"torque"`` when with torque limits.
         """
         lim = {"velocity": self.limits.vmax, "acceleration": self.limits.amax}
         if self.limits.jmax is not None:
             lim["jerk"] = self.limits.jmax
-        return {name: peak / lim[name] for name, peak in self.peaks().items()}
+        out = {name: peak / lim[name] for name, peak in self.peaks().items()}
+        if self.dynamics is not None:
+            if "torque" not in self._derivs:
+                self._derivs["torque"] = self.dynamics.ratios(self)
+            out["torque"] = self._derivs["torque"].copy()
+        return out
+
+    def check_torque(self, robot: Robot, torque_limits: object = None, payload: object = None,
+                     payload_frame: str | None = None) -> Array:
+        """Largest ``|τ| / τ_max`` per joint (nq,), τ by Pinocchio's RNEA sampled at 1 kHz.
+
+        For any trajectory, torque-limited or not; the arguments are those of
+        :class:`~scara_opt.trajectory.dynamics.RobotDynamics` (default: the robot's own
+        torque limits, no payload).
+
+        Raises:
+            DynamicsError: the robot has no inertial data or no torque limits.
+            InputError: ``robot`` not a Robot with nq joints; bad ``torque_limits`` or
+                ``payload``.
+            FrameNotFoundError: ``payload_frame`` is not a frame of the robot.
+        """
+        from scara_opt.model.robot import check_robot
+        from scara_opt.trajectory.dynamics import RobotDynamics
+
+        check_robot(robot)
+        if robot.nq != self.nq:
+            raise InputError(f"robot {robot.name!r} has {robot.nq} joints, the trajectory "
+                             f"{self.nq}; pass the robot it was timed for")
+        return RobotDynamics(robot, torque_limits, payload, payload_frame).ratios(self)
 
     def to_csv(self, path: str | Path, dt: float = 0.01) -> Path:
         """Write t, q, qd, qdd on the grid ``dt`` to a CSV file; units in the column names.
+
+        A torque-limited trajectory adds each joint's torque ``<joint>_torque_Nm`` (or
+        ``_N`` for a prismatic joint), Pinocchio's RNEA with the payload it was timed for.
 
         Returns:
             The path written.
@@ -229,6 +270,11 @@ class Trajectory:
             u = {"rad": "rad", "m": "m"}.get(self.limits.unit(k), "unit")
             cols += [q[:, k], qd[:, k], qdd[:, k]]
             header += [f"{name}_{u}", f"{name}_{u}_per_s", f"{name}_{u}_per_s2"]
+        if self.dynamics is not None:
+            tau = self.dynamics.torques(q, qd, qdd)
+            for k, name in enumerate(self.limits.joint_names):
+                cols.append(tau[:, k])
+                header.append(f"{name}_torque_{'N' if self.limits.unit(k) == 'm' else 'Nm'}")
         path = Path(path)
         np.savetxt(path, np.column_stack(cols), delimiter=",", header=",".join(header),
                    comments="", fmt="%.10g")
