@@ -1,0 +1,150 @@
+"""Output folders of the command line: checked first, never overwritten unasked, atomic.
+
+A command's files are written into a hidden staging folder inside ``--out``
+(``.scara-opt-partial-*``) and moved into ``--out`` with :func:`os.replace` only when the
+run has finished, the file that says the run is complete (``summary.md``) last. A run
+stopped part way (Ctrl-C, an error) removes its staging folder and leaves ``--out`` as it
+was: no half-written file, no old ``summary.md`` beside new partial files.
+
+Files already in ``--out`` that the run would write are refused before any work unless
+the user passes ``--force``.
+"""
+
+from __future__ import annotations
+
+import fnmatch
+import os
+import shutil
+import tempfile
+from collections.abc import Iterable
+from pathlib import Path
+from types import TracebackType
+
+from scara_opt.errors import InputError
+
+STAGING_PREFIX = ".scara-opt-partial-"
+
+
+def check_path_text(option: str, text: object) -> str:
+    """``text`` as a path string: not empty, no NUL byte.
+
+    Raises:
+        InputError: names the option and what to pass instead.
+    """
+    if not isinstance(text, str) or not text.strip():
+        raise InputError(f"{option} must be a path; got {text!r}; pass a folder name, "
+                         "e.g. results")
+    if "\0" in text:
+        raise InputError(f"{option} contains a NUL byte ({text!r}); pass a plain path")
+    return text
+
+
+def write_text_atomic(path: str | Path, text: str) -> Path:
+    """Write ``text`` to ``path`` through a temporary file in its folder and a rename."""
+    path = Path(path)
+    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
+    try:
+        with os.fdopen(fd, "w", encoding="utf-8") as fh:
+            fh.write(text)
+        os.replace(tmp, path)
+    except BaseException:
+        Path(tmp).unlink(missing_ok=True)
+        raise
+    return path
+
+
+class OutputDir:
+    """The ``--out`` folder of one command (a context manager around the staging folder).
+
+    Args:
+        path: the folder the user named (created if missing).
+        writes: names (glob patterns allowed) of the files the command writes there.
+        force: overwrite files of ``writes`` that are already there.
+        last: the files moved in last, after every other (e.g. ``summary.md``).
+        option: the option's name, for messages.
+
+    Raises:
+        InputError: an empty path or one with a NUL byte, an existing file, the filesystem
+            root, a folder that cannot be created or written, or (without ``force``)
+            files of ``writes`` already in the folder.
+    """
+
+    def __init__(self, path: str, writes: Iterable[str], force: bool = False,
+                 last: Iterable[str] = (), option: str = "--out") -> None:
+        self.option = option
+        self.final = Path(check_path_text(option, path))
+        self.writes, self.last, self.force = list(writes), list(last), force
+        self.staging: Path | None = None
+        self._moved: set[str] = set()
+        if self.final.exists() and not self.final.is_dir():
+            raise InputError(f"{option} {path!r} is a file, not a folder; pass a folder "
+                             "(it is created if missing)")
+        if self.final.resolve() == Path(self.final.resolve().anchor):
+            raise InputError(f"{option} {path!r} is the filesystem root; pass a folder of "
+                             "its own, e.g. results")
+        if not force:
+            self._refuse(self.conflicts())
+
+    def conflicts(self) -> list[str]:
+        """Files already in the folder that this command would write (sorted names)."""
+        if not self.final.is_dir():
+            return []
+        return sorted(p.name for p in self.final.iterdir() if p.name not in self._moved
+                      and any(fnmatch.fnmatchcase(p.name, w) for w in self.writes))
+
+    def _refuse(self, names: list[str]) -> None:
+        if names:
+            shown = ", ".join(names[:8]) + (f" and {len(names) - 8} more" if len(names) > 8
+                                            else "")
+            raise InputError(f"{self.option} {str(self.final)!r} already holds {shown}, which "
+                             "this run would overwrite; pass --force to overwrite them, or "
+                             "choose a new folder")
+
+    def __enter__(self) -> OutputDir:
+        try:
+            self.final.mkdir(parents=True, exist_ok=True)
+            self.staging = Path(tempfile.mkdtemp(prefix=STAGING_PREFIX, dir=self.final))
+        except OSError as exc:
+            raise InputError(f"cannot write into {self.option} {str(self.final)!r}: "
+                             f"{exc.strerror or exc}; pass a writable folder") from None
+        return self
+
+    def __truediv__(self, name: str) -> Path:
+        """Where the command writes ``name`` now (inside the staging folder)."""
+        if self.staging is None:
+            raise RuntimeError("OutputDir used outside its with block")
+        return self.staging / name
+
+    def final_path(self, path: str | Path) -> Path:
+        """The path in ``--out`` that a staged file ends up at."""
+        return self.final / Path(path).name
+
+    def commit(self) -> list[Path]:
+        """Move every staged file into the folder, the ``last`` ones last; returns them.
+
+        An old file of ``last`` is removed first, so that until the new one is in place
+        no ``summary.md`` says the folder is complete.
+        """
+        assert self.staging is not None
+        if not self.force:  # a file that appeared while the command ran
+            self._refuse(self.conflicts())
+        staged = sorted(p for p in self.staging.iterdir() if p.is_file())
+        late = [p for p in staged if p.name in self.last]
+        for p in late:
+            (self.final / p.name).unlink(missing_ok=True)
+        moved = []
+        for p in [p for p in staged if p.name not in self.last] + late:
+            os.replace(p, self.final / p.name)
+            self._moved.add(p.name)
+            moved.append(self.final / p.name)
+        return moved
+
+    def __exit__(self, kind: type[BaseException] | None, exc: BaseException | None,
+                 tb: TracebackType | None) -> None:
+        try:
+            if kind is None:
+                self.commit()
+        finally:
+            if self.staging is not None:
+                shutil.rmtree(self.staging, ignore_errors=True)
+                self.staging = None
