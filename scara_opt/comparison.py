@@ -187,7 +187,9 @@ def compare(robot: Robot, targets: Iterable[Target | object], methods: Sequence[
         budgets = [{"population": p, "iterations": iterations} for p in pop_list] \
             if takes_budget(m) else [{}]
         for budget in budgets:
-            get_solver(m, **options.get(m, {}), **budget)
+            solver = get_solver(m, **options.get(m, {}), **budget)
+            if hasattr(solver, "check_memory"):  # a metaheuristic's working memory
+                solver.check_memory(robot.nq)
     jobs = _jobs(target_list, names, pop_list, iterations, seed_list, options)
     results: dict[int, IKResult] = {}
     bar = _progress(len(jobs), progress)

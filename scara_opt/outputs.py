@@ -76,10 +76,16 @@ class OutputDir:
         self.writes, self.last, self.force = list(writes), list(last), force
         self.staging: Path | None = None
         self._moved: set[str] = set()
-        if self.final.exists() and not self.final.is_dir():
+        try:
+            is_file = self.final.exists() and not self.final.is_dir()
+            is_root = self.final.resolve() == Path(self.final.resolve().anchor)
+        except OSError as exc:  # a name too long, a loop of links
+            raise InputError(f"cannot use {option} {path!r}: {exc.strerror or exc}; pass "
+                             "another folder") from None
+        if is_file:
             raise InputError(f"{option} {path!r} is a file, not a folder; pass a folder "
                              "(it is created if missing)")
-        if self.final.resolve() == Path(self.final.resolve().anchor):
+        if is_root:
             raise InputError(f"{option} {path!r} is the filesystem root; pass a folder of "
                              "its own, e.g. results")
         if not force:

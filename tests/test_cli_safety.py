@@ -97,6 +97,7 @@ def test_run_into_its_own_results_again_needs_force(tmp_path, capsys):
     ("/", "filesystem root"),
     ("/proc/scara_opt_forbidden", "cannot write into --out"),
     ("FILE", "is a file, not a folder"),
+    ("x" * 300, "cannot use --out"),
 ])
 def test_bad_out_paths(tmp_path, capsys, monkeypatch, out, message):
     """--out '', with a NUL byte, the root, an unwritable folder, or a file: exit 2, one line.
@@ -259,3 +260,33 @@ def test_casadi_warning_is_dropped(capsys):
         sys.stderr.write('CasADi - 2026 WARNING("KeyboardInterruptException") [ipopt_nlp.cpp]\n')
         sys.stderr.write("other\n")
     assert capsys.readouterr().err == "other\n"
+
+
+@pytest.mark.parametrize("robot, message", [
+    ("FOLDER", "is a folder, not a robot file"),
+    ("zavar\0", "contains a NUL byte"),
+])
+def test_robot_file_argument_checked(tmp_path, capsys, robot, message):
+    """A folder or a NUL byte where a robot file is expected: exit 2 with a message that
+    says so (it used to say there was no file at that path).
+
+    Mutation: load_robot's ``path.is_dir()`` check removed: the message was "no bundled
+    robot named ..." and the test failed.
+    """
+    (tmp_path / "FOLDER").mkdir()
+    robot = str(tmp_path / robot) if robot == "FOLDER" else robot
+    code, _, err = cli(capsys, "fk", robot, "0", "0", "0", "0")
+    assert code == 2 and message in one_error_line(err)
+
+
+def test_compare_refuses_a_huge_population_before_the_progress_bar(tmp_path, capsys):
+    """compare checks a metaheuristic's working memory before the first solve: one stderr
+    line, no progress bar in front of it.
+
+    Mutation: the ``solver.check_memory(robot.nq)`` pre-check in comparison.compare
+    removed: the progress bar's lines came first and the test failed.
+    """
+    code, _, err = cli(capsys, "compare", "zavar2024", "--target", "0.3", "0", "-0.07",
+                       "--methods", "lm,pso", "--populations", "99999999999999",
+                       "--iterations", "2", "--seeds", "2", "--out", str(tmp_path))
+    assert code == 2 and "working memory" in one_error_line(err)
