@@ -19,9 +19,10 @@ from typing import Any
 
 import numpy as np
 
+from scara_opt.checks import count_text
 from scara_opt.errors import InputError, ScaraOptError
 from scara_opt.interrupt import quiet_casadi_warning
-from scara_opt.outputs import OutputDir
+from scara_opt.outputs import COMPARE_FILES, OutputDir, write_compare, write_joint_path
 
 
 def _fmt_limit(kind: str, lo: float, hi: float) -> str:
@@ -130,8 +131,8 @@ def cmd_ik(args: argparse.Namespace) -> int:
     return 0
 
 
-def _int_at_least(low: int) -> Any:
-    """An argparse type: an integer >= ``low``."""
+def _int_at_least(low: int, high: int | None = None) -> Any:
+    """An argparse type: an integer >= ``low`` (and <= ``high``)."""
     def parse(text: str) -> int:
         try:
             value = int(text)
@@ -139,8 +140,15 @@ def _int_at_least(low: int) -> Any:
             raise argparse.ArgumentTypeError(f"expected an integer, got {text!r}") from None
         if value < low:
             raise argparse.ArgumentTypeError(f"expected an integer >= {low}, got {value}")
+        if high is not None and value > high:
+            raise argparse.ArgumentTypeError(
+                f"expected an integer <= {high}, got {count_text(value)}")
         return value
     return parse
+
+
+#: most worker processes --workers starts (this machine's cores, a few times over)
+MAX_WORKERS = 256
 
 
 def _int_list(text: str) -> list[int]:
@@ -174,15 +182,10 @@ def _executor(args: argparse.Namespace) -> Any:
     return None
 
 
-COMPARE_FILES = ("runs.csv", "summary.csv", "convergence.png", "time_vs_population.png",
-                 "error_time_boxes.png")
-
-
 def cmd_compare(args: argparse.Namespace) -> int:
     """Compare IK methods on one target: CSV table, summary and figures."""
     import scara_opt as so
-    from scara_opt.comparison import compare, convergence, summarize, with_units
-    from scara_opt.plots import plot_boxes, plot_convergence, plot_time_vs_population
+    from scara_opt.comparison import compare
 
     robot = so.load_robot(args.robot)
     L = 1000.0 if args.mm else 1.0
@@ -199,12 +202,7 @@ def cmd_compare(args: argparse.Namespace) -> int:
         finally:
             if executor is not None:
                 executor.shutdown()
-        with_units(table.drop(columns=["history"])).to_csv(out / "runs.csv", index=False)
-        summary = summarize(table, tol=args.tol)
-        with_units(summary).to_csv(out / "summary.csv", index=False)
-        plot_convergence(convergence(table), out / "convergence.png")
-        plot_time_vs_population(summary, out / "time_vs_population.png")
-        plot_boxes(table, ["error", "time_s"], out / "error_time_boxes.png")
+        summary = write_compare(out, table, args.tol)
     print(summary.to_string(index=False))
     print(f"wrote runs.csv, summary.csv and 3 figures in {out.final}")
     return 0
@@ -248,22 +246,6 @@ def _path_targets(args: argparse.Namespace) -> list[Any]:
     return paths.line(xyz[:3], xyz[3:], args.n, yaw=args.yaw)
 
 
-def _write_joint_path(jp: Any, robot: Any, path: Any) -> None:
-    """One CSV row per path point: target, status, residual and q, in SI units."""
-    import pandas as pd
-
-    rows = []
-    for i, (t, res) in enumerate(zip(jp.targets, jp.results, strict=True)):
-        row: dict[str, Any] = {"point": i, "x_m": t.position[0], "y_m": t.position[1],
-                               "z_m": t.position[2], "status": res.status.value,
-                               "error_m_rad": res.error}
-        units = _units(robot, False, False)
-        row.update({f"{n}_{u}": v for n, u, v in zip(robot.joint_names, units, res.q,
-                                                     strict=True)})
-        rows.append(row)
-    pd.DataFrame(rows).to_csv(path, index=False)
-
-
 def cmd_path(args: argparse.Namespace) -> int:
     """IK along a circle or a line, then time the joint path: CSV tables and a figure."""
     import scara_opt as so
@@ -278,7 +260,7 @@ def cmd_path(args: argparse.Namespace) -> int:
     with OutputDir(args.out, names, args.force, last=["trajectory.csv"]) as out:
         jp = so.ik_path(robot, targets, method=args.method, q_start=q_start,
                         seed=args.seed, tol=args.tol)
-        _write_joint_path(jp, robot, out / "joint_path.csv")
+        write_joint_path(jp, robot, out / "joint_path.csv")
         out.commit()  # joint_path.csv is kept when the path is refused below
         if not args.json:
             print(jp.summary())
@@ -396,8 +378,8 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--out", required=True, help="output folder")
     p.add_argument("--force", action="store_true", help=FORCE_HELP)
     group = p.add_mutually_exclusive_group()
-    group.add_argument("--workers", type=_int_at_least(1), default=1,
-                       help="local worker processes")
+    group.add_argument("--workers", type=_int_at_least(1, MAX_WORKERS), default=1,
+                       help=f"local worker processes (at most {MAX_WORKERS})")
     group.add_argument("--dask", metavar="ADDRESS", help="dask scheduler address")
     p.set_defaults(func=cmd_compare)
 

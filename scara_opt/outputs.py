@@ -7,7 +7,8 @@ stopped part way (Ctrl-C, an error) removes its staging folder and leaves ``--ou
 was: no half-written file, no old ``summary.md`` beside new partial files.
 
 Files already in ``--out`` that the run would write are refused before any work unless
-the user passes ``--force``.
+the user passes ``--force``. :func:`write_compare` and :func:`write_joint_path` write the
+tables and figures of ``compare`` and ``path``.
 """
 
 from __future__ import annotations
@@ -19,8 +20,13 @@ import tempfile
 from collections.abc import Iterable
 from pathlib import Path
 from types import TracebackType
+from typing import Any
 
 from scara_opt.errors import InputError
+
+#: the files of ``scara-opt compare``
+COMPARE_FILES = ("runs.csv", "summary.csv", "convergence.png", "time_vs_population.png",
+                 "error_time_boxes.png")
 
 STAGING_PREFIX = ".scara-opt-partial-"
 
@@ -154,3 +160,37 @@ class OutputDir:
             if self.staging is not None:
                 shutil.rmtree(self.staging, ignore_errors=True)
                 self.staging = None
+
+
+def write_compare(out: OutputDir, table: Any, tol: float) -> Any:
+    """compare's :data:`COMPARE_FILES` (CSV with units in the column names, 3 figures).
+
+    Returns:
+        The summary table (a DataFrame, SI units).
+    """
+    from scara_opt.comparison import convergence, summarize, with_units
+    from scara_opt.plots import plot_boxes, plot_convergence, plot_time_vs_population
+
+    with_units(table.drop(columns=["history"])).to_csv(out / "runs.csv", index=False)
+    summary = summarize(table, tol=tol)
+    with_units(summary).to_csv(out / "summary.csv", index=False)
+    plot_convergence(convergence(table), out / "convergence.png")
+    plot_time_vs_population(summary, out / "time_vs_population.png")
+    plot_boxes(table, ["error", "time_s"], out / "error_time_boxes.png")
+    return summary
+
+
+def write_joint_path(jp: Any, robot: Any, path: Path) -> None:
+    """One CSV row per path point: target, status, residual and q, in SI units."""
+    import pandas as pd
+
+    units = ["rad" if t == "revolute" else "m" for t in robot.joint_types]
+    rows = []
+    for i, (t, res) in enumerate(zip(jp.targets, jp.results, strict=True)):
+        row: dict[str, Any] = {"point": i, "x_m": t.position[0], "y_m": t.position[1],
+                               "z_m": t.position[2], "status": res.status.value,
+                               "error_m_rad": res.error}
+        row.update({f"{n}_{u}": v for n, u, v in zip(robot.joint_names, units, res.q,
+                                                     strict=True)})
+        rows.append(row)
+    pd.DataFrame(rows).to_csv(path, index=False)

@@ -290,3 +290,14 @@ def test_compare_refuses_a_huge_population_before_the_progress_bar(tmp_path, cap
                        "--methods", "lm,pso", "--populations", "99999999999999",
                        "--iterations", "2", "--seeds", "2", "--out", str(tmp_path))
     assert code == 2 and "working memory" in one_error_line(err)
+
+
+def test_workers_bounded(tmp_path, capsys):
+    """--workers beyond MAX_WORKERS is a usage error (found by the property test: a huge
+    count ended in ProcessPoolExecutor's OverflowError).
+
+    Mutation: the ``high`` check in _int_at_least removed: OverflowError, test failed.
+    """
+    code, _, err = cli(capsys, "compare", "zavar2024", "--target", "0.3", "0", "-0.07",
+                       "--workers", "99999999999999999999999", "--out", str(tmp_path))
+    assert code == 2 and "expected an integer <= 256" in one_error_line(err)
