@@ -162,6 +162,13 @@ def _int_list(text: str) -> list[int]:
     return values
 
 
+def _ignore_sigint() -> None:
+    """A worker's initializer: Ctrl-C is handled by the main process (one line, exit 130)."""
+    import signal
+
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
+
+
 def _executor(args: argparse.Namespace) -> Any:
     """A process pool for --workers N, a dask client's executor for --dask ADDRESS, or None."""
     if args.dask:
@@ -178,7 +185,7 @@ def _executor(args: argparse.Namespace) -> Any:
     if args.workers and args.workers > 1:
         from concurrent.futures import ProcessPoolExecutor
 
-        return ProcessPoolExecutor(args.workers)
+        return ProcessPoolExecutor(args.workers, initializer=_ignore_sigint)
     return None
 
 
@@ -201,7 +208,7 @@ def cmd_compare(args: argparse.Namespace) -> int:
                             tol=args.tol)
         finally:
             if executor is not None:
-                executor.shutdown()
+                executor.shutdown(cancel_futures=True)
         summary = write_compare(out, table, args.tol)
     print(summary.to_string(index=False))
     print(f"wrote runs.csv, summary.csv and 3 figures in {out.final}")

@@ -201,10 +201,15 @@ def compare(robot: Robot, targets: Iterable[Target | object], methods: Sequence[
                 bar.update()
         else:
             futures = [_submit(executor, robot, job, tol) for job in jobs]
-            for fut in as_completed(futures):
-                idx, res = fut.result()
-                results[idx] = res
-                bar.update()
+            try:
+                for fut in as_completed(futures):
+                    idx, res = fut.result()
+                    results[idx] = res
+                    bar.update()
+            except BaseException:  # Ctrl-C or a failed job: the queued jobs are not run
+                for fut in futures:
+                    fut.cancel()
+                raise
     finally:
         bar.close()
     return pd.DataFrame([_row(job, results[job.index]) for job in jobs], columns=COLUMNS)

@@ -7,6 +7,7 @@ import signal
 import subprocess
 import sys
 import time
+from concurrent.futures import Executor, Future
 from pathlib import Path
 
 import numpy as np
@@ -301,3 +302,60 @@ def test_workers_bounded(tmp_path, capsys):
     code, _, err = cli(capsys, "compare", "zavar2024", "--target", "0.3", "0", "-0.07",
                        "--workers", "99999999999999999999999", "--out", str(tmp_path))
     assert code == 2 and "expected an integer <= 256" in one_error_line(err)
+
+
+class _StuckExecutor(Executor):
+    """An executor whose first job is interrupted and whose others never finish."""
+
+    def __init__(self) -> None:
+        self.futures: list[Future] = []
+
+    def submit(self, fn, /, *args, **kwargs):  # type: ignore[override]
+        fut: Future = Future()
+        if not self.futures:
+            fut.set_exception(KeyboardInterrupt())
+        self.futures.append(fut)
+        return fut
+
+
+def test_compare_cancels_queued_jobs_on_interrupt():
+    """An interrupt while compare waits on an executor cancels the jobs still queued (the
+    CLI's --workers run then stops in about a second instead of finishing every queued
+    solve first: 14.6 s measured before, 1.4-1.8 s after, 200 seeds).
+
+    Mutation: the ``fut.cancel()`` loop in comparison.compare removed: the queued futures
+    stayed pending and the test failed.
+    """
+    ex = _StuckExecutor()
+    with pytest.raises(KeyboardInterrupt):
+        so.compare(so.load_robot("zavar2024"), [np.array([0.3, 0.0, -0.07])], methods="pso",
+                   populations=[20], iterations=2, seeds=range(5), executor=ex,
+                   progress=False, reference=False)
+    assert len(ex.futures) == 5 and all(f.cancelled() for f in ex.futures[1:])
+
+
+def test_ctrl_c_to_the_process_group_with_workers(tmp_path):
+    """Ctrl-C at a terminal signals the whole process group: compare --workers 2 ends
+    with exit 130, `scara-opt: interrupted` as the last stderr line (above it only the
+    progress bar) and no traceback from the main process or the workers.
+
+    Mutation: main()'s ``except KeyboardInterrupt`` removed: a traceback, test failed.
+    (Workers ignore SIGINT (_ignore_sigint); removing that showed no difference in two
+    manual runs: busy workers return the interrupt as their job's result.)
+    """
+    env = {**os.environ, "MPLBACKEND": "Agg"}
+    proc = subprocess.Popen(
+        [sys.executable, "-m", "scara_opt.cli", "compare", "zavar2024", "--target", "-0.23",
+         "0.2", "-0.07", "--methods", "pso,lm", "--seeds", "200", "--workers", "2", "--out",
+         str(tmp_path)], env=env, text=True, stdout=subprocess.PIPE, stderr=subprocess.PIPE,
+        start_new_session=True)
+    for _ in range(1200):
+        if any(tmp_path.glob(STAGING_PREFIX + "*")) or proc.poll() is not None:
+            break
+        time.sleep(0.05)
+    time.sleep(1.5)
+    os.killpg(proc.pid, signal.SIGINT)
+    _, err = proc.communicate(timeout=300)
+    assert proc.returncode == 130, err
+    assert err.strip().splitlines()[-1] == "scara-opt: interrupted" and "Traceback" not in err
+    assert list(tmp_path.iterdir()) == []
