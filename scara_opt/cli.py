@@ -19,9 +19,9 @@ from typing import Any
 
 import numpy as np
 
+from scara_opt import interrupt
 from scara_opt.checks import count_text
 from scara_opt.errors import InputError, ScaraOptError
-from scara_opt.interrupt import quiet_casadi_warning
 from scara_opt.outputs import COMPARE_FILES, OutputDir, write_compare, write_joint_path
 
 
@@ -442,12 +442,16 @@ def _one_line(exc: BaseException) -> str:
 def main(argv: Sequence[str] | None = None) -> int:
     """Run the command line; returns the exit code (0, 2 bad input, 130 interrupted)."""
     try:
-        with quiet_casadi_warning():  # Ctrl-C is reported below, in one line
+        with interrupt.quiet_casadi_warning(), interrupt.watch() as sigint:  # one line below
             try:
                 args = build_parser().parse_args(argv)
+                return int(args.func(args))
             except SystemExit as exc:  # --help (0)
                 return exc.code if isinstance(exc.code, int) else 0
-            return int(args.func(args))
+            except Exception:
+                if sigint.received:  # a library turned the interrupt into another error
+                    raise KeyboardInterrupt from None
+                raise
     except KeyboardInterrupt:
         print("scara-opt: interrupted", file=sys.stderr)
         return 130

@@ -107,3 +107,45 @@ def quiet_casadi_warning() -> Iterator[None]:
         yield
     finally:
         sys.stderr = real
+
+
+class _Watch:
+    """Whether a SIGINT arrived while a command ran (see :func:`watch`)."""
+
+    received = False
+
+
+_WATCH = _Watch()
+
+
+def _note_sigint(signum: int, frame: Any) -> None:
+    _WATCH.received = True
+    raise KeyboardInterrupt
+
+
+@contextmanager
+def watch() -> Iterator[_Watch]:
+    """Note every SIGINT of a whole command (then raise ``KeyboardInterrupt`` as Python does).
+
+    Some libraries catch the ``KeyboardInterrupt`` and go on, or fail with another error
+    (trimesh's import guards turn it into a ``TypeError``); the command line asks
+    :func:`raise_if_received` before it commits its files and reports such an error as
+    the interrupt it was. Only in the main thread with Python's default handler.
+    """
+    _WATCH.received = False
+    main = threading.current_thread() is threading.main_thread()
+    prior = signal.getsignal(signal.SIGINT) if main else None
+    install = prior is signal.default_int_handler
+    if install:
+        signal.signal(signal.SIGINT, _note_sigint)
+    try:
+        yield _WATCH
+    finally:
+        if install:
+            signal.signal(signal.SIGINT, prior)
+
+
+def raise_if_received() -> None:
+    """Raise ``KeyboardInterrupt`` if :func:`watch` saw a SIGINT (that someone swallowed)."""
+    if _WATCH.received:
+        raise KeyboardInterrupt

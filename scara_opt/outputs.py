@@ -22,6 +22,7 @@ from pathlib import Path
 from types import TracebackType
 from typing import Any
 
+from scara_opt import interrupt
 from scara_opt.errors import InputError
 
 #: the files of ``scara-opt compare``
@@ -155,6 +156,7 @@ class OutputDir:
                  tb: TracebackType | None) -> None:
         try:
             if kind is None:
+                interrupt.raise_if_received()  # a Ctrl-C that a library swallowed
                 self.commit()
         finally:
             if self.staging is not None:
