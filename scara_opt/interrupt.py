@@ -80,15 +80,35 @@ CASADI_WARNING = 'WARNING("KeyboardInterruptException")'
 
 
 class _Filtered:
-    """A text stream that drops writes holding casadi's interrupt warning."""
+    """A text stream that drops casadi's interrupt warning line.
+
+    casadi writes a message in pieces (``"CasADi - "``, ``"2026"``, ``"-"``, ...,
+    ``' WARNING("'``, ``"KeyboardInterruptException"``, ...): a line that starts with
+    ``"CasADi - "`` is held until its newline, then dropped or passed on whole.
+    """
 
     def __init__(self, stream: Any) -> None:
         self._stream = stream
+        self._held = ""
 
     def write(self, text: str) -> int:
-        if CASADI_WARNING in text:
-            return len(text)
-        return self._stream.write(text)
+        if not self._held and not text.startswith("CasADi - "):
+            return self._stream.write(text)
+        self._held += text
+        if "\n" in self._held:
+            line, _, rest = self._held.partition("\n")
+            self._held = ""
+            if CASADI_WARNING not in line:
+                self._stream.write(line + "\n")
+            if rest:
+                self.write(rest)
+        return len(text)
+
+    def close_held(self) -> None:
+        """Pass on a held, unfinished line."""
+        if self._held:
+            self._stream.write(self._held)
+            self._held = ""
 
     def __getattr__(self, name: str) -> Any:
         return getattr(self._stream, name)
@@ -102,10 +122,11 @@ def quiet_casadi_warning() -> Iterator[None]:
     one line of its own.
     """
     real = sys.stderr
-    sys.stderr = _Filtered(real)
+    sys.stderr = filtered = _Filtered(real)
     try:
         yield
     finally:
+        filtered.close_held()
         sys.stderr = real
 
 
