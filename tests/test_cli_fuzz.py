@@ -9,8 +9,10 @@ valid so that every example is fast; huge ones are refused before any allocation
 
 from __future__ import annotations
 
+import atexit
 import contextlib
 import io
+import shutil
 import tempfile
 import uuid
 import warnings
@@ -23,6 +25,7 @@ from scara_opt.cli import build_parser, main
 
 DATA = Path(__file__).parent / "data"
 TMP = Path(tempfile.mkdtemp(prefix="scara_opt_cli_fuzz_"))
+atexit.register(shutil.rmtree, TMP, ignore_errors=True)
 A_FILE = TMP / "a_file.txt"
 A_FILE.write_text("not a robot, not a folder\n")
 
