@@ -1,7 +1,11 @@
-"""The ``scara-opt`` command line. Exit codes: 0 success, 2 bad usage or bad input.
+"""The ``scara-opt`` command line.
+
+Exit codes: 0 success; 2 bad usage or bad input (one line ``scara-opt: error: ...`` on
+stderr); 130 interrupted (Ctrl-C; one line ``scara-opt: interrupted``).
 
 Units are explicit at this edge: lengths in metres unless ``--mm``, joint angles in radians
-unless ``--deg``; ``--yaw`` is always in degrees.
+unless ``--deg``; ``--yaw`` is always in degrees. Output folders (``--out``) are handled by
+:mod:`scara_opt.outputs`: files the run would overwrite are refused unless ``--force``.
 """
 
 from __future__ import annotations
@@ -15,8 +19,10 @@ from typing import Any
 
 import numpy as np
 
-from scara_opt.errors import ScaraOptError
-from scara_opt.reports import PAPERS
+from scara_opt import interrupt
+from scara_opt.checks import count_text
+from scara_opt.errors import InputError, ScaraOptError
+from scara_opt.outputs import COMPARE_FILES, OutputDir, write_compare, write_joint_path
 
 
 def _fmt_limit(kind: str, lo: float, hi: float) -> str:
@@ -100,9 +106,14 @@ def cmd_ik(args: argparse.Namespace) -> int:
     target = so.Target(np.asarray(args.xyz, float) / L,
                        yaw=None if args.yaw is None else math.radians(args.yaw))
     if args.all:
+        given = [o for o, v in (("--method", args.method), ("--seed", args.seed)) if v is not None]
+        if given:
+            raise InputError(f"--all lists the closed-form branches; it does not take "
+                             f"{' or '.join(given)}; drop {' and '.join(given)} or --all")
         results = so.ik_all(robot, target, tol=args.tol)
     else:
-        results = [so.solve_ik(robot, target, method=args.method, seed=args.seed, tol=args.tol)]
+        results = [so.solve_ik(robot, target, method=args.method or "auto",
+                               seed=args.seed or 0, tol=args.tol)]
     rows = [_result_dict(robot, r, args.deg, args.mm) for r in results]
     if args.json:
         print(json.dumps(rows if args.all else rows[0]))
@@ -120,8 +131,8 @@ def cmd_ik(args: argparse.Namespace) -> int:
     return 0
 
 
-def _int_at_least(low: int) -> Any:
-    """An argparse type: an integer >= ``low``."""
+def _int_at_least(low: int, high: int | None = None) -> Any:
+    """An argparse type: an integer >= ``low`` (and <= ``high``)."""
     def parse(text: str) -> int:
         try:
             value = int(text)
@@ -129,21 +140,15 @@ def _int_at_least(low: int) -> Any:
             raise argparse.ArgumentTypeError(f"expected an integer, got {text!r}") from None
         if value < low:
             raise argparse.ArgumentTypeError(f"expected an integer >= {low}, got {value}")
+        if high is not None and value > high:
+            raise argparse.ArgumentTypeError(
+                f"expected an integer <= {high}, got {count_text(value)}")
         return value
     return parse
 
 
-def _out_dir(path: str) -> Any:
-    """The output folder, created before any work (an unwritable one fails at once)."""
-    from pathlib import Path
-
-    out = Path(path)
-    try:
-        out.mkdir(parents=True, exist_ok=True)
-    except OSError as exc:
-        raise ScaraOptError(f"cannot create the output folder {path!r}: {exc.strerror}; "
-                            "pass a writable --out") from None
-    return out
+#: most worker processes --workers starts (this machine's cores, a few times over)
+MAX_WORKERS = 256
 
 
 def _int_list(text: str) -> list[int]:
@@ -155,6 +160,13 @@ def _int_list(text: str) -> list[int]:
     if not values or any(v <= 0 for v in values):
         raise argparse.ArgumentTypeError(f"expected positive integers, got {text!r}")
     return values
+
+
+def _ignore_sigint() -> None:
+    """A worker's initializer: Ctrl-C is handled by the main process (one line, exit 130)."""
+    import signal
+
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
 
 
 def _executor(args: argparse.Namespace) -> Any:
@@ -173,37 +185,33 @@ def _executor(args: argparse.Namespace) -> Any:
     if args.workers and args.workers > 1:
         from concurrent.futures import ProcessPoolExecutor
 
-        return ProcessPoolExecutor(args.workers)
+        return ProcessPoolExecutor(args.workers, initializer=_ignore_sigint)
     return None
 
 
 def cmd_compare(args: argparse.Namespace) -> int:
     """Compare IK methods on one target: CSV table, summary and figures."""
     import scara_opt as so
-    from scara_opt.comparison import compare, convergence, summarize, with_units
-    from scara_opt.plots import plot_boxes, plot_convergence, plot_time_vs_population
+    from scara_opt.comparison import compare
 
     robot = so.load_robot(args.robot)
     L = 1000.0 if args.mm else 1.0
-    methods = so.solvers() if args.methods == "all" else args.methods.split(",")
-    out = _out_dir(args.out)
-    executor = _executor(args)
-    try:
-        table = compare(robot, [np.asarray(args.target, float) / L], methods=methods,
-                        populations=args.populations, iterations=args.iterations,
-                        seeds=range(args.seeds), executor=executor, progress=True,
-                        tol=args.tol)
-    finally:
-        if executor is not None:
-            executor.shutdown()
-    with_units(table.drop(columns=["history"])).to_csv(out / "runs.csv", index=False)
-    summary = summarize(table, tol=args.tol)
-    with_units(summary).to_csv(out / "summary.csv", index=False)
-    plot_convergence(convergence(table), out / "convergence.png")
-    plot_time_vs_population(summary, out / "time_vs_population.png")
-    plot_boxes(table, ["error", "time_s"], out / "error_time_boxes.png")
+    # "all" goes to the library as is: it leaves out methods that do not apply to the robot
+    methods = "all" if args.methods == "all" else [m.strip() for m in args.methods.split(",")]
+    out = OutputDir(args.out, COMPARE_FILES, args.force, last=["summary.csv"])
+    with out:
+        executor = _executor(args)
+        try:
+            table = compare(robot, [np.asarray(args.target, float) / L], methods=methods,
+                            populations=args.populations, iterations=args.iterations,
+                            seeds=range(args.seeds), executor=executor, progress=True,
+                            tol=args.tol)
+        finally:
+            if executor is not None:
+                executor.shutdown(cancel_futures=True)
+        summary = write_compare(out, table, args.tol)
     print(summary.to_string(index=False))
-    print(f"wrote {out / 'runs.csv'}, {out / 'summary.csv'} and 3 figures in {out}")
+    print(f"wrote runs.csv, summary.csv and 3 figures in {out.final}")
     return 0
 
 
@@ -212,13 +220,14 @@ def cmd_workspace(args: argparse.Namespace) -> int:
     import scara_opt as so
 
     robot = so.load_robot(args.robot)
-    out = _out_dir(args.out)
-    ws = so.workspace(robot, n=args.n, seed=args.seed, footprint=not args.no_footprint)
-    paths = [ws.plot_xy(out / f"{robot.name}_workspace_xy.png"),
-             ws.plot_3d(out / f"{robot.name}_workspace_3d.png")]
+    names = [f"{robot.name}_workspace_xy.png", f"{robot.name}_workspace_3d.png"]
+    with OutputDir(args.out, names, args.force) as out:
+        ws = so.workspace(robot, n=args.n, seed=args.seed, footprint=not args.no_footprint)
+        ws.plot_xy(out / names[0])
+        ws.plot_3d(out / names[1])
     print(repr(ws))
     print(f"XY area: {ws.xy_area:.6f} m^2")
-    print("wrote " + ", ".join(str(p) for p in paths))
+    print("wrote " + ", ".join(str(out.final / n) for n in names))
     return 0
 
 
@@ -244,41 +253,29 @@ def _path_targets(args: argparse.Namespace) -> list[Any]:
     return paths.line(xyz[:3], xyz[3:], args.n, yaw=args.yaw)
 
 
-def _write_joint_path(jp: Any, robot: Any, path: Any) -> None:
-    """One CSV row per path point: target, status, residual and q, in SI units."""
-    import pandas as pd
-
-    rows = []
-    for i, (t, res) in enumerate(zip(jp.targets, jp.results, strict=True)):
-        row: dict[str, Any] = {"point": i, "x_m": t.position[0], "y_m": t.position[1],
-                               "z_m": t.position[2], "status": res.status.value,
-                               "error_m_rad": res.error}
-        units = _units(robot, False, False)
-        row.update({f"{n}_{u}": v for n, u, v in zip(robot.joint_names, units, res.q,
-                                                     strict=True)})
-        rows.append(row)
-    pd.DataFrame(rows).to_csv(path, index=False)
-
-
 def cmd_path(args: argparse.Namespace) -> int:
     """IK along a circle or a line, then time the joint path: CSV tables and a figure."""
     import scara_opt as so
 
     robot = so.load_robot(args.robot)
-    out = _out_dir(args.out)
     q_start = None
     if args.q_start is not None:
         q_start = robot.check_q(args.q_start, "--q-start") / _joint_scale(robot, args.deg,
                                                                            args.mm)
-    jp = so.ik_path(robot, _path_targets(args), method=args.method, q_start=q_start,
-                    seed=args.seed, tol=args.tol)
-    _write_joint_path(jp, robot, out / "joint_path.csv")
-    if not args.json:
-        print(jp.summary())
-    jp.raise_if_invalid(allow_jumps=args.allow_jumps)  # exit 2, joint_path.csv kept
-    traj = so.time_parameterize(jp, robot, method=args.time, allow_jumps=args.allow_jumps)
-    files = [out / "joint_path.csv", traj.to_csv(out / "trajectory.csv"),
-             traj.plot(out / "trajectory.png")]
+    targets = _path_targets(args)
+    names = ["joint_path.csv", "trajectory.csv", "trajectory.png"]
+    with OutputDir(args.out, names, args.force, last=["trajectory.csv"]) as out:
+        jp = so.ik_path(robot, targets, method=args.method, q_start=q_start,
+                        seed=args.seed, tol=args.tol)
+        write_joint_path(jp, robot, out / "joint_path.csv")
+        out.commit()  # joint_path.csv is kept when the path is refused below
+        if not args.json:
+            print(jp.summary())
+        jp.raise_if_invalid(allow_jumps=args.allow_jumps)  # exit 2
+        traj = so.time_parameterize(jp, robot, method=args.time, allow_jumps=args.allow_jumps)
+        traj.to_csv(out / "trajectory.csv")
+        traj.plot(out / "trajectory.png")
+    files = [out.final / n for n in names]
     ratios = {k: float(np.max(v)) for k, v in traj.check_limits().items()}
     if args.json:
         print(json.dumps({
@@ -295,14 +292,18 @@ def cmd_path(args: argparse.Namespace) -> int:
 
 def cmd_reproduce(args: argparse.Namespace) -> int:
     """Reproduce one paper or all: tables, figures and summary.md."""
-    from scara_opt.reports import reproduce
+    from scara_opt.reports import PAPERS, reproduce
 
-    reports = reproduce(args.paper, _out_dir(args.out), quick=args.quick)
+    papers = PAPERS if args.paper == "all" else [args.paper]
+    writes = ["summary.md", *(f"{p}_*" for p in papers)]
+    with OutputDir(args.out, writes, args.force, last=["summary.md"]) as out:
+        assert out.staging is not None
+        reports = reproduce(args.paper, out.staging, quick=args.quick)
     for rep in reports:
         verdicts = [f.verdict for f in rep.findings]
         counts = ", ".join(f"{verdicts.count(v)} {v}" for v in dict.fromkeys(verdicts))
         print(f"{rep.paper}: {counts} ({rep.time_s:.1f} s)")
-    print(f"wrote {args.out}/summary.md")
+    print(f"wrote {out.final / 'summary.md'}")
     return 0
 
 
@@ -314,9 +315,25 @@ def cmd_solvers(args: argparse.Namespace) -> int:
     return 0
 
 
+FORCE_HELP = "overwrite files of an earlier run in --out (refused without it)"
+
+
+class UsageError(Exception):
+    """A command line argparse refused (reported as one line, exit code 2)."""
+
+
+class _Parser(argparse.ArgumentParser):
+    """argparse with its errors raised, so that main() prints them as one line."""
+
+    def error(self, message: str) -> Any:  # type: ignore[override]
+        raise UsageError(f"{message} (see `{self.prog} --help`)")
+
+
 def build_parser() -> argparse.ArgumentParser:
     """The argument parser with every subcommand."""
-    parser = argparse.ArgumentParser(
+    from scara_opt.reports import PAPERS
+
+    parser = _Parser(
         prog="scara-opt",
         description="Kinematics, IK and trajectories of SCARA robots and serial URDF chains.",
     )
@@ -345,11 +362,11 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--xyz", type=float, nargs=3, required=True, metavar=("X", "Y", "Z"),
                    help="target position (m, or mm with --mm)")
     p.add_argument("--yaw", type=float, metavar="DEG", help="tool angle [deg]")
-    p.add_argument("--method", default="auto",
-                   help="IK method (see `scara-opt solvers`; default auto)")
-    p.add_argument("--seed", type=_int_at_least(0), default=0, help="random seed (default 0)")
+    p.add_argument("--method", help="IK method (see `scara-opt solvers`; default auto)")
+    p.add_argument("--seed", type=_int_at_least(0), help="random seed (default 0)")
     p.add_argument("--tol", type=float, default=1e-9, help="residual counted as solved [m]")
-    p.add_argument("--all", action="store_true", help="every closed-form branch (SCARA only)")
+    p.add_argument("--all", action="store_true",
+                   help="every closed-form branch (SCARA only; no --method or --seed)")
     p.set_defaults(func=cmd_ik)
 
     p = sub.add_parser("compare", help="compare IK methods on a target (table + figures)")
@@ -366,9 +383,10 @@ def build_parser() -> argparse.ArgumentParser:
                    help="number of seeds 0..N-1 (default 10)")
     p.add_argument("--tol", type=float, default=1e-9, help="residual counted as solved [m]")
     p.add_argument("--out", required=True, help="output folder")
+    p.add_argument("--force", action="store_true", help=FORCE_HELP)
     group = p.add_mutually_exclusive_group()
-    group.add_argument("--workers", type=_int_at_least(1), default=1,
-                       help="local worker processes")
+    group.add_argument("--workers", type=_int_at_least(1, MAX_WORKERS), default=1,
+                       help=f"local worker processes (at most {MAX_WORKERS})")
     group.add_argument("--dask", metavar="ADDRESS", help="dask scheduler address")
     p.set_defaults(func=cmd_compare)
 
@@ -395,6 +413,7 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--seed", type=_int_at_least(0), default=0, help="random seed (default 0)")
     p.add_argument("--tol", type=float, default=1e-9, help="residual counted as solved [m]")
     p.add_argument("--out", required=True, help="output folder")
+    p.add_argument("--force", action="store_true", help=FORCE_HELP)
     p.set_defaults(func=cmd_path)
 
     p = sub.add_parser("workspace", help="Monte Carlo workspace with figures")
@@ -403,25 +422,41 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--seed", type=_int_at_least(0), default=0, help="random seed (default 0)")
     p.add_argument("--no-footprint", action="store_true", help="ignore the base exclusion zone")
     p.add_argument("--out", required=True, help="output folder")
+    p.add_argument("--force", action="store_true", help=FORCE_HELP)
     p.set_defaults(func=cmd_workspace)
 
     p = sub.add_parser("reproduce", help="reproduce a paper's tables and figures, or all")
     p.add_argument("paper", metavar="PAPER", choices=[*PAPERS, "all"],
                    help=f"one of {', '.join(PAPERS)}, or all")
     p.add_argument("--out", required=True, help="output folder (summary.md, CSV, PNG)")
+    p.add_argument("--force", action="store_true", help=FORCE_HELP)
     p.add_argument("--quick", action="store_true", help="reduced sweeps for a first look")
     p.set_defaults(func=cmd_reproduce)
     return parser
 
 
+def _one_line(exc: BaseException) -> str:
+    return " ".join(str(exc).split()) or type(exc).__name__
+
+
 def main(argv: Sequence[str] | None = None) -> int:
-    """Run the command line; returns the exit code."""
-    parser = build_parser()
-    args = parser.parse_args(argv)
+    """Run the command line; returns the exit code (0, 2 bad input, 130 interrupted)."""
     try:
-        return int(args.func(args))
-    except (ScaraOptError, OSError) as exc:  # bad input, or a file that cannot be written
-        print(f"scara-opt: error: {exc}", file=sys.stderr)
+        with interrupt.quiet_casadi_warning(), interrupt.watch() as sigint:  # one line below
+            try:
+                args = build_parser().parse_args(argv)
+                return int(args.func(args))
+            except SystemExit as exc:  # --help (0)
+                return exc.code if isinstance(exc.code, int) else 0
+            except Exception:
+                if sigint.received:  # a library turned the interrupt into another error
+                    raise KeyboardInterrupt from None
+                raise
+    except KeyboardInterrupt:
+        print("scara-opt: interrupted", file=sys.stderr)
+        return 130
+    except (ScaraOptError, UsageError, OSError) as exc:  # bad input, an unwritable file
+        print(f"scara-opt: error: {_one_line(exc)}", file=sys.stderr)
         return 2
 
 

@@ -191,7 +191,9 @@ def compare(robot: Robot, targets: Iterable[Target | object], methods: Sequence[
         budgets = [{"population": p, "iterations": iterations} for p in pop_list] \
             if takes_budget(m) else [{}]
         for budget in budgets:
-            get_solver(m, **options.get(m, {}), **budget)
+            solver = get_solver(m, **options.get(m, {}), **budget)
+            if hasattr(solver, "check_memory"):  # a metaheuristic's working memory
+                solver.check_memory(robot.nq)
     jobs = _jobs(target_list, names, pop_list, iterations, seed_list, options)
     results: dict[int, IKResult] = {}
     bar = _progress(len(jobs), progress)
@@ -203,10 +205,15 @@ def compare(robot: Robot, targets: Iterable[Target | object], methods: Sequence[
                 bar.update()
         else:
             futures = [_submit(executor, robot, job, tol) for job in jobs]
-            for fut in as_completed(futures):
-                idx, res = fut.result()
-                results[idx] = res
-                bar.update()
+            try:
+                for fut in as_completed(futures):
+                    idx, res = fut.result()
+                    results[idx] = res
+                    bar.update()
+            except BaseException:  # Ctrl-C or a failed job: the queued jobs are not run
+                for fut in futures:
+                    fut.cancel()
+                raise
     finally:
         bar.close()
     return pd.DataFrame([_row(job, results[job.index]) for job in jobs], columns=COLUMNS)

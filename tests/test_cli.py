@@ -73,26 +73,26 @@ def test_ik_all_lists_the_branches():
     (("fk", "zavar2024", "1", "2"), "must have shape (4,)"),
     (("fk", "no_such_robot", "1"), "no bundled robot named 'no_such_robot'"),
     (("ik", "zavar2024", "--xyz", "0.2", "0.1", "-0.06", "--yaw", "nan"), "yaw must be finite"),
-    (("workspace", "zavar2024", "-n", "0", "--out", "/tmp/scara_opt_ws"), "n"),
+    (("workspace", "zavar2024", "-n", "0", "--out", "OUT"), "n"),
     # zavar2024 Table 3's circle (r = 16 cm, z = -6 cm) lies inside the hole around the base
     (("path", "zavar2024", "--circle", "0", "0", "160", "-60", "--mm", "-n", "10", "--out",
-      "/tmp/scara_opt_path"), "10 of 10 path points were not reached"),
+      "OUT"), "10 of 10 path points were not reached"),
     (("path", "zavar2024", "--line", "0.25", "0", "-0.07", "0.25", "0", "-0.07", "--yaw",
-      "tangent", "--out", "/tmp/scara_opt_path"), "start and end are the same point"),
+      "tangent", "--out", "OUT"), "start and end are the same point"),
     (("path", "zavar2024", "--line", "0.25", "0", "-0.07", "0.25", "0", "-0.05", "--yaw",
-      "tangent", "--out", "/tmp/scara_opt_path"), "no tangent direction"),
+      "tangent", "--out", "OUT"), "no tangent direction"),
     # checked for every (method, population) before the first solve, not halfway through
     (("compare", "zavar2024", "--target", "-0.23", "0.20", "-0.07", "--methods", "pso,sfla",
       "--populations", "10,2", "--iterations", "5", "--seeds", "1", "--out",
-      "/tmp/scara_opt_cmp"), "sfla"),
+      "OUT"), "sfla"),
     (("compare", "zavar2024", "--target", "-0.23", "0.20", "-0.07", "--methods", "pso",
-      "--out", "/proc/scara_opt_forbidden"), "cannot create the output folder"),
+      "--out", "/proc/scara_opt_forbidden"), "cannot write into --out"),
     (("compare", "zavar2024", "--target", "-0.23", "0.20", "-0.07", "--methods", "pso",
-      "--dask", "notanaddress", "--out", "/tmp/scara_opt_cmp"), "cannot reach a dask scheduler"),
+      "--dask", "notanaddress", "--out", "OUT"), "cannot reach a dask scheduler"),
 ])
-def test_bad_input_is_one_line_and_exit_2(args, message):
+def test_bad_input_is_one_line_and_exit_2(args, message, tmp_path):
     """Bad input: exit code 2, a one-line error on stderr, no traceback."""
-    out = run(*args)
+    out = run(*(str(tmp_path) if a == "OUT" else a for a in args))
     assert out.returncode == 2, out
     assert message in out.stderr and "Traceback" not in out.stderr
     assert len(out.stderr.strip().splitlines()) == 1

@@ -40,6 +40,7 @@ from typing import Any
 import casadi as ca
 import numpy as np
 
+from scara_opt import interrupt
 from scara_opt.ik.base import (
     MAX_ITER,
     MAX_RESTARTS,
@@ -245,8 +246,10 @@ class _Run:
         self.statuses: list[str] = []
 
     def _call(self, nlp: _NLP, x0: Array, **bounds: Any) -> Array:
-        sol = nlp.solver(x0=x0, p=self.par, lbx=self.lbx, ubx=self.ubx, **bounds)
+        with interrupt.guard():  # a Ctrl-C that casadi swallowed is raised again
+            sol = nlp.solver(x0=x0, p=self.par, lbx=self.lbx, ubx=self.ubx, **bounds)
         stats = nlp.solver.stats()
+        interrupt.check(stats)
         self.statuses.append(stats["return_status"])
         self.iterations += int(stats.get("iter_count", 0))
         self.evaluations += int(stats.get("n_call_nlp_f", 0)) + int(

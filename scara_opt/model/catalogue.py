@@ -31,9 +31,9 @@ def load_robot(name: str | Path, tip: str | None = None) -> Robot:
         tip: tip frame; bundled robots default to their ``"tool"`` frame.
 
     Raises:
-        InputError: ``name`` not a str or Path, ``tip`` not a str or None.
+        InputError: ``name`` not a str or Path or with a NUL byte, ``tip`` not a str or None.
         RobotNotFoundError: neither a bundled name nor an existing file (lists the names).
-        URDFError: the file is malformed (see :meth:`Robot.from_urdf` and
+        URDFError: ``name`` is a folder, or the file is malformed (see :meth:`Robot.from_urdf` and
             :func:`scara_opt.dh.load_dh`).
     """
     from scara_opt.model.dh_file import bundled_dir, load_dh
@@ -49,7 +49,13 @@ def load_robot(name: str | Path, tip: str | None = None) -> Robot:
         return Robot(urdf.read_text(), tip or "tool", name=name, where=f"robot {name!r}",
                      source=dh.source, notes=dh.notes,
                      metadata=tomllib.loads((folder / f"{name}.toml").read_text()))
+    if "\0" in str(name):
+        raise InputError(f"robot path {str(name)!r} contains a NUL byte; pass a bundled robot "
+                         "name or a plain path")
     path = Path(name)
+    if path.is_dir():
+        raise URDFError(f"{str(name)!r} is a folder, not a robot file; pass the path of a "
+                        ".urdf or .toml file, or a bundled robot name")
     if not path.is_file():
         raise RobotNotFoundError(str(name), list_robots())
     if path.suffix == ".toml":

@@ -18,6 +18,7 @@ from pathlib import Path
 import pandas as pd
 
 from scara_opt.errors import InputError
+from scara_opt.outputs import write_text_atomic
 from scara_opt.reports.verdicts import VERDICTS
 
 PAPERS = ("zavar2024", "peng2025", "nguyen", "inverted5", "fang")
@@ -117,5 +118,6 @@ def reproduce(papers: str | Sequence[str] = "all", out: str | Path = "results",
     header = ["# scara_opt: reproduction of the papers", "",
               f"Mode: {'quick (reduced sweeps)' if quick else 'full'}. Each section lists what "
               "was checked against the paper, what matched, what did not, and why.", ""]
-    (out / "summary.md").write_text("\n".join(header + [r.to_markdown() for r in reports]))
+    # written last and atomically: a summary.md means every table and figure is there
+    write_text_atomic(out / "summary.md", "\n".join(header + [r.to_markdown() for r in reports]))
     return reports

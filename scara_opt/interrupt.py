@@ -1,0 +1,172 @@
+"""Ctrl-C through casadi/IPOPT: an interrupt that a solve swallowed is raised again.
+
+casadi runs Python's SIGINT handler inside IPOPT's callbacks, catches the resulting
+``KeyboardInterrupt`` and ends the solve with a status (``NonIpopt_Exception_Thrown`` or
+``User_Requested_Stop``) or, on some paths, a ``RuntimeError`` that mentions it. The
+caller would then go on as if nothing happened. :func:`guard` wraps one solve: it notes a
+SIGINT whose handler raised ``KeyboardInterrupt`` during the solve, and after the solve
+raises ``KeyboardInterrupt`` again (:func:`check` does the same from a solve's statistics).
+"""
+
+from __future__ import annotations
+
+import signal
+import sys
+import threading
+from collections.abc import Iterator
+from contextlib import contextmanager
+from typing import Any
+
+#: IPOPT return statuses that mean the solve was stopped by a user interrupt
+INTERRUPT_STATUSES = frozenset({"User_Requested_Stop"})
+
+
+def is_interrupt_error(exc: BaseException) -> bool:
+    """Whether ``exc`` (a casadi ``RuntimeError``) wraps a ``KeyboardInterrupt``."""
+    text = str(exc).lower()
+    return "keyboardinterrupt" in text or "interrupt" in text
+
+
+def check(stats: dict[str, Any]) -> None:
+    """Raise ``KeyboardInterrupt`` if a solve's ``stats()`` say a user stopped it."""
+    if stats.get("return_status") in INTERRUPT_STATUSES:
+        raise KeyboardInterrupt
+
+
+class _Flag:
+    """A SIGINT handler around the current one that notes the interrupts it raised."""
+
+    def __init__(self, prior: Any) -> None:
+        self.prior = prior
+        self.raised = False
+
+    def __call__(self, signum: int, frame: Any) -> None:
+        try:
+            self.prior(signum, frame)
+        except KeyboardInterrupt:
+            self.raised = True
+            raise
+
+
+@contextmanager
+def guard() -> Iterator[None]:
+    """Run a casadi solve; an interrupt it swallowed is raised after it.
+
+    Raises:
+        KeyboardInterrupt: SIGINT arrived during the block (and its handler raised
+            ``KeyboardInterrupt``), or casadi raised a ``RuntimeError`` about an interrupt.
+    """
+    flag = None
+    if threading.current_thread() is threading.main_thread():
+        prior = signal.getsignal(signal.SIGINT)
+        if callable(prior):
+            flag = _Flag(prior)
+            signal.signal(signal.SIGINT, flag)
+    try:
+        yield
+    except RuntimeError as exc:
+        if (flag is not None and flag.raised) or is_interrupt_error(exc):
+            raise KeyboardInterrupt from None
+        raise
+    finally:
+        if flag is not None:
+            signal.signal(signal.SIGINT, flag.prior)
+    if flag is not None and flag.raised:
+        raise KeyboardInterrupt
+
+
+#: text of the warning casadi prints (to ``sys.stderr``) when it catches an interrupt
+CASADI_WARNING = 'WARNING("KeyboardInterruptException")'
+
+
+class _Filtered:
+    """A text stream that drops casadi's interrupt warning line.
+
+    casadi writes a message in pieces (``"CasADi - "``, ``"2026"``, ``"-"``, ...,
+    ``' WARNING("'``, ``"KeyboardInterruptException"``, ...): a line that starts with
+    ``"CasADi - "`` is held until its newline, then dropped or passed on whole.
+    """
+
+    def __init__(self, stream: Any) -> None:
+        self._stream = stream
+        self._held = ""
+
+    def write(self, text: str) -> int:
+        if not self._held and not text.startswith("CasADi - "):
+            return self._stream.write(text)
+        self._held += text
+        if "\n" in self._held:
+            line, _, rest = self._held.partition("\n")
+            self._held = ""
+            if CASADI_WARNING not in line:
+                self._stream.write(line + "\n")
+            if rest:
+                self.write(rest)
+        return len(text)
+
+    def close_held(self) -> None:
+        """Pass on a held, unfinished line."""
+        if self._held:
+            self._stream.write(self._held)
+            self._held = ""
+
+    def __getattr__(self, name: str) -> Any:
+        return getattr(self._stream, name)
+
+
+@contextmanager
+def quiet_casadi_warning() -> Iterator[None]:
+    """Drop casadi's "KeyboardInterruptException" warning from ``sys.stderr`` in the block.
+
+    The interrupt itself is raised again by :func:`guard`; the command line reports it in
+    one line of its own.
+    """
+    real = sys.stderr
+    sys.stderr = filtered = _Filtered(real)
+    try:
+        yield
+    finally:
+        filtered.close_held()
+        sys.stderr = real
+
+
+class _Watch:
+    """Whether a SIGINT arrived while a command ran (see :func:`watch`)."""
+
+    received = False
+
+
+_WATCH = _Watch()
+
+
+def _note_sigint(signum: int, frame: Any) -> None:
+    _WATCH.received = True
+    raise KeyboardInterrupt
+
+
+@contextmanager
+def watch() -> Iterator[_Watch]:
+    """Note every SIGINT of a whole command (then raise ``KeyboardInterrupt`` as Python does).
+
+    Some libraries catch the ``KeyboardInterrupt`` and go on, or fail with another error
+    (trimesh's import guards turn it into a ``TypeError``); the command line asks
+    :func:`raise_if_received` before it commits its files and reports such an error as
+    the interrupt it was. Only in the main thread with Python's default handler.
+    """
+    _WATCH.received = False
+    main = threading.current_thread() is threading.main_thread()
+    prior = signal.getsignal(signal.SIGINT) if main else None
+    install = prior is signal.default_int_handler
+    if install:
+        signal.signal(signal.SIGINT, _note_sigint)
+    try:
+        yield _WATCH
+    finally:
+        if install:
+            signal.signal(signal.SIGINT, prior)
+
+
+def raise_if_received() -> None:
+    """Raise ``KeyboardInterrupt`` if :func:`watch` saw a SIGINT (that someone swallowed)."""
+    if _WATCH.received:
+        raise KeyboardInterrupt
