@@ -24,6 +24,9 @@ from scara_opt.checks import count_text
 from scara_opt.errors import InputError, ScaraOptError
 from scara_opt.outputs import COMPARE_FILES, OutputDir, write_compare, write_joint_path
 
+#: exit code of ``ik`` when the target was not solved (the printed status says why)
+EXIT_NOT_SOLVED = 1
+
 
 def _fmt_limit(kind: str, lo: float, hi: float) -> str:
     if kind == "revolute":
@@ -115,9 +118,10 @@ def cmd_ik(args: argparse.Namespace) -> int:
         results = [so.solve_ik(robot, target, method=args.method or "auto",
                                seed=args.seed or 0, tol=args.tol)]
     rows = [_result_dict(robot, r, args.deg, args.mm) for r in results]
+    code = 0 if rows and all(row["success"] for row in rows) else EXIT_NOT_SOLVED
     if args.json:
         print(json.dumps(rows if args.all else rows[0]))
-        return 0
+        return code
     if not rows:
         print(f"{robot.name}: no closed-form solution within the joint limits (unreachable)")
     for row in rows:
@@ -128,7 +132,7 @@ def cmd_ik(args: argparse.Namespace) -> int:
               f"{row['time_s'] * 1e3:.2f} ms)")
         if not row["success"]:
             print(f"  {row['message']}")
-    return 0
+    return code
 
 
 def _int_at_least(low: int, high: int | None = None) -> Any:
@@ -336,6 +340,8 @@ def build_parser() -> argparse.ArgumentParser:
     parser = _Parser(
         prog="scara-opt",
         description="Kinematics, IK and trajectories of SCARA robots and serial URDF chains.",
+        epilog="exit codes: 0 success; 1 ik did not solve (unreachable, failed, max_iter: the "
+               "status says which); 2 bad input or usage; 130 interrupted (Ctrl-C)",
     )
     sub = parser.add_subparsers(dest="command", required=True, metavar="COMMAND")
 

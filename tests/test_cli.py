@@ -49,13 +49,23 @@ IK_KEYS = {"robot", "method", "status", "success", "q", "q_units", "error", "pos
 
 
 def test_ik_json_schema_and_unreachable_verdict():
-    """ik --json reports the status honestly: zavar2024's paper target is unreachable."""
-    data = json.loads(run("ik", "zavar2024", "--xyz", "-0.23", "0.20", "-0.20", "--json").stdout)
+    """ik --json reports the status honestly: zavar2024's paper target is unreachable, and
+    the exit code says it (1: not solved; 0: solved), so scripts need not parse text.
+
+    Mutation caught: cmd_ik returning 0 whatever the status (the audit's exit-0 unreachable).
+    """
+    out = run("ik", "zavar2024", "--xyz", "-0.23", "0.20", "-0.20", "--json")
+    data = json.loads(out.stdout)
     assert set(data) == IK_KEYS
     assert data["status"] == "unreachable" and data["error"] == pytest.approx(0.102, abs=1e-3)
-    ok = json.loads(run("ik", "zavar2024", "--xyz", "-230", "200", "-70", "--mm", "--deg",
-                        "--method", "analytic", "--json").stdout)
+    assert out.returncode == 1 and out.stderr == ""
+    text = run("ik", "zavar2024", "--xyz", "1", "2", "3")
+    assert text.returncode == 1 and text.stdout.startswith("unreachable:")
+    out = run("ik", "zavar2024", "--xyz", "-230", "200", "-70", "--mm", "--deg",
+              "--method", "analytic", "--json")
+    ok = json.loads(out.stdout)
     assert ok["success"] and ok["q_units"] == ["deg", "deg", "mm", "deg"]
+    assert out.returncode == 0
 
 
 def test_ik_all_lists_the_branches():
@@ -64,6 +74,8 @@ def test_ik_all_lists_the_branches():
                           "--all", "--json").stdout)
     assert len(rows) >= 2 and all(r["success"] for r in rows)
     assert all(set(r) == IK_KEYS for r in rows)
+    none = run("ik", "peng2025", "--xyz", "2000", "0", "180", "--yaw", "0", "--mm", "--all")
+    assert none.returncode == 1 and "no closed-form solution" in none.stdout
 
 
 @pytest.mark.parametrize("args, message", [

@@ -128,8 +128,9 @@ def argv(draw: st.DrawFn) -> list[str]:
           suppress_health_check=[HealthCheck.too_slow, HealthCheck.data_too_large])
 @given(argv())
 def test_cli_never_crashes(args):
-    """Every generated argument list returns 0, or 2 with exactly one line
-    ``scara-opt: error: ...`` on stderr; never a traceback, never another code.
+    """Every generated argument list returns 0, 1 (``ik`` that did not solve, its status
+    printed, stderr empty), or 2 with exactly one line ``scara-opt: error: ...`` on stderr;
+    never a traceback, never another code.
 
     Mutations: main()'s ``except (ScaraOptError, UsageError, OSError)`` narrowed to
     ``except ScaraOptError``: argparse's usage errors escaped and the test failed; and
@@ -143,5 +144,10 @@ def test_cli_never_crashes(args):
     lines = err.getvalue().strip().splitlines()
     if code == 2:
         assert len(lines) == 1 and lines[0].startswith("scara-opt: error: "), (args, lines)
+    elif code == 1:  # ik that did not solve: its status is printed, nothing on stderr
+        printed = out.getvalue()
+        assert args[0] == "ik" and not lines, (args, lines)
+        assert any(word in printed for word in ("unreachable", "failed", "max_iter",
+                                                 "no closed-form solution")), (args, printed)
     else:
         assert code == 0, (args, code, lines)
