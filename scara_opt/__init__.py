@@ -3,101 +3,102 @@
 Robots are URDFs loaded into Pinocchio (:class:`Robot`); the bundled ones are
 generated from the papers' DH tables (:func:`load_robot`, :func:`list_robots`).
 
-Every public submodule is an attribute of the package (``so.plots``, ``so.workspace``…);
-the ones that pull heavy libraries (matplotlib) are imported at first use.
+Every public name and submodule is an attribute of the package (``so.solve_ik``,
+``so.plots``, ``so.workspace``…), imported at its first use: ``import scara_opt`` itself
+loads nothing heavy (the command line starts fast, and a Ctrl-C while the libraries load
+is the command's own, one line).
 """
+
+from __future__ import annotations
 
 import importlib
 import logging
-from typing import Any
-
-from scara_opt import metaheuristics, paths  # noqa: F401  (metaheuristics register themselves)
-from scara_opt.comparison import compare
-from scara_opt.errors import (
-    DynamicsError,
-    FrameNotFoundError,
-    InputError,
-    JointLimitError,
-    RobotNotFoundError,
-    ScaraOptError,
-    SolverOptionError,
-    TargetError,
-    TrajectoryError,
-    UnknownSolverError,
-    URDFError,
-)
-from scara_opt.ik import (
-    IKResult,
-    Reason,
-    Status,
-    get_solver,
-    ik_all,
-    register_solver,
-    solve_ik,
-    solvers,
-)
-from scara_opt.ik.lm_batch import BatchResult, solve_many
-from scara_opt.model import Robot, list_robots, load_robot
-from scara_opt.target import Target
-from scara_opt.trajectory import (
-    JointPath,
-    Trajectory,
-    ik_path,
-    time_parameterize,
-    timing_methods,
-)
-from scara_opt.workspace_analysis import Footprint, Workspace, workspace
+from typing import TYPE_CHECKING, Any
 
 __version__ = "0.1.0"
 
 logging.getLogger(__name__).addHandler(logging.NullHandler())
 
-__all__ = [
-    "__version__",
-    "BatchResult",
-    "compare",
-    "DynamicsError",
-    "Footprint",
-    "FrameNotFoundError",
-    "get_solver",
-    "ik_all",
-    "ik_path",
-    "IKResult",
-    "InputError",
-    "JointLimitError",
-    "JointPath",
-    "list_robots",
-    "load_robot",
-    "paths",
-    "register_solver",
-    "Robot",
-    "Reason",
-    "RobotNotFoundError",
-    "ScaraOptError",
-    "solve_ik",
-    "solve_many",
-    "SolverOptionError",
-    "solvers",
-    "Status",
-    "Target",
-    "TargetError",
-    "time_parameterize",
-    "timing_methods",
-    "Trajectory",
-    "TrajectoryError",
-    "UnknownSolverError",
-    "URDFError",
-    "Workspace",
-    "workspace",
-]
+#: public name -> the module that defines it (imported at the name's first use)
+_EXPORTS = {
+    "compare": "scara_opt.comparison",
+    **dict.fromkeys(("DynamicsError", "FrameNotFoundError", "InputError", "JointLimitError",
+                     "RobotNotFoundError", "ScaraOptError", "SolverOptionError", "TargetError",
+                     "TrajectoryError", "UnknownSolverError", "URDFError"), "scara_opt.errors"),
+    **dict.fromkeys(("IKResult", "Reason", "Status", "get_solver", "ik_all", "register_solver",
+                     "solve_ik", "solvers"), "scara_opt.ik"),
+    **dict.fromkeys(("BatchResult", "solve_many"), "scara_opt.ik.lm_batch"),
+    **dict.fromkeys(("Robot", "list_robots", "load_robot"), "scara_opt.model"),
+    "Target": "scara_opt.target",
+    **dict.fromkeys(("JointPath", "Trajectory", "ik_path", "time_parameterize",
+                     "timing_methods"), "scara_opt.trajectory"),
+    **dict.fromkeys(("Footprint", "Workspace", "workspace"), "scara_opt.workspace_analysis"),
+}
 
-#: public submodules imported at first attribute access (they import matplotlib or pandas)
-_LAZY = ("cli", "comparison", "dh", "model", "plots", "reports", "robot",
-         "workspace_analysis")
+#: public submodules, imported at first attribute access
+_LAZY = ("cli", "comparison", "dh", "ik", "metaheuristics", "model", "paths", "plots",
+         "reports", "robot", "trajectory", "workspace_analysis")
+
+__all__ = [
+    "__version__", "BatchResult", "compare", "DynamicsError", "Footprint", "FrameNotFoundError",
+    "get_solver", "ik_all", "ik_path", "IKResult", "InputError", "JointLimitError", "JointPath",
+    "list_robots", "load_robot", "paths", "register_solver", "Robot", "Reason",
+    "RobotNotFoundError", "ScaraOptError", "solve_ik", "solve_many", "SolverOptionError",
+    "solvers", "Status", "Target", "TargetError", "time_parameterize", "timing_methods",
+    "Trajectory", "TrajectoryError", "UnknownSolverError", "URDFError", "Workspace", "workspace",
+]
 
 
 def __getattr__(name: str) -> Any:
-    """``so.plots`` and the other public submodules, imported on first use."""
-    if name in _LAZY:
-        return importlib.import_module(f"scara_opt.{name}")
-    raise AttributeError(f"module 'scara_opt' has no attribute {name!r}")
+    """The public names and submodules, imported on first use (then cached here)."""
+    if name in _EXPORTS:
+        value = getattr(importlib.import_module(_EXPORTS[name]), name)
+    elif name in _LAZY:
+        value = importlib.import_module(f"scara_opt.{name}")
+    else:
+        raise AttributeError(f"module 'scara_opt' has no attribute {name!r}")
+    globals()[name] = value
+    return value
+
+
+def __dir__() -> list[str]:
+    return sorted({*globals(), *_EXPORTS, *_LAZY})
+
+
+if TYPE_CHECKING:  # for type checkers and IDEs: the same names, imported eagerly
+    from scara_opt import paths
+    from scara_opt.comparison import compare
+    from scara_opt.errors import (
+        DynamicsError,
+        FrameNotFoundError,
+        InputError,
+        JointLimitError,
+        RobotNotFoundError,
+        ScaraOptError,
+        SolverOptionError,
+        TargetError,
+        TrajectoryError,
+        UnknownSolverError,
+        URDFError,
+    )
+    from scara_opt.ik import (
+        IKResult,
+        Reason,
+        Status,
+        get_solver,
+        ik_all,
+        register_solver,
+        solve_ik,
+        solvers,
+    )
+    from scara_opt.ik.lm_batch import BatchResult, solve_many
+    from scara_opt.model import Robot, list_robots, load_robot
+    from scara_opt.target import Target
+    from scara_opt.trajectory import (
+        JointPath,
+        Trajectory,
+        ik_path,
+        time_parameterize,
+        timing_methods,
+    )
+    from scara_opt.workspace_analysis import Footprint, Workspace, workspace

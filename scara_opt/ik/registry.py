@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import importlib
+import threading
 from collections.abc import Callable
 from typing import Any, TypeVar
 
@@ -12,6 +14,25 @@ from scara_opt.model.robot import Robot
 from scara_opt.target import Target
 
 _REGISTRY: dict[str, Callable[..., Solver]] = {}
+
+#: modules whose import registers the built-in solvers beyond scara_opt.ik's own: a table
+#: the registry reads at its first lookup (imported by name), so the package's import stays
+#: light and no backend is imported by the registry at module level
+BUILTIN_MODULES = ("scara_opt.metaheuristics",)
+_LOAD_LOCK = threading.RLock()
+_LOAD_STATE = {"loading": False, "loaded": False}
+
+
+def _registry() -> dict[str, Callable[..., Solver]]:
+    """The registered solvers, with the built-in ones of :data:`BUILTIN_MODULES` loaded."""
+    if not _LOAD_STATE["loaded"]:
+        with _LOAD_LOCK:  # re-entrant: the modules' own register_solver calls come back here
+            if not _LOAD_STATE["loading"]:
+                _LOAD_STATE["loading"] = True
+                for module in BUILTIN_MODULES:
+                    importlib.import_module(module)
+                _LOAD_STATE["loaded"] = True
+    return _REGISTRY
 
 F = TypeVar("F", bound=Callable[..., Solver])
 
@@ -41,7 +62,7 @@ def register_solver(name: str, factory: F | None = None, *, replace: bool = Fals
 
 def solvers() -> list[str]:
     """Names of the registered IK solvers, sorted."""
-    return sorted(_REGISTRY)
+    return sorted(_registry())
 
 
 def method_label(name: str) -> str:
@@ -53,9 +74,10 @@ def method_label(name: str) -> str:
     Raises:
         UnknownSolverError: ``name`` is not registered (the message lists the names).
     """
-    if name not in _REGISTRY:
-        raise UnknownSolverError(name, _REGISTRY)
-    return getattr(_REGISTRY[name], "label", "") or name.upper()
+    registry = _registry()
+    if name not in registry:
+        raise UnknownSolverError(name, registry)
+    return getattr(registry[name], "label", "") or name.upper()
 
 
 def get_solver(method: str, **options: Any) -> Solver:
@@ -70,9 +92,10 @@ def get_solver(method: str, **options: Any) -> Solver:
         raise InputError(f"method must be one solver name (a str) from {solvers()}; got "
                          f"{method!r} ({type(method).__name__}); to run several, use "
                          "so.compare(robot, targets, methods=[...])")
-    if method not in _REGISTRY:
-        raise UnknownSolverError(method, _REGISTRY)
-    return _REGISTRY[method](**options)
+    registry = _registry()
+    if method not in registry:
+        raise UnknownSolverError(method, registry)
+    return registry[method](**options)
 
 
 def solve_ik(robot: Robot, target: Target | object, method: str = "auto",
