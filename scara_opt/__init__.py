@@ -11,7 +11,7 @@ import importlib
 import logging
 from typing import Any
 
-from scara_opt import metaheuristics, paths  # noqa: F401  (metaheuristics register themselves)
+from scara_opt import metaheuristics, paths, pose  # noqa: F401  (metaheuristics register themselves)
 from scara_opt.comparison import compare
 from scara_opt.errors import (
     FrameNotFoundError,
@@ -67,6 +67,7 @@ __all__ = [
     "list_robots",
     "load_robot",
     "paths",
+    "pose",
     "register_solver",
     "Robot",
     "Reason",
