@@ -16,6 +16,7 @@ import numpy as np
 import pinocchio as pin
 
 from scara_opt.errors import URDFError
+from scara_opt.model.citation import check_citation
 from scara_opt.model.dh import (
     ANGLE_UNITS,
     FILE_KEYS,
@@ -77,12 +78,14 @@ def load_dh(path: str | Path) -> DHRobot:
 
     Args:
         path: a ``.toml`` file with ``length_unit``, ``angle_unit``, ``convention``,
-            ``[[joints]]`` rows and optional ``[tool]`` (``xyz``, ``rpy``); the keys allowed
-            are :data:`FILE_KEYS`, :data:`JOINT_KEYS` and :data:`TOOL_KEYS`.
+            ``[[joints]]`` rows and optional ``[tool]`` (``xyz``, ``rpy``), ``[footprint]``
+            (read by :class:`~scara_opt.Footprint`) and ``[citation]``
+            (:mod:`scara_opt.model.citation`); the keys allowed are :data:`FILE_KEYS`,
+            :data:`JOINT_KEYS` and :data:`TOOL_KEYS`.
 
     Raises:
         URDFError: missing file, TOML syntax, unknown key, unit or joint type, bad or
-            non-finite entries.
+            non-finite entries, an incomplete ``[citation]``.
         JointLimitError: a lower limit not below its upper limit, or a limit <= 0.
     """
     path = Path(path)
@@ -141,6 +144,8 @@ def load_dh(path: str | Path) -> DHRobot:
         tool[:3, :3] = pin.rpy.rpyToMatrix(_vector(table, "rpy", f"{where}: [tool]") * A)
         tool[:3, 3] = _vector(table, "xyz", f"{where}: [tool]") * L
     _text(data, "title", where, "")
+    if "citation" in data:
+        check_citation(data["citation"], where)
     return DHRobot(
         name=_text(data, "name", where, path.stem),
         joints=tuple(joints),
