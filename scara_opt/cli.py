@@ -37,8 +37,9 @@ def _units(robot: Any, deg: bool, mm: bool) -> list[str]:
 
 
 def cmd_robots(args: argparse.Namespace) -> int:
-    """List the bundled robots with joints, limits and source."""
+    """List the bundled robots with joints, limits, source and the paper's full reference."""
     from scara_opt.model.catalogue import list_robots, load_robot
+    from scara_opt.model.citation import format_citation
 
     for name in list_robots():
         robot = load_robot(name)
@@ -47,6 +48,11 @@ def cmd_robots(args: argparse.Namespace) -> int:
                                        robot.upper, strict=True):
             print(f"  {jname:<8} {kind:<9} {_fmt_limit(kind, lo, hi)}")
         print(f"  source: {robot.source}")
+        citation = robot.metadata.get("citation")
+        if citation:
+            print(f"  paper:  {format_citation(citation)}")
+            if "note" in citation:
+                print(f"          ({citation['note']})")
     return 0
 
 
