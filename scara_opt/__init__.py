@@ -92,7 +92,7 @@ __all__ = [
 
 #: public submodules imported at first attribute access (they import matplotlib or pandas)
 _LAZY = ("cli", "comparison", "dh", "model", "plots", "reports", "robot",
-         "workspace_analysis")
+         "view", "workspace_analysis")
 
 
 def __getattr__(name: str) -> Any:
