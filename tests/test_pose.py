@@ -90,11 +90,14 @@ def _bad(T_change):
     (np.eye(3), r"shape \(4, 4\)"),
 ])
 def test_bad_poses_are_refused(T, match):
-    """A pose that is not a finite rigid transform raises TargetError (a ValueError).
+    """A pose that is not a finite rigid transform raises TargetError, an InputError.
 
-    Mutation caught: ROTATION_TOL raised from 1e-6 to 1e-2 (the 1e-5 case passes).
+    Mutation caught: ROTATION_TOL raised from 1e-6 to 1e-2 (the 1e-5 case passes);
+    TargetError back to a sibling of InputError.
     """
     with pytest.raises(so.TargetError, match=match):
+        so.Target.from_pose(T)
+    with pytest.raises(so.InputError, match=match):
         so.Target.from_pose(T)
     with pytest.raises(ValueError):
         so.Target(T) if T.shape == (4, 4) else so.Target.from_pose(T)
