@@ -4,7 +4,9 @@
 # ///
 """fang joint trajectories: Tables 2 and 3 by the quintic, then time-optimal and jerk-limited.
 
-Reproduces Fang & Li (shared/seeds/004_bf70fd1cc4e521c8.txt), Sec. 4: the quintic of
+Needs: the base install only (``pip install scara-opt``).
+
+Reproduces Fang & Li (robots/fang.toml [citation]), Sec. 4: the quintic of
 Tables 2 and 3 against every printed row (36 samples at τ = k/35; degrees and mm), then the
 same two moves timed within the robot's assumed limits (robots/fang.toml) by the shortest
 quintic, TOPP-RA (time-optimal) and Ruckig (jerk-limited), and the paper's arccos closed form

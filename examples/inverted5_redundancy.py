@@ -4,7 +4,9 @@
 # ///
 """inverted5: the redundant inverted SCARA with two vertical strokes (P1 and P5).
 
-Reproduces the FK check of the inverted 5-DoF SCARA (shared/seeds/003_923abea74416c111.txt,
+Needs: the base install only (``pip install scara-opt``).
+
+Reproduces the FK check of the inverted 5-DoF SCARA (robots/inverted5.toml [citation],
 Fig. 3: q = (0, 0, 0, 0, 3.94 in) puts the tip at (7.87, 0, -3.94) in), then shows what the
 redundancy means for IK: one target, reached with the z move split differently between the
 two strokes, chosen by ``q0`` (IPOPT's rule: the solution nearest to ``q0``) or held with the

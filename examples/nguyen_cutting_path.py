@@ -4,7 +4,9 @@
 # ///
 """nguyen cutting path: IK of the 5-DoF rail SCARA along a closed contour, SFLA and IPOPT.
 
-Reproduces the path study of Nguyen (shared/seeds/002_e63e44ba374820ad.txt), Sec. 4-5, on a
+Needs: the base install only (``pip install scara-opt``).
+
+Reproduces the path study of Nguyen (robots/nguyen.toml [citation]), Sec. 4-5, on a
 representative contour (the paper's is a figure only): the largest position and angle error
 of SFLA (the paper's Table 2 settings) and of IPOPT side by side (Figs. 10-11), the joints
 along the path (Figs. 12-13), postures (Figs. 14-15), and the IPOPT path timed by TOPP-RA.

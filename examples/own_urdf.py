@@ -4,6 +4,8 @@
 # ///
 """Your own robot: a general 6-joint arm from a URDF, IK by IPOPT and PSO, a timed path.
 
+Needs: the base install only (``pip install scara-opt``).
+
 Nothing in scara_opt is SCARA-only except the closed form. This script loads
 ``examples/arm6.urdf`` (rotated joint origins, an unaligned elbow axis, a short slide), solves
 a full pose with IPOPT and a position target with PSO, follows a straight line with

@@ -4,6 +4,10 @@
 # ///
 """A Franka Panda as it ships in example-robot-data: IK, a time-optimal path, a pose drawing.
 
+Needs: the ``robots`` extra, ``pip install "scara-opt[robots]"`` (the
+``example-robot-data`` package: the Panda's URDF and meshes). Without it the script
+stops at once with that instruction.
+
 Shows that an arm a user already has loads without edits (issue 9): the Panda URDF is a
 tree (arm, hand, two prismatic fingers, the right one a mimic joint) with ``package://``
 meshes. ``Robot.from_urdf(path, tip="panda_hand_tcp")`` keeps the seven arm joints and

@@ -4,8 +4,10 @@
 # ///
 """peng2025 workspace: Monte Carlo reach with and without the base's exclusion zone.
 
+Needs: the base install only (``pip install scara-opt``).
+
 Reproduces the workspace study of Peng et al. (2025), Sec. 3
-(shared/seeds/001_b35f9d7865ac69db.txt):
+(robots/peng2025.toml [citation]):
 
 * Fig. 3 — projection of the workspace on the XOY plane, joint limits only;
 * Fig. 4 — the workspace by the Monte Carlo method, N = 60,000 samples (3D);

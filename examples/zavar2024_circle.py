@@ -4,8 +4,10 @@
 # ///
 """zavar2024 circular path: IK along it with IPOPT, the paper's circle and a reachable one, timed.
 
+Needs: the base install only (``pip install scara-opt``).
+
 Reproduces the path study of Zavar et al. (2024), Table 3 and Fig. 7
-(shared/seeds/000_db41312e9a45ac0e.txt), and says where it cannot be reproduced:
+(robots/zavar2024.toml [citation]), and says where it cannot be reproduced:
 
 * Table 3 — ten points on a circle of radius 16 cm at z = −6 cm (point 7's sign typo
   fixed). With |θ2| <= 120° the tip cannot come closer than 0.2 m to the base axis, so

@@ -4,7 +4,9 @@
 # ///
 """zavar2024 metaheuristics: Table 2, Figs. 4, 5 and 7, against IPOPT and the closed form.
 
-Reproduces Zavar, Manouchehri & Safa (shared/seeds/000_db41312e9a45ac0e.txt), Sec. 6: the six
+Needs: the base install only (``pip install scara-opt``).
+
+Reproduces Zavar, Manouchehri & Safa (robots/zavar2024.toml [citation]), Sec. 6: the six
 algorithms (CA, GWO, PSO, G-HA, FA, ACO) at populations 20-100 and 200 iterations, median over
 10 seeds, side by side with the paper's costs (its squared error) and times; the paper's fixed
 target and circle reported as unreachable (they are), and the studies rerun on reachable

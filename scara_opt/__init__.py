@@ -36,13 +36,13 @@ _EXPORTS = {
 }
 
 #: public submodules, imported at first attribute access
-_LAZY = ("cli", "comparison", "dh", "ik", "metaheuristics", "model", "paths", "plots",
-         "reports", "robot", "trajectory", "workspace_analysis")
+_LAZY = ("cli", "comparison", "dh", "ik", "metaheuristics", "model", "paths", "plots", "pose",
+         "reports", "robot", "trajectory", "view", "workspace_analysis")
 
 __all__ = [
     "__version__", "BatchResult", "compare", "DynamicsError", "Footprint", "FrameNotFoundError",
     "get_solver", "ik_all", "ik_path", "IKResult", "InputError", "JointLimitError", "JointPath",
-    "list_robots", "load_robot", "paths", "register_solver", "Robot", "Reason",
+    "list_robots", "load_robot", "paths", "pose", "register_solver", "Robot", "Reason",
     "RobotNotFoundError", "ScaraOptError", "solve_ik", "solve_many", "SolverOptionError",
     "solvers", "Status", "Target", "TargetError", "time_parameterize", "timing_methods",
     "Trajectory", "TrajectoryError", "UnknownSolverError", "URDFError", "Workspace", "workspace",
@@ -66,7 +66,7 @@ def __dir__() -> list[str]:
 
 
 if TYPE_CHECKING:  # for type checkers and IDEs: the same names, imported eagerly
-    from scara_opt import paths
+    from scara_opt import paths, pose
     from scara_opt.comparison import compare
     from scara_opt.errors import (
         DynamicsError,

@@ -46,8 +46,9 @@ def _units(robot: Any, deg: bool, mm: bool) -> list[str]:
 
 
 def cmd_robots(args: argparse.Namespace) -> int:
-    """List the bundled robots with joints, limits and source."""
+    """List the bundled robots with joints, limits, source and the paper's full reference."""
     from scara_opt.model.catalogue import list_robots, load_robot
+    from scara_opt.model.citation import format_citation
 
     for name in list_robots():
         robot = load_robot(name)
@@ -56,11 +57,17 @@ def cmd_robots(args: argparse.Namespace) -> int:
                                        robot.upper, strict=True):
             print(f"  {jname:<8} {kind:<9} {_fmt_limit(kind, lo, hi)}")
         print(f"  source: {robot.source}")
+        citation = robot.metadata.get("citation")
+        if citation:
+            print(f"  paper:  {format_citation(citation)}")
+            if "note" in citation:
+                print(f"          ({citation['note']})")
     return 0
 
 
 def cmd_fk(args: argparse.Namespace) -> int:
-    """Forward kinematics of one configuration."""
+    """Forward kinematics of one configuration: position, RPY [deg] and quaternion (w, x, y, z)."""
+    from scara_opt.cli_pose import orientation, orientation_text
     from scara_opt.model.catalogue import load_robot
 
     robot = load_robot(args.robot)
@@ -72,6 +79,7 @@ def cmd_fk(args: argparse.Namespace) -> int:
         "position": (T[:3, 3] * L).tolist(), "position_unit": "mm" if args.mm else "m",
         "rotation": T[:3, :3].tolist(), "within_limits": bool(robot.within_limits(q)),
     }
+    out.update(orientation(T[:3, :3]))
     if robot.yaw_axis is not None:
         out["yaw_deg"] = math.degrees(robot.yaw(q))
     if args.json:
@@ -80,6 +88,7 @@ def cmd_fk(args: argparse.Namespace) -> int:
     unit = out["position_unit"]
     print(f"{robot.name}: tip at ({', '.join(f'{v:.6g}' for v in out['position'])}) {unit}"
           + (f", yaw {out['yaw_deg']:.6g} deg" if "yaw_deg" in out else ""))
+    print(f"  orientation: {orientation_text(out)}")
     if not out["within_limits"]:
         print("note: q is outside the joint limits")
     return 0
@@ -101,13 +110,13 @@ def _result_dict(robot: Any, res: Any, deg: bool, mm: bool) -> dict[str, Any]:
 
 
 def cmd_ik(args: argparse.Namespace) -> int:
-    """Inverse kinematics of one target with any registered method."""
+    """Inverse kinematics of one target (position, and --yaw, --rpy or --quat) by any method."""
     import scara_opt as so
+    from scara_opt.cli_pose import orientation, target_from_args
 
     robot = so.load_robot(args.robot)
     L = 1000.0 if args.mm else 1.0
-    target = so.Target(np.asarray(args.xyz, float) / L,
-                       yaw=None if args.yaw is None else math.radians(args.yaw))
+    target = target_from_args(args, np.asarray(args.xyz, float) / L)
     if args.all:
         given = [o for o, v in (("--method", args.method), ("--seed", args.seed)) if v is not None]
         if given:
@@ -118,6 +127,11 @@ def cmd_ik(args: argparse.Namespace) -> int:
         results = [so.solve_ik(robot, target, method=args.method or "auto",
                                seed=args.seed or 0, tol=args.tol)]
     rows = [_result_dict(robot, r, args.deg, args.mm) for r in results]
+    if target.kind == "rotation":  # the angle error is the rotation's, not a yaw's
+        for row, res in zip(rows, results, strict=True):
+            row["rotation_error_deg"] = row.pop("yaw_error_deg")
+            row["target_orientation"] = orientation(target.rotation)
+            row["reached_orientation"] = orientation(robot.fk(res.q)[:3, :3])
     code = 0 if rows and all(row["success"] for row in rows) else EXIT_NOT_SOLVED
     if args.json:
         print(json.dumps(rows if args.all else rows[0]))
@@ -367,7 +381,8 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("robot", metavar="ROBOT", help="bundled robot name or path to .urdf/.toml")
     p.add_argument("--xyz", type=float, nargs=3, required=True, metavar=("X", "Y", "Z"),
                    help="target position (m, or mm with --mm)")
-    p.add_argument("--yaw", type=float, metavar="DEG", help="tool angle [deg]")
+    from scara_opt.cli_pose import add_orientation_arguments
+    add_orientation_arguments(p)  # --yaw | --rpy | --quat, and --rpy-unit
     p.add_argument("--method", help="IK method (see `scara-opt solvers`; default auto)")
     p.add_argument("--seed", type=_int_at_least(0), help="random seed (default 0)")
     p.add_argument("--tol", type=float, default=1e-9, help="residual counted as solved [m]")

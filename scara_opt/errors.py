@@ -55,8 +55,12 @@ class JointLimitError(ScaraOptError, ValueError):
         super().__init__(message)
 
 
-class TargetError(ScaraOptError, ValueError):
-    """An IK target is malformed or asks for a task the robot cannot do."""
+class TargetError(InputError):
+    """An IK target is malformed or asks for a task the robot cannot do.
+
+    A kind of :class:`InputError` (a malformed pose is bad input like any other), hence
+    also a ``ValueError``.
+    """
 
 
 class UnknownSolverError(ScaraOptError, KeyError):

@@ -1,4 +1,9 @@
-"""IK targets: a tip position, optionally a tool angle (yaw) or a full rotation."""
+"""IK targets: a tip position, optionally a tool angle (yaw) or a full rotation.
+
+A full pose can also be given as a 4×4 homogeneous matrix or a ``pinocchio.SE3`` (what
+:meth:`~scara_opt.Robot.fk` and :meth:`~scara_opt.Robot.fk_se3` return):
+``Target(T)`` or ``Target.from_pose(T)``. The conventions are in :mod:`scara_opt.pose`.
+"""
 
 from __future__ import annotations
 
@@ -6,10 +11,12 @@ import math
 from dataclasses import dataclass, field
 
 import numpy as np
+import pinocchio as pin
 from numpy.typing import NDArray
 
 from scara_opt.checks import describe, float_array, is_real
 from scara_opt.errors import TargetError
+from scara_opt.pose import as_pose, check_rotation
 
 Array = NDArray[np.float64]
 
@@ -41,6 +48,10 @@ def _finite_array(value: object, shape: tuple[int, ...], what: str) -> Array:
 class Target:
     """Where the tip should go.
 
+    ``Target(position)``, ``Target(position, yaw=...)``, ``Target(position, rotation=R)``, or
+    a whole pose in place of the position: ``Target(T)`` with ``T`` a 4×4 homogeneous matrix
+    or a ``pinocchio.SE3`` (the same as :meth:`from_pose`).
+
     Attributes:
         position: (3,) tip position in the world frame [m].
         yaw: tool angle [rad] about the robot's :attr:`~scara_opt.Robot.yaw_axis`, or ``None``.
@@ -51,7 +62,8 @@ class Target:
     Raises:
         TargetError: wrong shapes, NaN/inf, strings or bools for numbers, a coordinate beyond
             :data:`MAX_COORDINATE`, a yaw beyond :data:`MAX_ANGLE`, both yaw and rotation, an
-            improper rotation, or weights outside :data:`WEIGHT_RANGE`.
+            improper rotation (tolerance :data:`scara_opt.pose.ROTATION_TOL`), a pose whose
+            last row is not ``[0, 0, 0, 1]``, or weights outside :data:`WEIGHT_RANGE`.
     """
 
     position: Array
@@ -62,6 +74,11 @@ class Target:
     def __init__(self, position: object, yaw: float | None = None,
                  rotation: object | None = None,
                  weights: tuple[float, float] | None = None) -> None:
+        if _is_pose(position):
+            if yaw is not None or rotation is not None:
+                raise TargetError("a pose (4×4 matrix or SE3) already fixes the rotation: give "
+                                  "no yaw= or rotation= with it")
+            position, rotation = as_pose(position, "target pose")
         pos = _finite_array(position, (3,), "target position [m]")
         if np.abs(pos).max() > MAX_COORDINATE:
             raise TargetError(f"target position {pos.tolist()} m has a coordinate beyond "
@@ -85,17 +102,24 @@ class Target:
         object.__setattr__(self, "yaw", yaw)
         rot = None
         if rotation is not None:
-            rot = _finite_array(rotation, (3, 3), "target rotation")
-            if (np.abs(rot @ rot.T - np.eye(3)).max() > 1e-6
-                    or abs(np.linalg.det(rot) - 1.0) > 1e-6):
-                raise TargetError(
-                    "target rotation is not a proper rotation matrix (R Rᵀ = I, det R = +1 "
-                    "to 1e-6); orthonormalise it first"
-                )
+            rot = check_rotation(rotation, "target rotation")
             rot = rot.copy() if rot is rotation else rot
             rot.flags.writeable = False
         object.__setattr__(self, "rotation", rot)
         object.__setattr__(self, "weights", _weights(weights))
+
+    @classmethod
+    def from_pose(cls, pose: object, weights: tuple[float, float] | None = None) -> Target:
+        """A full-pose target from a 4×4 homogeneous matrix or a ``pinocchio.SE3`` [m].
+
+        ``Target.from_pose(robot.fk(q))`` asks for the pose the tip has at ``q``.
+
+        Raises:
+            TargetError: not 4×4, NaN/inf, last row not ``[0, 0, 0, 1]``, or an improper
+                rotation block.
+        """
+        p, R = as_pose(pose, "target pose")
+        return cls(p, rotation=R, weights=weights)
 
     @property
     def kind(self) -> str:
@@ -111,6 +135,15 @@ class Target:
         elif self.rotation is not None:
             extra = ", rotation=<3x3>"
         return f"Target(position={np.array2string(self.position, precision=6)}{extra})"
+
+
+def _is_pose(value: object) -> bool:
+    """True for a ``pinocchio.SE3`` or anything of shape (4, 4)."""
+    if isinstance(value, pin.SE3):
+        return True
+    return getattr(value, "shape", None) == (4, 4) or (
+        isinstance(value, (list, tuple)) and len(value) == 4
+        and all(isinstance(r, (list, tuple, np.ndarray)) and len(r) == 4 for r in value))
 
 
 def _weights(weights: object) -> tuple[float, float]:

@@ -17,12 +17,18 @@ def run(*args: str, timeout: float = 300) -> subprocess.CompletedProcess:
 
 
 def test_robots_lists_every_bundled_robot_with_limits_and_source():
-    """`scara-opt robots` exits 0 and names each robot, its joints' limits and its paper."""
+    """`scara-opt robots` exits 0 and names each robot, its joints' limits and its paper.
+
+    Mutation caught: cmd_robots not printing the [citation] line.
+    """
     out = run("robots")
     assert out.returncode == 0, out.stderr
     for name in BUNDLED:
         assert name in out.stdout
-    assert "[-120.0, 120.0] deg" in out.stdout and "seeds/" in out.stdout
+    assert "[-120.0, 120.0] deg" in out.stdout and "seeds/" not in out.stdout
+    assert ("paper:  Mahdi Zavar, Niki Manouchehri, Alireza Safa (2024). “Forward and Inverse "
+            "Kinematics of 4-DoF SCARA: Using Optimization Algorithms”. Not stated in the "
+            "paper's text: venue, doi.") in out.stdout
 
 
 @pytest.mark.parametrize("command", ["robots", "solvers", "fk", "ik", "compare", "path",

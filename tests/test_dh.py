@@ -24,12 +24,12 @@ def test_committed_urdf_is_not_stale(name):
 
 
 def test_every_bundled_robot_has_a_source_and_units():
-    """Each robot file names its paper and its units explicitly."""
+    """Each robot file names its paper (a [citation], no path outside the repo) and its units."""
     import tomllib
 
     for name in BUNDLED:
         data = tomllib.loads((bundled_dir() / f"{name}.toml").read_text())
-        assert data["source"] and "seeds/" in data["source"]
+        assert data["source"] and "seeds/" not in data["source"] and "citation" in data
         assert data["length_unit"] in ("m", "mm", "in") and data["angle_unit"] == "deg"
 
 

@@ -37,7 +37,7 @@ CONVENTIONS = ("standard", "modified")
 #: the keys a robot file may hold: top level (``footprint`` is read by
 #: scara_opt.workspace_analysis), each ``[[joints]]`` row and the ``[tool]`` table
 FILE_KEYS = ("name", "title", "source", "notes", "convention", "length_unit", "angle_unit",
-             "joints", "tool", "footprint", "dynamics_source")
+             "joints", "tool", "footprint", "dynamics_source", "citation")
 JOINT_KEYS = ("name", "type", "a", "alpha", "d", "theta", "sign", "lower", "upper", "velocity",
               "acceleration", "mass", "com", "inertia", "effort")
 TOOL_KEYS = ("xyz", "rpy")

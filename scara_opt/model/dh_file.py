@@ -16,6 +16,7 @@ import numpy as np
 import pinocchio as pin
 
 from scara_opt.errors import URDFError
+from scara_opt.model.citation import check_citation
 from scara_opt.model.dh import (
     ANGLE_UNITS,
     FILE_KEYS,
@@ -108,15 +109,18 @@ def load_dh(path: str | Path) -> DHRobot:
 
     Args:
         path: a ``.toml`` file with ``length_unit``, ``angle_unit``, ``convention``,
-            ``[[joints]]`` rows and optional ``[tool]`` (``xyz``, ``rpy``); the keys allowed
-            are :data:`FILE_KEYS`, :data:`JOINT_KEYS` and :data:`TOOL_KEYS`. A row's
-            optional ``mass`` [kg], ``com`` [length_unit, in the joint's moving frame],
-            ``inertia`` (ixx, ixy, ixz, iyy, iyz, izz) [kg·m², about the com] and
-            ``effort`` [N·m or N] go to the URDF's ``<inertial>`` and ``<limit effort=>``.
+            ``[[joints]]`` rows and optional ``[tool]`` (``xyz``, ``rpy``), ``[footprint]``
+            (read by :class:`~scara_opt.Footprint`) and ``[citation]``
+            (:mod:`scara_opt.model.citation`); the keys allowed are :data:`FILE_KEYS`,
+            :data:`JOINT_KEYS` and :data:`TOOL_KEYS`. A row's optional ``mass`` [kg], ``com``
+            [length_unit, in the joint's moving frame], ``inertia`` (ixx, ixy, ixz, iyy, iyz,
+            izz) [kg·m², about the com] and ``effort`` [N·m or N] go to the URDF's
+            ``<inertial>`` and ``<limit effort=>``.
 
     Raises:
         URDFError: missing file, TOML syntax, unknown key, unit or joint type, bad or
-            non-finite entries; mass or effort <= 0, an inertia no body has.
+            non-finite entries; mass or effort <= 0, an inertia no body has; an incomplete
+            ``[citation]``.
         JointLimitError: a lower limit not below its upper limit, or a limit <= 0.
     """
     path = Path(path)
@@ -177,6 +181,8 @@ def load_dh(path: str | Path) -> DHRobot:
         tool[:3, 3] = _vector(table, "xyz", f"{where}: [tool]") * L
     _text(data, "title", where, "")
     _text(data, "dynamics_source", where, "")
+    if "citation" in data:
+        check_citation(data["citation"], where)
     return DHRobot(
         name=_text(data, "name", where, path.stem),
         joints=tuple(joints),

@@ -296,6 +296,10 @@ class Robot(JointChecks, ToolAngle, InertialData):
         pin.forwardKinematics(self.model, data, qa)
         return pin.updateFramePlacement(self.model, data, self.tip_id).homogeneous.copy()
 
+    def fk_se3(self, q: object) -> pin.SE3:
+        """Tip pose at ``q`` as a ``pinocchio.SE3`` (a copy; ``.homogeneous`` is :meth:`fk`)."""
+        return pin.SE3(self.fk(q))
+
     def position(self, q: object) -> Array:
         """Tip position (3,) [m] at ``q``."""
         return self.fk(q)[:3, 3]

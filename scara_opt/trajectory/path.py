@@ -233,7 +233,7 @@ def ik_path(robot: Robot, targets: object, method: str = "auto", q_start: object
     Raises:
         InputError: ``robot`` not a Robot; malformed targets, threshold or ``seed``.
         UnknownSolverError, SolverOptionError, JointLimitError, TargetError: as for
-        :func:`~scara_opt.solve_ik`.
+            :func:`~scara_opt.solve_ik`.
     """
     check_robot(robot)
     ts = as_targets(targets)

@@ -159,7 +159,7 @@ class Trajectory:
         """Positions, velocities and accelerations at ``t`` [s].
 
         Args:
-            t: a time or an array of times (m,) within [0, duration] [s].
+            t: a time [s] or an array of times (m,), within [0, duration].
 
         Returns:
             ``(q, qd, qdd)``, each (nq,) for a scalar ``t`` or (m, nq) for an array

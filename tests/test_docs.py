@@ -1,0 +1,107 @@
+"""The API reference site: its guides' code runs, its cross-references are checked, CI builds it."""
+
+from __future__ import annotations
+
+import importlib.util
+import os
+import re
+import subprocess
+import sys
+import textwrap
+from pathlib import Path
+
+import pytest
+
+from tests.conftest import ROOT
+
+GUIDES = ["index.md", "getting-started.md", "own-robot.md", "ik-methods.md", "time-optimal.md"]
+
+
+def _roles():
+    spec = importlib.util.spec_from_file_location("griffe_sphinx_roles",
+                                                  ROOT / "docs_ext" / "griffe_sphinx_roles.py")
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
+
+
+@pytest.mark.parametrize("page", GUIDES)
+def test_every_guide_code_block_runs(page, monkeypatch):
+    """Each guide's Python blocks run in order, from the repository root, as printed."""
+    monkeypatch.chdir(ROOT)
+    text = (ROOT / "docs" / page).read_text()
+    scope: dict = {}
+    for k, code in enumerate(re.findall(r"```python\n(.*?)```", text, re.S)):
+        exec(compile(code, f"docs/{page} block {k + 1}", "exec"), scope)  # noqa: S102
+
+
+def test_readme_full_pose_block_runs(monkeypatch):
+    """The README's full-pose snippet (fk_se3 -> Target -> solve_ik) solves."""
+    monkeypatch.chdir(ROOT)
+    blocks = re.findall(r"```python\n(.*?)```", (ROOT / "README.md").read_text(), re.S)
+    code = next(b for b in blocks if "fk_se3" in b)
+    scope: dict = {"so": __import__("scara_opt")}
+    exec(compile(code, "README full pose", "exec"), scope)  # noqa: S102
+    assert scope["res"].success
+
+
+def test_sphinx_roles_become_checked_cross_references():
+    """An existing target becomes an optional autoref (link if documented); a missing one a
+    plain reference, which mkdocs --strict reports; relative names resolve in their scope.
+
+    Mutation caught: exists() returning True for every path (broken references pass).
+    """
+    roles = _roles()
+    ok = roles.convert(":func:`~scara_opt.solve_ik` and :class:`scara_opt.Target`")
+    assert ok == ('<autoref identifier="scara_opt.solve_ik" optional><code>solve_ik</code>'
+                  '</autoref> and <autoref identifier="scara_opt.Target" optional>'
+                  "<code>scara_opt.Target</code></autoref>")
+    assert roles.convert(":func:`~scara_opt.solve_ikk`") == "[`solve_ikk`][scara_opt.solve_ikk]"
+    scoped = roles.convert(":meth:`Robot.from_urdf`", "scara_opt.model.robot.Robot.fk")
+    assert 'identifier="scara_opt.model.robot.Robot.from_urdf"' in scoped
+    assert roles.convert(":meth:`fk` :math:`θ u`") == "`fk` `θ u`"
+    assert roles.exists("scara_opt.model.robot.Robot.metadata")  # an attribute the class documents
+    assert roles.convert("A:\n\n.. math::\n    x^2\n\nB") == "A:\n\n```latex\nx^2\n```\n\nB"
+
+
+def test_strict_build_fails_on_a_broken_docstring_reference(tmp_path):
+    """mkdocs build --strict with the project's extension: clean for a good reference, an
+    error naming the target for a broken one."""
+    pytest.importorskip("mkdocstrings_handlers.python")
+    (tmp_path / "docs").mkdir()
+    (tmp_path / "docs" / "index.md").write_text("# API\n\n::: demo_mod\n")
+    config = textwrap.dedent(f"""\
+        site_name: demo
+        theme: {{name: readthedocs}}
+        plugins:
+          - mkdocstrings:
+              handlers:
+                python:
+                  paths: ["."]
+                  options:
+                    extensions: ["{ROOT / 'docs_ext' / 'griffe_sphinx_roles.py'}:SphinxRoles"]
+        """)
+    (tmp_path / "mkdocs.yml").write_text(config)
+    env = {**os.environ, "PYTHONPATH": os.pathsep.join([str(tmp_path), str(ROOT)])}
+    results = {}
+    for name in ("solve_ik", "solve_ikk"):
+        (tmp_path / "demo_mod.py").write_text(
+            f'"""Demo."""\n\n\ndef f():\n    """Calls :func:`~scara_opt.{name}`."""\n')
+        results[name] = subprocess.run(
+            [sys.executable, "-m", "mkdocs", "build", "--strict"], cwd=tmp_path,
+            env=env, capture_output=True, text=True, timeout=300)
+    assert results["solve_ik"].returncode == 0, results["solve_ik"].stderr
+    assert results["solve_ikk"].returncode != 0
+    assert "scara_opt.solve_ikk" in results["solve_ikk"].stderr
+
+
+def test_ci_builds_the_site_with_warnings_as_errors():
+    """.ci/run installs the docs extra after the tests and runs mkdocs build --strict."""
+    ci = (ROOT / ".ci" / "run").read_text()
+    assert ci.index("python -m pytest") < ci.index('pip install ".[docs]"') \
+        < ci.index("mkdocs build --strict")
+    readme = (ROOT / "README.md").read_text()
+    assert "mkdocs build --strict" in readme and "pip install \".[docs]\"" in readme
+    nav = (ROOT / "mkdocs.yml").read_text()
+    for page in Path(ROOT / "docs").glob("*.md"):
+        assert page.name in nav, page
