@@ -22,7 +22,13 @@ import numpy as np
 from scara_opt import interrupt
 from scara_opt.checks import count_text
 from scara_opt.errors import InputError, ScaraOptError
-from scara_opt.outputs import COMPARE_FILES, OutputDir, write_compare, write_joint_path
+from scara_opt.outputs import (
+    COMPARE_FILES,
+    OutputDir,
+    html_name,
+    write_compare,
+    write_joint_path,
+)
 
 #: exit code of ``ik`` when the target was not solved (the printed status says why)
 EXIT_NOT_SOLVED = 1
@@ -282,6 +288,8 @@ def cmd_path(args: argparse.Namespace) -> int:
                                                                            args.mm)
     targets = _path_targets(args)
     names = ["joint_path.csv", "trajectory.csv", "trajectory.png"]
+    if args.html is not None:
+        names.append(html_name(args.html))
     with OutputDir(args.out, names, args.force, last=["trajectory.csv"]) as out:
         jp = so.ik_path(robot, targets, method=args.method, q_start=q_start,
                         seed=args.seed, tol=args.tol)
@@ -293,6 +301,11 @@ def cmd_path(args: argparse.Namespace) -> int:
         traj = so.time_parameterize(jp, robot, method=args.time, allow_jumps=args.allow_jumps)
         traj.to_csv(out / "trajectory.csv")
         traj.plot(out / "trajectory.png")
+        if args.html is not None:
+            from scara_opt.view import write_html
+
+            write_html(robot, traj, out / names[-1], title=f"{robot.name}: {len(jp)}-point "
+                       f"path, {args.time} {traj.duration:.3f} s")
     files = [out.final / n for n in names]
     ratios = {k: float(np.max(v)) for k, v in traj.check_limits().items()}
     if args.json:
@@ -434,6 +447,8 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--seed", type=_int_at_least(0), default=0, help="random seed (default 0)")
     p.add_argument("--tol", type=float, default=1e-9, help="residual counted as solved [m]")
     p.add_argument("--out", required=True, help="output folder")
+    p.add_argument("--html", metavar="FILE", help="also write a 3-D animation FILE (.html, in "
+                   "--out; needs the view extra)")
     p.add_argument("--force", action="store_true", help=FORCE_HELP)
     p.set_defaults(func=cmd_path)
 

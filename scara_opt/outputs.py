@@ -32,6 +32,19 @@ COMPARE_FILES = ("runs.csv", "summary.csv", "convergence.png", "time_vs_populati
 STAGING_PREFIX = ".scara-opt-partial-"
 
 
+def html_name(text: object, option: str = "--html") -> str:
+    """``text`` as the name of an HTML file written inside ``--out``: ``name.html``, no folder.
+
+    Raises:
+        InputError: empty, a NUL byte, a folder part, or not ending in ``.html``.
+    """
+    name = check_path_text(option, text)
+    if Path(name).name != name or name in (".", "..") or not name.lower().endswith(".html"):
+        raise InputError(f"{option} takes a file name ending in .html, written inside --out "
+                         f"(e.g. {option} path.html); got {name!r}")
+    return name
+
+
 def check_path_text(option: str, text: object) -> str:
     """``text`` as a path string: not empty, no NUL byte.
 

@@ -168,6 +168,24 @@ def test_path_solves_times_and_writes(tmp_path, timing):
         assert (tmp_path / name).is_file(), name
 
 
+def test_path_html_writes_the_animation_in_out(tmp_path):
+    """path --html NAME writes a meshcat page of the timed path inside --out, listed with the
+    other files; a NAME with a folder or without .html is bad input (exit 2, one line).
+
+    Mutation caught: the --html branch of cmd_path not writing the page.
+    """
+    out = run("path", "zavar2024", "--circle", "280", "0", "50", "-70", "--mm", "-n", "12",
+              "--out", str(tmp_path), "--html", "circle.html")
+    assert out.returncode == 0, out.stderr
+    page = tmp_path / "circle.html"
+    assert page.is_file() and "new MeshCat.Viewer" in page.read_text()
+    assert str(page) in out.stdout
+    for bad in ("sub/circle.html", "circle.png"):
+        out = run("path", "zavar2024", "--circle", "280", "0", "50", "-70", "--mm", "-n", "12",
+                  "--out", str(tmp_path / "other"), "--html", bad)
+        assert out.returncode == 2 and out.stderr.count("\n") == 1 and ".html" in out.stderr
+
+
 def test_workspace_and_reproduce(tmp_path):
     """workspace writes its figures; reproduce writes summary.md with the paper's findings."""
     out = run("workspace", "zavar2024", "-n", "5000", "--out", str(tmp_path))

@@ -151,3 +151,35 @@ def test_a_urdf_with_meshes_is_drawn_with_them(tmp_path):
     objects = _scene(robot, np.zeros((2, robot.nq)))
     meshes = [o for o in objects.values() if o["object"]["geometries"][0].get("format") == "stl"]
     assert len(meshes) >= 1
+
+
+def test_reproduce_writes_one_animation_per_paper_and_says_so(tmp_path, monkeypatch):
+    """``run_paper`` writes ``<paper>_animation.html`` (a meshcat page of the report's motion)
+    and links it in the summary; without meshcat it writes none and the report's notes say
+    how to get it (never silently).
+
+    Mutations caught: ``_write_animation`` not called from ``run_paper`` (no file); the
+    ImportError branch returning without its note.
+    """
+    import builtins
+
+    from scara_opt.reports import run_paper
+
+    rep = run_paper("inverted5", tmp_path / "with")
+    page = tmp_path / "with" / "inverted5_animation.html"
+    assert rep.animation_file == page and page.stat().st_size > 100_000
+    assert "new MeshCat.Viewer" in page.read_text()
+    assert "[inverted5_animation.html](inverted5_animation.html)" in rep.to_markdown()
+
+    real_import = builtins.__import__
+
+    def no_view(name, *args, **kwargs):
+        if name == "scara_opt.view":
+            raise ImportError("No module named 'meshcat'")
+        return real_import(name, *args, **kwargs)
+
+    monkeypatch.setattr(builtins, "__import__", no_view)
+    rep = run_paper("inverted5", tmp_path / "without")
+    assert rep.animation_file is None
+    assert not (tmp_path / "without" / "inverted5_animation.html").exists()
+    assert any("scara-opt[view]" in note for note in rep.notes)

@@ -14,6 +14,7 @@ import tomllib
 from collections.abc import Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
+from typing import Any
 
 import pandas as pd
 
@@ -64,6 +65,10 @@ class PaperReport:
     findings: list[Finding] = field(default_factory=list)
     notes: list[str] = field(default_factory=list)
     time_s: float = 0.0
+    #: (robot, motion, title) to animate in 3-D: a Trajectory, JointPath or (n, nq) poses
+    animation: tuple[Any, Any, str] | None = None
+    #: the 3-D animation written (``<paper>_animation.html``), if any
+    animation_file: Path | None = None
 
     def add_table(self, name: str, table: pd.DataFrame, out: Path) -> None:
         """Keep ``table`` and write it as ``out/<paper>_<name>.csv``."""
@@ -84,6 +89,9 @@ class PaperReport:
         lines += [""] + [f"- {n}" for n in self.notes]
         if self.figures:
             lines += ["", "Figures: " + ", ".join(f"[{p.name}]({p.name})" for p in self.figures)]
+        if self.animation_file is not None:
+            name = self.animation_file.name
+            lines += ["", f"3-D animation (opens in a browser): [{name}]({name})"]
         lines += ["", f"(computed in {self.time_s:.1f} s)", ""]
         return "\n".join(lines)
 
@@ -104,8 +112,27 @@ def run_paper(paper: str, out: str | Path, quick: bool = False) -> PaperReport:
     module = importlib.import_module(f"scara_opt.reports.{paper}")
     start = time.perf_counter()
     report: PaperReport = module.run(Path(out), quick=quick)
+    _write_animation(report, Path(out))
     report.time_s = time.perf_counter() - start
     return report
+
+
+def _write_animation(report: PaperReport, out: Path) -> None:
+    """``<paper>_animation.html`` of the report's motion (:mod:`scara_opt.view`).
+
+    Without the ``view`` extra (meshcat) the report says so in a note; nothing else changes.
+    """
+    if report.animation is None:
+        return
+    try:
+        from scara_opt.view import write_html
+    except ImportError as exc:
+        report.notes.append(f"3-D animation not written ({exc}): pip install "
+                            "'scara-opt[view]' to get it")
+        return
+    robot, motion, title = report.animation
+    report.animation_file = write_html(robot, motion, out / f"{report.paper}_animation.html",
+                                       title=title)
 
 
 def reproduce(papers: str | Sequence[str] = "all", out: str | Path = "results",

@@ -124,6 +124,10 @@ def run(out: Path, quick: bool = False) -> PaperReport:
             f"tolerance {tol:g} (the paper's rounding)", rule + " (deg or mm), every row",
             "timing"))
     times, figures = timing(robot, out)
+    move = reference_data("fang")["tables"][0]
+    toppra = so.time_parameterize(np.array([move["start"], move["end"]]) * TO_SI, robot)
+    rep.animation = (robot, toppra, f"fang Table {move['table']} move, toppra: "
+                                    f"{toppra.duration:.3f} s")
     rep.add_table("timing", times, out)
     rep.figures += figures
     for _, row in times.iterrows():

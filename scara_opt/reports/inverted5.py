@@ -64,6 +64,8 @@ def run(out: Path, quick: bool = False) -> PaperReport:
     ax = draw_robot(robot, q_ref, label="Fig. 3 pose")
     rep.figures.append(Path(out) / "inverted5_poses.png")
     res = so.solve_ik(robot, target, q0=[1.5 * IN, 0.5, 1.0, 0.0, 1.5 * IN])
+    rep.animation = (robot, np.array([q_ref, res.q]), "inverted5: the Fig. 3 pose, then the IK "
+                                                      "of (9, 5, -3) in")
     draw_robot(robot, res.q, ax=ax, color="C1", label="IK of (9, 5, -3) in",
                path=rep.figures[-1], title="inverted5 Fig. 3 pose and the IK of (9, 5, -3) in "
                                            "(228.6, 127, -76.2) mm, method auto")

@@ -158,6 +158,7 @@ def run(out: Path, quick: bool = False) -> PaperReport:
             _sfla_why(row) if row["method"] == "sfla" else "the exact reference",
             "nothing to compare: the paper shows the errors only as figures", "ik"))
     jp = results["ipopt"]
+    rep.animation = (robot, jp, f"nguyen: IPOPT along the cutting contour ({len(jp)} points)")
     try:
         traj = time_parameterize(jp, robot, method="toppra", allow_jumps=bool(jp.jumps))
     except TrajectoryError as exc:
@@ -167,6 +168,8 @@ def run(out: Path, quick: bool = False) -> PaperReport:
                                      title=f"nguyen cutting path, toppra: {traj.duration:.3f} s"))
         rep.notes.append(f"IPOPT joint path timed by toppra within the assumed limits: "
                          f"{traj.duration:.3f} s")
+        rep.animation = (robot, traj, f"nguyen: the cutting contour, toppra, "
+                                      f"{traj.duration:.3f} s")
     rep.notes.append("The contour is representative (the paper shows it only as a figure); the "
                      "joint limits are assumptions (robots/nguyen.toml).")
     return rep

@@ -63,6 +63,8 @@ def _validation(robot: so.Robot, rep: PaperReport, out: Path) -> None:
     for k, b in enumerate(branches[:2]):
         ax = draw_robot(widened, b.q, ax=ax, color=f"C{k}", title=title,
                         label=f"branch {k + 1}: theta2 = {np.degrees(b.q[2]):.4g} deg")
+    if branches:
+        rep.animation = (widened, np.array([b.q for b in branches[:2]]), title)
     path = out / "peng2025_fig9_fig10_branches.png"
     ax.figure.savefig(path, dpi=120, bbox_inches="tight")
     rep.figures.append(path)
