@@ -265,3 +265,34 @@ def test_default_start_is_used_when_q0_is_none(robots):
     robot = robots["peng2025"]
     q0 = default_q0(robot)
     assert robot.within_limits(q0)
+
+
+@pytest.mark.parametrize("name", BUNDLED)
+def test_a_tilted_rotation_on_a_scara_is_unreachable_with_a_sound_bound(name):
+    """A full-rotation target that tilts the yaw axis of a SCARA-type robot is
+    ``unreachable`` (reason ``tilt_out_of_plane``) with the tilt as its bound; the bound is
+    below the rotation error of 2,000 random in-limit configurations (sound), and a rotation
+    about the axis itself stays reachable.
+
+    Mutations caught: ``tilt_certificate`` left out of ``certify`` (status ``failed``); the
+    bound measured from ``R* n`` without the reference orientation (``R_refᵀ``): on a tool
+    that points down it claims ~π - 0.1 rad instead of 0.1.
+    """
+    import pinocchio as pin
+
+    robot = so.load_robot(name)
+    n = robot.yaw_axis
+    q = random_q(robot, 1, seed=4)[0]
+    T = robot.fk(q)
+    axis = np.cross(n, [1.0, 0.0, 0.0] if abs(n[0]) < 0.9 else [0.0, 1.0, 0.0])
+    tilt = pin.exp3(0.1 * axis / np.linalg.norm(axis)) @ T[:3, :3]
+    res = so.solve_ik(robot, so.Target(T[:3, 3], rotation=tilt))
+    assert res.status.value == "unreachable" and res.reason.value == "tilt_out_of_plane"
+    cert = certify(robot, so.Target(T[:3, 3], rotation=tilt), 1e-9)
+    assert cert is not None and cert.bound == pytest.approx(0.1, abs=1e-12)
+    Q = random_q(robot, 2000, seed=5)
+    errors = [np.linalg.norm(pin.log3(robot.fk(x)[:3, :3].T @ tilt)) for x in Q]
+    assert min(errors) >= cert.bound - 1e-12
+    turned = pin.exp3(0.7 * n) @ T[:3, :3]  # about the axis itself: no tilt
+    assert certify(robot, so.Target(T[:3, 3], rotation=turned), 1e-9) is None
+    assert so.solve_ik(robot, so.Target(T[:3, 3], rotation=turned)).success

@@ -7,6 +7,8 @@ configuration reaches the target (with the limits widened by a tol-equivalent ma
 
 * SCARA-type chains (position and yaw targets): :func:`scara_certificate` (height, reach,
   the exhaustive closed form over the whole range of the redundant joints);
+* chains whose revolute axes are all parallel, full-rotation targets:
+  :func:`tilt_certificate` (the tool cannot tilt);
 * any serial chain: :func:`reach_certificate` (the tip is never farther from the first
   joint's origin than the sum of the link offsets and strokes).
 """
@@ -166,9 +168,36 @@ def reach_certificate(robot: Robot, target: Target, tol: float) -> Certificate |
         f"the target is {dist:.6g} m from it, {dist - reach:.4g} m too far"))
 
 
+def tilt_certificate(robot: Robot, target: Target, tol: float) -> Certificate | None:
+    """A full-rotation target that tilts the yaw axis of a robot whose tool cannot tilt.
+
+    Where every revolute axis is parallel to the world axis ``n`` (:attr:`Robot.yaw_axis`,
+    SCARA-type chains), every reachable orientation is ``R(q) = Rot(n, φ) R_ref`` for some
+    angle φ (``R_ref`` the tool's orientation at any fixed configuration). The tool-frame
+    vector ``u = R_refᵀ n`` is then always mapped to ``n``, so the rotation error angle of
+    any ``q`` is at least the angle between ``n`` and ``R* u`` (a rotation by θ moves no unit
+    vector by more than θ): a lower bound for every configuration, checked against ``tol``.
+    """
+    n = robot.yaw_axis
+    if target.kind != "rotation" or n is None:
+        return None
+    R_ref = robot.fk(default_q0(robot))[:3, :3]
+    v = target.rotation @ (R_ref.T @ n)
+    bound = math.atan2(float(np.linalg.norm(np.cross(n, v))), float(n @ v))
+    if bound <= tol:
+        return None
+    return Certificate(Reason.TILT, bound, (
+        f"every revolute axis is parallel to ({', '.join(f'{c:.4g}' for c in n)}): the tool "
+        f"only turns about it, and the target's rotation tilts it by {bound:.6g} rad "
+        f"({math.degrees(bound):.4g} deg), a lower bound on the rotation error of every "
+        "configuration; give a rotation about that axis (or a yaw target)"))
+
+
 def certify(robot: Robot, target: Target, tol: float) -> Certificate | None:
     """The first proof that ``target`` is out of reach within ``tol``, or ``None``.
 
-    :func:`scara_certificate` where the closed form applies, then :func:`reach_certificate`.
+    :func:`scara_certificate` where the closed form applies, :func:`tilt_certificate` for a
+    full rotation on a chain whose tool cannot tilt, then :func:`reach_certificate`.
     """
-    return scara_certificate(robot, target, tol) or reach_certificate(robot, target, tol)
+    return (scara_certificate(robot, target, tol) or tilt_certificate(robot, target, tol)
+            or reach_certificate(robot, target, tol))

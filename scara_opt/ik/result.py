@@ -47,6 +47,9 @@ class Reason(str, Enum):  # noqa: UP042
     BEYOND_REACH = "beyond_reach"
     #: unreachable: nearer to the shoulder axis than the elbow's range lets the arm fold
     INSIDE_HOLE = "inside_hole"
+    #: unreachable: the tool only turns about the yaw axis (every revolute axis parallel to
+    #: it), and the target's rotation tilts that axis
+    TILT = "tilt_out_of_plane"
     #: unreachable: the closed form over the whole range of every redundant joint finds no
     #: branch within the joint limits (shoulder, elbow or wrist limits exclude the target)
     NO_BRANCH = "no_branch_within_limits"
