@@ -33,10 +33,12 @@ BOTTOM_ROW_TOL = 1e-9
 QUAT_NORM_TOL = 1e-3
 
 __all__ = ["BOTTOM_ROW_TOL", "QUAT_NORM_TOL", "ROTATION_TOL", "as_pose", "check_rotation",
-           "matrix_to_quat", "matrix_to_rpy", "quat_to_matrix", "rpy_to_matrix", "to_se3"]
+           "finite_array", "matrix_to_quat", "matrix_to_rpy", "quat_to_matrix", "rpy_to_matrix",
+           "to_se3"]
 
 
-def _finite(value: object, shape: tuple[int, ...], what: str) -> Array:
+def finite_array(value: object, shape: tuple[int, ...], what: str) -> Array:
+    """``value`` as a float array of ``shape`` with finite entries, or :class:`TargetError`."""
     try:
         arr = float_array(value, what, TargetError)
     except TargetError:
@@ -45,7 +47,7 @@ def _finite(value: object, shape: tuple[int, ...], what: str) -> Array:
     if arr.shape != shape:
         raise TargetError(f"{what} must have shape {shape}; got shape {arr.shape}")
     if not np.isfinite(arr).all():
-        raise TargetError(f"{what} has NaN or inf entries; pass finite values")
+        raise TargetError(f"{what} has NaN or inf entries ({arr.tolist()}); pass finite values")
     return arr
 
 
@@ -56,7 +58,7 @@ def check_rotation(R: object, what: str = "rotation") -> Array:
         TargetError: not numeric, wrong shape, NaN/inf, not orthonormal, or ``det R = -1``
             (a reflection).
     """
-    rot = _finite(R, (3, 3), what)
+    rot = finite_array(R, (3, 3), what)
     ortho = float(np.abs(rot @ rot.T - np.eye(3)).max())
     det = float(np.linalg.det(rot))
     if ortho > ROTATION_TOL or abs(det - 1.0) > ROTATION_TOL:
@@ -76,7 +78,7 @@ def as_pose(pose: object, what: str = "pose") -> tuple[Array, Array]:
     """
     if isinstance(pose, pin.SE3):
         pose = pose.homogeneous
-    T = _finite(pose, (4, 4), f"{what} (4×4 homogeneous matrix or pinocchio.SE3)")
+    T = finite_array(pose, (4, 4), f"{what} (4×4 homogeneous matrix or pinocchio.SE3)")
     if np.abs(T[3] - [0.0, 0.0, 0.0, 1.0]).max() > BOTTOM_ROW_TOL:
         raise TargetError(f"{what} must have the last row [0, 0, 0, 1] of a homogeneous "
                           f"transform; got {T[3].tolist()}")
@@ -91,7 +93,7 @@ def to_se3(pose: object) -> pin.SE3:
 
 def rpy_to_matrix(rpy: object) -> Array:
     """Rotation (3, 3) of roll, pitch, yaw [rad]: ``Rz(yaw) Ry(pitch) Rx(roll)``."""
-    r, p, y = _finite(rpy, (3,), "rpy [rad]")
+    r, p, y = finite_array(rpy, (3,), "rpy [rad]")
     return np.asarray(pin.rpy.rpyToMatrix(r, p, y), float)
 
 
@@ -106,7 +108,7 @@ def quat_to_matrix(wxyz: object) -> Array:
     Raises:
         TargetError: not four finite numbers, or a norm too far from 1 (e.g. all zeros).
     """
-    q = _finite(wxyz, (4,), "quaternion (w, x, y, z)")
+    q = finite_array(wxyz, (4,), "quaternion (w, x, y, z)")
     norm = float(np.linalg.norm(q))
     if abs(norm - 1.0) > QUAT_NORM_TOL:
         raise TargetError(f"quaternion (w, x, y, z) = {q.tolist()} has norm {norm:.6g}; a "

@@ -14,9 +14,9 @@ import numpy as np
 import pinocchio as pin
 from numpy.typing import NDArray
 
-from scara_opt.checks import describe, float_array, is_real
+from scara_opt.checks import describe, is_real
 from scara_opt.errors import TargetError
-from scara_opt.pose import as_pose, check_rotation
+from scara_opt.pose import as_pose, check_rotation, finite_array
 
 Array = NDArray[np.float64]
 
@@ -29,19 +29,6 @@ MAX_ANGLE = 1e6
 #: range of each weight: ratios up to 1e12 between the position and angle terms, and
 #: weighted squared errors that stay finite (1e200 squared overflows)
 WEIGHT_RANGE = (1e-6, 1e6)
-
-
-def _finite_array(value: object, shape: tuple[int, ...], what: str) -> Array:
-    try:
-        arr = float_array(value, what, TargetError)
-    except TargetError:
-        raise TargetError(f"{what} must be numeric with shape {shape}; got "
-                          f"{describe(value)}") from None
-    if arr.shape != shape:
-        raise TargetError(f"{what} must have shape {shape}; got shape {arr.shape}")
-    if not np.isfinite(arr).all():
-        raise TargetError(f"{what} has NaN or inf entries ({arr.tolist()}); pass finite values")
-    return arr
 
 
 @dataclass(frozen=True)
@@ -79,7 +66,7 @@ class Target:
                 raise TargetError("a pose (4×4 matrix or SE3) already fixes the rotation: give "
                                   "no yaw= or rotation= with it")
             position, rotation = as_pose(position, "target pose")
-        pos = _finite_array(position, (3,), "target position [m]")
+        pos = finite_array(position, (3,), "target position [m]")
         if np.abs(pos).max() > MAX_COORDINATE:
             raise TargetError(f"target position {pos.tolist()} m has a coordinate beyond "
                               f"±{MAX_COORDINATE:g} m, far outside any robot's reach; positions "
