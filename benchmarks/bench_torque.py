@@ -13,25 +13,21 @@ data and torque limits of zavar2024 are estimates (robots/zavar2024.toml).
 from __future__ import annotations
 
 import math
-import time
+
+from timing import best_time
 
 import scara_opt as so
 from scara_opt import paths
 from scara_opt.trajectory import ik_path, time_parameterize
 
 REPEATS = 7
-N_WAYPOINTS = 100
-GOAL = 3.0
 
 
 def best_ms(fn, *args, **kwargs) -> float:
-    """Best of REPEATS wall-clock times [ms] (shared machines: take the least disturbed)."""
-    times = []
-    for _ in range(REPEATS):
-        t = time.perf_counter()
-        fn(*args, **kwargs)
-        times.append(time.perf_counter() - t)
-    return min(times) * 1e3
+    """:func:`timing.best_time` of REPEATS runs [ms]."""
+    return best_time(fn, *args, repeats=REPEATS, **kwargs) * 1e3
+N_WAYPOINTS = 100
+GOAL = 3.0
 
 
 def main() -> None:

@@ -20,9 +20,9 @@ All limits are the robots' own (assumed in robots/*.toml); ruckig's jerk = 10/s 
 from __future__ import annotations
 
 import math
-import time
 
 import numpy as np
+from timing import best_time
 
 import scara_opt as so
 from scara_opt import paths
@@ -31,6 +31,11 @@ from scara_opt.trajectory.ruckig_backend import ruckig_segment
 from scara_opt.trajectory.toppra_backend import OPTIONS, chord_parameter
 
 REPEATS = 21
+
+
+def best_ms(fn, *args, **kwargs) -> float:
+    """:func:`timing.best_time` of REPEATS runs [ms]."""
+    return best_time(fn, *args, repeats=REPEATS, **kwargs) * 1e3
 N_WAYPOINTS = 100
 DEG, MM = math.pi / 180, 1e-3
 FANG_MOVES = {  # Tables 2 and 3, (deg, deg, mm, deg)
@@ -38,16 +43,6 @@ FANG_MOVES = {  # Tables 2 and 3, (deg, deg, mm, deg)
     "fang Table 3": ((64.4042, 128.8085, 15.15, 61.4099), (-52.6250, -106.8207, 0.03, -52.7509)),
 }
 FANG_UNITS = np.array([DEG, DEG, MM, DEG])
-
-
-def best_ms(fn, *args, **kwargs) -> float:
-    """Best of REPEATS wall-clock times [ms] (shared machines: take the least disturbed)."""
-    times = []
-    for _ in range(REPEATS):
-        t = time.perf_counter()
-        fn(*args, **kwargs)
-        times.append(time.perf_counter() - t)
-    return min(times) * 1e3
 
 
 def raw_ruckig(qa: np.ndarray, qb: np.ndarray, limits) -> object:

@@ -12,9 +12,9 @@ Goal (issue 6): <= 0.5 s for 60,000 samples on the 4-joint robots.
 from __future__ import annotations
 
 import math
-import time
 
 import numpy as np
+from timing import best_time
 
 import scara_opt as so
 from scara_opt.workspace_analysis import workspace
@@ -23,16 +23,6 @@ N = 60_000
 REPEATS = 5
 GOAL_S = 0.5
 CELL = 0.01  # baseline grid cell [m]
-
-
-def best_time(fn, *args, **kwargs) -> float:
-    """Best of REPEATS wall-clock times [s] (machines are shared: take the least disturbed)."""
-    times = []
-    for _ in range(REPEATS):
-        t = time.perf_counter()
-        fn(*args, **kwargs)
-        times.append(time.perf_counter() - t)
-    return min(times)
 
 
 def baseline_zavar(n: int, seed: int = 0) -> float:
@@ -53,7 +43,7 @@ def baseline_zavar(n: int, seed: int = 0) -> float:
 
 
 def main() -> None:
-    base = best_time(baseline_zavar, N)
+    base = best_time(baseline_zavar, N, repeats=REPEATS)
     print(f"baseline: numpy eq. 5 FK + np.histogram2d (zavar2024), N={N}: {base * 1e3:.1f} ms "
           f"(area {baseline_zavar(N):.4f} m^2, plain cell count)")
     print(f"{'robot':<10} {'nq':>3} {'footprint':>9} {'time [ms]':>10} {'x baseline':>11} "
@@ -61,7 +51,7 @@ def main() -> None:
     worst_4 = 0.0
     for name in so.list_robots():
         robot = so.load_robot(name)
-        t = best_time(workspace, robot, n=N, seed=0)
+        t = best_time(workspace, robot, n=N, seed=0, repeats=REPEATS)
         ws = workspace(robot, n=N, seed=0)
         if robot.nq == 4:
             worst_4 = max(worst_4, t)
