@@ -304,8 +304,11 @@ def cmd_path(args: argparse.Namespace) -> int:
         if args.html is not None:
             from scara_opt.view import write_html
 
-            write_html(robot, traj, out / names[-1], title=f"{robot.name}: {len(jp)}-point "
-                       f"path, {args.time} {traj.duration:.3f} s")
+            try:
+                write_html(robot, traj, out / names[-1], title=f"{robot.name}: {len(jp)}-point "
+                           f"path, {args.time} {traj.duration:.3f} s")
+            except ModuleNotFoundError as exc:  # the view extra is not installed
+                raise InputError(f"--html: {exc}; or drop --html") from None
     files = [out.final / n for n in names]
     ratios = {k: float(np.max(v)) for k, v in traj.check_limits().items()}
     if args.json:

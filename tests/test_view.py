@@ -159,9 +159,10 @@ def test_reproduce_writes_one_animation_per_paper_and_says_so(tmp_path, monkeypa
     how to get it (never silently).
 
     Mutations caught: ``_write_animation`` not called from ``run_paper`` (no file); the
-    ImportError branch returning without its note.
+    missing-module branch without its note; ``write_html`` outside the ``try`` (the
+    base install's ``reproduce`` then crashed: found by ``.ci/run``).
     """
-    import builtins
+    import sys
 
     from scara_opt.reports import run_paper
 
@@ -171,14 +172,8 @@ def test_reproduce_writes_one_animation_per_paper_and_says_so(tmp_path, monkeypa
     assert "new MeshCat.Viewer" in page.read_text()
     assert "[inverted5_animation.html](inverted5_animation.html)" in rep.to_markdown()
 
-    real_import = builtins.__import__
-
-    def no_view(name, *args, **kwargs):
-        if name == "scara_opt.view":
-            raise ImportError("No module named 'meshcat'")
-        return real_import(name, *args, **kwargs)
-
-    monkeypatch.setattr(builtins, "__import__", no_view)
+    # as in a base install: the viewer's meshcat scene cannot be imported
+    monkeypatch.setitem(sys.modules, "scara_opt.view.scene", None)
     rep = run_paper("inverted5", tmp_path / "without")
     assert rep.animation_file is None
     assert not (tmp_path / "without" / "inverted5_animation.html").exists()

@@ -124,15 +124,14 @@ def _write_animation(report: PaperReport, out: Path) -> None:
     """
     if report.animation is None:
         return
-    try:
-        from scara_opt.view import write_html
-    except ImportError as exc:
-        report.notes.append(f"3-D animation not written ({exc}): pip install "
-                            "'scara-opt[view]' to get it")
-        return
+    from scara_opt.view import write_html  # meshcat itself is imported at the first page
+
     robot, motion, title = report.animation
-    report.animation_file = write_html(robot, motion, out / f"{report.paper}_animation.html",
-                                       title=title)
+    try:
+        report.animation_file = write_html(robot, motion,
+                                           out / f"{report.paper}_animation.html", title=title)
+    except ModuleNotFoundError as exc:  # the view extra (meshcat) is not installed
+        report.notes.append(f"3-D animation not written ({exc})")
 
 
 def reproduce(papers: str | Sequence[str] = "all", out: str | Path = "results",
