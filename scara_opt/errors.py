@@ -89,3 +89,15 @@ class SolverOptionError(ScaraOptError, TypeError):
 
 class TrajectoryError(ScaraOptError, ValueError):
     """A path or its limits cannot be time-parameterised as asked."""
+
+
+class MoveError(TrajectoryError):
+    """A move of a motion program cannot be planned as given.
+
+    Attributes:
+        index: the move's position in the program (0-based).
+    """
+
+    def __init__(self, index: int, message: str) -> None:
+        self.index = index
+        super().__init__(f"move {index}: {message}")

@@ -1,0 +1,141 @@
+"""SCARA arm branch (lefty / righty) and the joint values of each move's goal and path.
+
+The branch is the side the forearm turns to: with the planar angles of the upper arm
+:math:`a_1` and forearm :math:`a_2` about the yaw axis :math:`n`, ``"righty"`` is
+:math:`\\sin(a_2 - a_1) > 0` (counter-clockwise about ``n``, a right arm seen from above),
+``"lefty"`` is :math:`< 0`; stretched out (0) belongs to neither. Robots that are not
+SCARA-type have no branch: ``elbow=`` is refused for them.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from numpy.typing import NDArray
+
+from scara_opt.errors import MoveError
+from scara_opt.ik.analytic import ik_all
+from scara_opt.ik.geometry import NotScaraError, ScaraGeometry, scara_geometry
+from scara_opt.ik.registry import get_solver
+from scara_opt.model.robot import Robot
+from scara_opt.target import Target
+from scara_opt.trajectory.path import ik_path
+
+Array = NDArray[np.float64]
+
+#: |sin(a2 - a1)| below this counts as stretched out (no branch)
+STRETCHED = 1e-6
+
+SIGN = {"righty": 1, "lefty": -1}
+NAME = {1: "righty", -1: "lefty", 0: "stretched (no branch)"}
+
+
+def geometry(robot: Robot) -> ScaraGeometry | None:
+    """The robot's SCARA geometry, or ``None`` if it is not SCARA-type."""
+    try:
+        return scara_geometry(robot)
+    except NotScaraError:
+        return None
+
+
+def elbow_signs(robot: Robot, Q: Array) -> Array | None:
+    """Branch of each configuration (n,): +1 righty, -1 lefty, 0 stretched; ``None``: no SCARA."""
+    g = geometry(robot)
+    if g is None:
+        return None
+    rel = g.phi2 - g.phi1 + g.s[g.elbow] * np.atleast_2d(Q)[:, g.elbow]
+    s = np.sin(rel)
+    return np.where(np.abs(s) < STRETCHED, 0, np.sign(s)).astype(int)
+
+
+def tool_pose(robot: Robot, q: Array) -> tuple[Array, float | None]:
+    """Tip position (3,) [m] and unwrapped tool yaw [rad] (``None`` without a yaw axis)."""
+    g = geometry(robot)
+    if g is not None:
+        p, yaw = g.fk(q[None, :])
+        return robot.position(q), float(yaw[0])
+    return robot.position(q), (robot.yaw(q) if robot.yaw_axis is not None else None)
+
+
+def _check_branch(index: int, robot: Robot, q: Array, elbow: str | None, what: str) -> None:
+    if elbow is None:
+        return
+    signs = elbow_signs(robot, q)
+    if signs is None:
+        raise MoveError(index, f"robot {robot.name!r} is not SCARA-type and has no elbow "
+                               "branch; drop elbow=")
+    if signs[0] != SIGN[elbow]:
+        raise MoveError(index, f"{what} is {NAME[int(signs[0])]}, not {elbow}: change "
+                               f"elbow= or the goal")
+
+
+def ptp_goal(index: int, robot: Robot, goal: Target | Array, q_prev: Array,
+             elbow: str | None) -> Array:
+    """Joint goal of a PTP: the given vector, or the IK solution on ``elbow`` nearest ``q_prev``.
+
+    Raises:
+        MoveError: outside the joint limits, unreachable, or not on the asked branch.
+    """
+    if not isinstance(goal, Target):
+        try:
+            q = robot.check_q(goal, "goal")
+        except ValueError as exc:
+            raise MoveError(index, f"PTP goal: {exc}") from None
+        _check_branch(index, robot, q, elbow, "the joint goal")
+        return q
+    if geometry(robot) is None:
+        if elbow is not None:
+            _check_branch(index, robot, q_prev, elbow, "")
+        res = get_solver("auto").solve(robot, goal, q0=q_prev, seed=index, tol=1e-9)
+        if not res.success:
+            raise MoveError(index, f"PTP goal {goal} is unreachable (residual {res.error:.3g}); "
+                                   "move it into the workspace")
+        return res.q
+    sols = [r.q for r in ik_all(robot, goal, q0=q_prev)]
+    if elbow is not None:
+        sols = [q for q in sols if elbow_signs(robot, q)[0] == SIGN[elbow]]
+    if not sols:
+        where = f" on the {elbow} branch" if elbow else ""
+        raise MoveError(index, f"PTP goal {goal} is unreachable{where} within the joint "
+                               "limits; move it into the workspace" +
+                               (" or change elbow=" if elbow else ""))
+    return sols[0]
+
+
+def path_joints(index: int, kind: str, robot: Robot, P: Array, yaws: Array | None,
+                q_prev: Array, elbow: str | None) -> Array:
+    """Joint path (n, nq) of a LIN/CIRC through positions ``P`` (n, 3), on one branch.
+
+    Raises:
+        MoveError: a point unreachable, a joint jump, or the path leaving the start's branch
+            (index of the point and its position named).
+    """
+    start = elbow_signs(robot, q_prev)
+    if elbow is not None:
+        _check_branch(index, robot, q_prev, elbow,
+                      f"the {kind} start (a {kind} keeps its branch; change it with a PTP)")
+    targets = [Target(p, None if yaws is None else float(y))
+               for p, y in zip(P, yaws if yaws is not None else [None] * len(P), strict=True)]
+    jp = ik_path(robot, targets, q_start=q_prev)
+    if jp.unsolved:
+        i = jp.unsolved[0]
+        raise MoveError(index, f"{kind} point {i} of {len(P)} at {np.round(P[i], 6).tolist()} m "
+                               f"is unreachable (residual {jp.error[i]:.3g}); the path leaves "
+                               "the workspace (or passes the base hole): move the goal, or go "
+                               "around with several moves")
+    Q = jp.q
+    if start is not None:
+        signs = elbow_signs(robot, Q)
+        ref = start[0] if start[0] != 0 else (signs[signs != 0][:1] or [0])[0]
+        off = np.flatnonzero((signs != ref) & (signs != 0))
+        if off.size:
+            i = int(off[0])
+            raise MoveError(index, f"{kind} leaves the {NAME[int(ref)]} branch at point {i} "
+                                   f"of {len(P)}, {np.round(P[i], 6).tolist()} m: it cannot be "
+                                   "done on one branch; split it there with a PTP that flips "
+                                   "the elbow, or move the path away from the stretched arm")
+    if jp.jumps:
+        j = jp.jumps[0]
+        raise MoveError(index, f"{kind} joint path jumps at point {j.index} of {len(P)}, "
+                               f"{np.round(P[j.index], 6).tolist()} m ({j}): a singular pose "
+                               "or a wrist turn; move the path away from it")
+    return Q

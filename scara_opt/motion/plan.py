@@ -1,0 +1,199 @@
+"""``plan(robot, moves, limits)``: one rest-to-rest :class:`~scara_opt.Trajectory` of a program.
+
+Each move becomes a joint path: a PTP the straight joint line to its goal (IK on the asked
+elbow branch for a Target), a LIN or CIRC the IK of its Cartesian points every ``step``
+metres, on the branch it starts on (:mod:`scara_opt.motion.branch`). Each path is timed
+time-optimally under the joint limits and the move's tool limits
+(:mod:`scara_opt.motion.timing`); without blends the robot stops exactly at every goal.
+"""
+
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass, replace
+
+import numpy as np
+from numpy.typing import NDArray
+
+from scara_opt.checks import check_real
+from scara_opt.errors import InputError, MoveError
+from scara_opt.model.robot import Robot, check_robot
+from scara_opt.motion import branch, geometry
+from scara_opt.motion.moves import CIRC, LIN, PTP, Move, as_moves, goal_point
+from scara_opt.motion.timing import CHECK_DT, time_section, tool_ratios
+from scara_opt.motion.tool_limits import ToolLimits
+from scara_opt.target import Target
+from scara_opt.trajectory.limits import resolve_limits
+from scara_opt.trajectory.trajectory import Trajectory, concatenate
+
+Array = NDArray[np.float64]
+
+#: default spacing of the Cartesian points of a LIN or CIRC [m]
+STEP = 0.002
+
+#: a move whose goal is this close to its start (joints [rad or m]) does not move
+STILL = 1e-9
+
+
+@dataclass(frozen=True, repr=False, eq=False)
+class MotionTrajectory(Trajectory):
+    """A :class:`~scara_opt.Trajectory` planned from moves; it also knows its tool limits.
+
+    Attributes (beyond Trajectory's; ``waypoints`` are the goals, ``waypoint_times`` the
+    start then the end of each move [s]):
+        robot: the robot it was planned for.
+        moves: the program.
+        tool_limits: the tool limits each move was timed for.
+    """
+
+    robot: Robot | None = None
+    moves: tuple[Move, ...] = ()
+    tool_limits: tuple[ToolLimits, ...] = ()
+
+    def tool_limit_ratios(self, dt: float = CHECK_DT) -> dict[str, Array]:
+        """Worst tip speed / acceleration / yaw-rate ratio per move (n_moves,), by FK at ``dt``.
+
+        0 where a move has no such limit; <= 1 means the limit holds at every sample.
+        """
+        rows: dict[str, list[float]] = {"speed": [], "acceleration": [], "yaw_rate": []}
+        for i, tool in enumerate(self.tool_limits):
+            t0, t1 = self.waypoint_times[i], self.waypoint_times[i + 1]
+            part = _window(self, t0, t1)
+            for name, value in tool_ratios(self.robot, part, tool, dt).items():
+                rows[name].append(value)
+        return {f"tool_{k}": np.array(v) for k, v in rows.items()}
+
+    def check_limits(self) -> dict[str, Array]:
+        """Joint ratios (exact, per joint) and tool ratios (1 kHz FK, per move)."""
+        return {**super().check_limits(), **self.tool_limit_ratios()}
+
+
+def _window(traj: Trajectory, t0: float, t1: float) -> Trajectory:
+    """The part of ``traj`` between ``t0`` and ``t1``, as a Trajectory starting at 0."""
+    pieces = []
+    for p in traj.pieces:
+        i0 = int(np.searchsorted(p.x, t0 + 1e-12, side="right")) - 1
+        i1 = int(np.searchsorted(p.x, t1 - 1e-12, side="left"))
+        from scipy.interpolate import PPoly
+
+        pieces.append(PPoly(p.c[:, i0:i1], p.x[i0:i1 + 1] - p.x[i0], extrapolate=False))
+    return Trajectory(tuple(pieces), traj.limits, traj.method, traj.waypoints[:2],
+                      np.array([0.0, t1 - t0]))
+
+
+def _goal_pose(index: int, robot: Robot, goal: Target | Array, yaw0: float | None
+               ) -> tuple[Array, float | None]:
+    """Goal position (3,) and yaw (nearest turn to ``yaw0``; ``yaw0`` if the goal has none)."""
+    if isinstance(goal, Target):
+        if goal.rotation is not None:
+            raise MoveError(index, "LIN/CIRC goals take a position and optional yaw, not a "
+                                   "rotation; pass Target(position, yaw=)")
+        p, yaw = goal.position, goal.yaw
+    else:
+        p, yaw = branch.tool_pose(robot, robot.check_q(goal, "goal"))
+    if yaw0 is None or yaw is None:
+        return np.asarray(p, float), yaw0
+    return np.asarray(p, float), geometry.nearest_turn(yaw, yaw0)
+
+
+def move_joints(index: int, move: Move, robot: Robot, q_prev: Array, step: float) -> Array:
+    """Joint path (n, nq) of one move from ``q_prev`` (its first row).
+
+    Raises:
+        MoveError: unreachable or off-branch goals and paths, collinear CIRC points, a move
+            that does not move.
+    """
+    goal = goal_point(index, move.goal, robot.nq, "goal")
+    if isinstance(move, PTP):
+        q1 = branch.ptp_goal(index, robot, goal, q_prev, move.elbow)
+        Q = np.array([q_prev, q1])
+    else:
+        p0, yaw0 = branch.tool_pose(robot, q_prev)
+        p1, yaw1 = _goal_pose(index, robot, goal, yaw0)
+        if isinstance(move, LIN):
+            P, f = geometry.line(p0, p1, step)
+        else:
+            via = goal_point(index, move.via, robot.nq, "via", joints=False).position
+            c = geometry.circle(p0, np.asarray(via, float), p1)
+            if c is None:
+                raise MoveError(index, f"CIRC start {np.round(p0, 6).tolist()}, via "
+                                       f"{np.round(via, 6).tolist()} and goal "
+                                       f"{np.round(p1, 6).tolist()} m are collinear (or two "
+                                       "coincide): no circle passes them; move the via point "
+                                       "off the line, or use LIN")
+            P, f = geometry.arc(*c, step)
+        yaws = None if yaw0 is None else yaw0 + f * (yaw1 - yaw0)
+        Q = np.vstack([q_prev, branch.path_joints(index, move.kind, robot, P[1:],
+                                                  None if yaws is None else yaws[1:],
+                                                  q_prev, move.elbow)])
+    if np.abs(Q[-1] - Q[0]).max() <= STILL:
+        raise MoveError(index, f"{move.kind} goal is where the robot already is: drop the move")
+    return Q
+
+
+def plan(robot: Robot, moves: object, limits: ToolLimits | None = None, *,
+         start: object | None = None, vmax: object | None = None, amax: object | None = None,
+         step: float = STEP) -> MotionTrajectory:
+    """Plan a program of PTP / LIN / CIRC moves into one timed trajectory.
+
+    Args:
+        robot: the robot (its joint limits are the defaults).
+        moves: a sequence of :class:`~scara_opt.motion.PTP`, ``LIN``, ``CIRC``.
+        limits: program-wide :class:`ToolLimits` (speed, acceleration, yaw rate) for LIN
+            and CIRC moves; a move's own ``speed`` / ``acceleration`` overrides them, and
+            a PTP honours only its own.
+        start: (nq,) start configuration; default the first move's goal when the first
+            move is a PTP (it is then the start and takes no time).
+        vmax, amax: joint velocity / acceleration limits, scalar or (nq,); default the robot's.
+        step: spacing of the Cartesian points of LIN/CIRC moves [m].
+
+    Returns:
+        MotionTrajectory: rest to rest, stopping at every goal; ``check_limits()`` has the
+        joint ratios and the tool ratios per move.
+
+    Raises:
+        MoveError: a bad move, named by index, with what to change (see the module).
+        InputError: bad limits, start or step.
+    """
+    robot = check_robot(robot)
+    program = as_moves(moves, robot.nq)
+    tool = ToolLimits() if limits is None else limits
+    if not isinstance(tool, ToolLimits):
+        raise InputError("limits must be a ToolLimits(speed=, acceleration=, yaw_rate=) or None")
+    step = check_real("step", step, 0.0, 0.1, low_open=True, unit="m")
+    joint_limits = resolve_limits(robot, robot.nq, vmax, amax)
+    begin = time.perf_counter()
+    for i, m in enumerate(program):
+        if m.blend > 0:
+            raise MoveError(i, f"blend={m.blend:g} m: blending is not available yet; pass "
+                               "blend=0 (stop at the goal)")
+    if start is None:
+        if not isinstance(program[0], PTP):
+            raise InputError("give start= (nq,) or begin the program with a PTP (its goal is "
+                             "then the start)")
+        q = branch.ptp_goal(0, robot, goal_point(0, program[0].goal, robot.nq, "goal"),
+                            np.clip(np.zeros(robot.nq), robot.lower, robot.upper),
+                            program[0].elbow)
+        program, offset = program[1:], 1
+        if not program:
+            raise InputError("a program of a single PTP without start= does not move")
+    else:
+        q, offset = robot.check_q(start, "start"), 0
+    pieces, goals, tools, notes = [], [q], [], []
+    for k, m in enumerate(program):
+        Q = move_joints(k + offset, m, robot, q, step)
+        own = tool.merged(m.speed, m.acceleration)
+        if isinstance(m, PTP):
+            own = ToolLimits(m.speed, m.acceleration)
+        part, note = time_section(robot, Q, joint_limits, own)
+        pieces.append(part)
+        goals.append(Q[-1])
+        tools.append(own)
+        notes.append(f"move {k + offset} ({m.kind}): {note}")
+        q = Q[-1]
+    joined = tuple(concatenate([p[j] for p in pieces]) for j in range(robot.nq))
+    ends = np.concatenate([[0.0], np.cumsum([p[0].x[-1] for p in pieces])])
+    traj = MotionTrajectory(joined, joint_limits, "toppra", np.array(goals), ends,
+                            notes="; ".join(notes), robot=robot, moves=tuple(program),
+                            tool_limits=tuple(tools))
+    return replace(traj, compute_time_s=time.perf_counter() - begin)
