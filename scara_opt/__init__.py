@@ -37,6 +37,7 @@ from scara_opt.ik import (
 )
 from scara_opt.ik.lm_batch import BatchResult, solve_many
 from scara_opt.model import Robot, list_robots, load_robot
+from scara_opt.motion import CIRC, LIN, PTP, MotionTrajectory, ToolLimits, plan
 from scara_opt.target import Target
 from scara_opt.trajectory import (
     JointPath,
@@ -54,6 +55,12 @@ logging.getLogger(__name__).addHandler(logging.NullHandler())
 __all__ = [
     "__version__",
     "BatchResult",
+    "CIRC",
+    "LIN",
+    "MotionTrajectory",
+    "plan",
+    "PTP",
+    "ToolLimits",
     "compare",
     "Footprint",
     "FrameNotFoundError",

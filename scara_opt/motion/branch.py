@@ -1,8 +1,8 @@
-"""SCARA arm branch (lefty / righty) and the joint values of each move's goal and path.
+r"""SCARA arm branch (lefty / righty) and the joint values of each move's goal and path.
 
 The branch is the side the forearm turns to: with the planar angles of the upper arm
 :math:`a_1` and forearm :math:`a_2` about the yaw axis :math:`n`, ``"righty"`` is
-:math:`\\sin(a_2 - a_1) > 0` (counter-clockwise about ``n``, a right arm seen from above),
+:math:`\sin(a_2 - a_1) > 0` (counter-clockwise about ``n``, a right arm seen from above),
 ``"lefty"`` is :math:`< 0`; stretched out (0) belongs to neither. Robots that are not
 SCARA-type have no branch: ``elbow=`` is refused for them.
 """
@@ -91,13 +91,14 @@ def ptp_goal(index: int, robot: Robot, goal: Target | Array, q_prev: Array,
                                    "move it into the workspace")
         return res.q
     sols = [r.q for r in ik_all(robot, goal, q0=q_prev)]
+    if not sols:
+        raise MoveError(index, f"PTP goal {goal} is unreachable within the joint limits; "
+                               "move it into the workspace")
     if elbow is not None:
         sols = [q for q in sols if elbow_signs(robot, q)[0] == SIGN[elbow]]
-    if not sols:
-        where = f" on the {elbow} branch" if elbow else ""
-        raise MoveError(index, f"PTP goal {goal} is unreachable{where} within the joint "
-                               "limits; move it into the workspace" +
-                               (" or change elbow=" if elbow else ""))
+        if not sols:
+            raise MoveError(index, f"PTP goal {goal} is reachable only off the {elbow} branch "
+                                   "within the joint limits; change elbow= or the goal")
     return sols[0]
 
 

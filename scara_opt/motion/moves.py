@@ -1,4 +1,4 @@
-"""Moves as values: ``PTP(goal)``, ``LIN(goal)``, ``CIRC(via, goal)``, as a SCARA cell is programmed.
+"""Moves as values: ``PTP(goal)``, ``LIN(goal)``, ``CIRC(via, goal)``, as a SCARA cell runs them.
 
 A goal is a joint vector (nq,) [rad or m] or a :class:`~scara_opt.Target` (tip position [m],
 optional yaw [rad]). Every move may carry its own tool ``speed`` [m/s], tool
@@ -112,6 +112,8 @@ def goal_point(index: int, goal: object, nq: int, what: str,
                joints: bool = True) -> Target | Array:
     """A goal as a Target or a joint vector (nq,); a via point as a Target.
 
+    A (3,) array is a position [m], unless ``nq == 3`` and it is a goal (then joints).
+
     Raises:
         MoveError: neither form (the message says which shapes are accepted).
     """
@@ -124,10 +126,10 @@ def goal_point(index: int, goal: object, nq: int, what: str,
     if arr.ndim == 1 and np.isfinite(arr).all():
         if joints and arr.shape == (nq,):
             return arr
-        if not joints and arr.shape == (3,):
+        if arr.shape == (3,):
             return Target(arr)
-    shapes = f"a joint vector ({nq},) [rad or m] or a Target" if joints else \
-        "a (3,) position [m] or a Target"
+    shapes = (f"a joint vector ({nq},) [rad or m], a (3,) position [m] or a Target"
+              if joints else "a (3,) position [m] or a Target")
     raise MoveError(index, f"{what} must be {shapes}; got {describe(goal)}")
 
 

@@ -19,7 +19,7 @@ from scara_opt.checks import check_real
 from scara_opt.errors import InputError, MoveError
 from scara_opt.model.robot import Robot, check_robot
 from scara_opt.motion import branch, geometry
-from scara_opt.motion.moves import CIRC, LIN, PTP, Move, as_moves, goal_point
+from scara_opt.motion.moves import LIN, PTP, Move, as_moves, goal_point
 from scara_opt.motion.timing import CHECK_DT, time_section, tool_ratios
 from scara_opt.motion.tool_limits import ToolLimits
 from scara_opt.target import Target
@@ -126,9 +126,35 @@ def move_joints(index: int, move: Move, robot: Robot, q_prev: Array, step: float
         Q = np.vstack([q_prev, branch.path_joints(index, move.kind, robot, P[1:],
                                                   None if yaws is None else yaws[1:],
                                                   q_prev, move.elbow)])
+        if not isinstance(goal, Target) and np.abs(Q[-1] - goal).max() > 1e-6:
+            raise MoveError(index, f"{move.kind} ends at joints {np.round(Q[-1], 6).tolist()}, "
+                                   f"not the joint goal {np.round(goal, 6).tolist()} (another "
+                                   "elbow branch or wrist turn): a LIN/CIRC keeps its branch; "
+                                   "reach that goal with a PTP")
     if np.abs(Q[-1] - Q[0]).max() <= STILL:
         raise MoveError(index, f"{move.kind} goal is where the robot already is: drop the move")
     return Q
+
+
+def _check_blend(index: int, program: list[Move], k: int, lengths: list[float]) -> None:
+    """Refuse a blend radius above half of this or the previous move's tool path.
+
+    Raises:
+        MoveError: the radius is too large, or on the last move.
+    """
+    if k and program[k - 1].blend > lengths[-1] / 2:
+        raise MoveError(index - 1, f"blend radius {program[k - 1].blend:g} m is more than half "
+                                   f"of the next move's tool path ({lengths[-1]:.6g} m); pass "
+                                   f"blend <= {lengths[-1] / 2:.6g}")
+    blend = program[k].blend
+    if not blend:
+        return
+    if blend > lengths[-1] / 2:
+        raise MoveError(index, f"blend radius {blend:g} m is more than half of the move's tool "
+                               f"path ({lengths[-1]:.6g} m); pass blend <= {lengths[-1] / 2:.6g}")
+    if k == len(program) - 1:
+        raise MoveError(index, "the last move has a blend radius but nothing to blend into; "
+                               "pass blend=0")
 
 
 def plan(robot: Robot, moves: object, limits: ToolLimits | None = None, *,
@@ -144,7 +170,8 @@ def plan(robot: Robot, moves: object, limits: ToolLimits | None = None, *,
             a PTP honours only its own.
         start: (nq,) start configuration; default the first move's goal when the first
             move is a PTP (it is then the start and takes no time).
-        vmax, amax: joint velocity / acceleration limits, scalar or (nq,); default the robot's.
+        vmax: joint velocity limits, scalar or (nq,) [rad/s or m/s]; default the robot's.
+        amax: joint acceleration limits, scalar or (nq,) [rad/s² or m/s²]; default the robot's.
         step: spacing of the Cartesian points of LIN/CIRC moves [m].
 
     Returns:
@@ -163,10 +190,6 @@ def plan(robot: Robot, moves: object, limits: ToolLimits | None = None, *,
     step = check_real("step", step, 0.0, 0.1, low_open=True, unit="m")
     joint_limits = resolve_limits(robot, robot.nq, vmax, amax)
     begin = time.perf_counter()
-    for i, m in enumerate(program):
-        if m.blend > 0:
-            raise MoveError(i, f"blend={m.blend:g} m: blending is not available yet; pass "
-                               "blend=0 (stop at the goal)")
     if start is None:
         if not isinstance(program[0], PTP):
             raise InputError("give start= (nq,) or begin the program with a PTP (its goal is "
@@ -180,8 +203,11 @@ def plan(robot: Robot, moves: object, limits: ToolLimits | None = None, *,
     else:
         q, offset = robot.check_q(start, "start"), 0
     pieces, goals, tools, notes = [], [q], [], []
+    lengths = []
     for k, m in enumerate(program):
         Q = move_joints(k + offset, m, robot, q, step)
+        lengths.append(float(np.linalg.norm(np.diff(robot.positions(Q), axis=0), axis=1).sum()))
+        _check_blend(k + offset, program, k, lengths)
         own = tool.merged(m.speed, m.acceleration)
         if isinstance(m, PTP):
             own = ToolLimits(m.speed, m.acceleration)
@@ -191,6 +217,10 @@ def plan(robot: Robot, moves: object, limits: ToolLimits | None = None, *,
         tools.append(own)
         notes.append(f"move {k + offset} ({m.kind}): {note}")
         q = Q[-1]
+    for k, m in enumerate(program):
+        if m.blend:
+            raise MoveError(k + offset, f"blend={m.blend:g} m: blending is not available yet; "
+                                        "pass blend=0 (stop at the goal)")
     joined = tuple(concatenate([p[j] for p in pieces]) for j in range(robot.nq))
     ends = np.concatenate([[0.0], np.cumsum([p[0].x[-1] for p in pieces])])
     traj = MotionTrajectory(joined, joint_limits, "toppra", np.array(goals), ends,

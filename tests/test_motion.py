@@ -1,0 +1,182 @@
+"""Motion programs (scara_opt.motion): moves, tool limits, branches, bad input.
+
+References are independent of the code under test: the tool speed and acceleration are
+measured by FK finite differences at 1 kHz; the circle is rebuilt from its three points by
+solving the perpendicular-bisector equations; the single-joint time is the textbook
+trapezoid.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+import scara_opt as so
+from scara_opt.errors import InputError, MoveError
+from scara_opt.motion import CIRC, LIN, PTP, ToolLimits, plan
+from scara_opt.motion.plan import move_joints
+from scara_opt.motion.timing import MARGIN
+from scara_opt.motion.tool_limits import tool_peaks
+
+Q0 = np.array([-1.0, 1.15, 0.01, 0.0])
+#: tip at Q0 (zavar2024 eq. 5: a1 = a2 = 0.2 m, z = -d3 - 0.05 m)
+P0 = np.array([0.2 * np.cos(-1.0) + 0.2 * np.cos(0.15), 0.2 * np.sin(-1.0) + 0.2 * np.sin(0.15),
+               -0.06])
+
+
+@pytest.fixture(scope="module")
+def robot() -> so.Robot:
+    return so.load_robot("zavar2024")
+
+
+def _speeds(robot: so.Robot, traj: so.Trajectory) -> np.ndarray:
+    t = traj.times(1e-3)
+    return tool_peaks(robot, traj.evaluate(t), 1e-3)["speed"]
+
+
+def test_lin_cruises_at_the_commanded_speed(robot):
+    """A 0.3 m LIN at 0.25 m/s cruises at 0.25 m/s within 1 % (FK at 1 kHz) and never above.
+
+    Mutation: the tool-speed bound given to toppra scaled by 0.9 (``tool.speed * scale`` ->
+    ``tool.speed * scale * 0.9`` in timing.py) -> the cruise is 10 % slow, fails.
+    """
+    p0 = robot.position(Q0)
+    traj = plan(robot, [LIN(p0 + [0.0, 0.3, 0.0], speed=0.25)],
+                ToolLimits(acceleration=3.0), start=Q0)
+    v = _speeds(robot, traj)
+    m = len(v)
+    cruise = v[m // 4: 3 * m // 4]
+    assert np.abs(cruise / 0.25 - 1).max() < 0.01
+    assert v.max() <= 0.25
+    assert traj.check_limits()["tool_speed"].max() <= 1.0
+
+
+def _circumcentre(a, b, c):
+    """Centre of the circle through a, b, c: equidistant, and in their plane."""
+    n = np.cross(b - a, c - a)
+    A = np.array([b - a, c - a, n])
+    rhs = np.array([(b @ b - a @ a) / 2, (c @ c - a @ a) / 2, n @ a])
+    return np.linalg.solve(A, rhs)
+
+
+def test_circ_points_lie_on_the_circle(robot):
+    """The FK of every joint point of a CIRC lies on the circle within 1e-9 m, in its plane.
+
+    The trajectory sampled at 1 kHz stays within 1e-6 m (the joint spline between points).
+    Mutation: the circumcentre's denominator ``2 * nn**2`` -> ``2 * nn`` (geometry.py) -> the
+    points leave the circle, fails.
+    """
+    p0 = robot.position(Q0)
+    via, goal = p0 + [0.05, 0.05, 0.0], p0 + [0.0, 0.1, 0.0]
+    Q = move_joints(0, CIRC(via, goal), robot, Q0, 0.002)
+    c = _circumcentre(p0, via, goal)
+    r = np.linalg.norm(p0 - c)
+    P = robot.positions(Q)
+    assert np.abs(np.linalg.norm(P - c, axis=1) - r).max() < 1e-9
+    assert np.abs(P[:, 2] - p0[2]).max() < 1e-9
+    traj = plan(robot, [CIRC(via, goal, speed=0.2)], start=Q0)
+    S = robot.positions(traj.evaluate(traj.times(1e-3)))
+    assert np.abs(np.linalg.norm(S - c, axis=1) - r).max() < 1e-6
+
+
+def test_single_joint_ptp_matches_the_trapezoid(robot):
+    """A PTP moving theta1 alone takes the trapezoid time (limits x (1 - margin)), not longer.
+
+    The trapezoid at the full limits is a lower bound; at the scaled limits the toppra time
+    may exceed it only by the grid's round-off (1e-3).
+    Mutation: MARGIN 0.005 -> 0.05 (timing.py) -> 5 % slower than the trapezoid, fails.
+    """
+    q1 = Q0 + [1.5, 0.0, 0.0, 0.0]
+    traj = plan(robot, [PTP(q1)], start=Q0)
+    v, a = robot.velocity_limit[0], robot.acceleration_limit[0]
+
+    def trapezoid(v: float, a: float, d: float = 1.5) -> float:
+        return d / v + v / a if d >= v * v / a else 2 * math.sqrt(d / a)
+
+    assert trapezoid(v, a) <= traj.duration
+    assert traj.duration <= trapezoid(v * (1 - MARGIN), a * (1 - MARGIN)) * (1 + 1e-3)
+
+
+def test_tool_acceleration_on_an_arc_is_honoured_without_stretch(robot):
+    """On a tight arc the tool acceleration (tangential and centripetal) stays <= the limit.
+
+    toppra honours it by itself (the notes show no time stretch) and the limit is reached
+    (ratio >= 0.95).
+    Mutation: the centripetal part dropped (``b = [along, across]`` -> ``[along, 0 * across]``
+    in tool_limits.py) -> toppra goes too fast, the check stretches time, fails.
+    """
+    p0 = robot.position(Q0)
+    traj = plan(robot, [CIRC(p0 + [0.04, 0.04, 0.0], p0 + [0.0, 0.08, 0.0])],
+                ToolLimits(speed=0.3, acceleration=1.5), start=Q0)
+    ratio = traj.check_limits()["tool_acceleration"].max()
+    assert 0.95 <= ratio <= 1.0
+    assert "stretched" not in traj.notes
+
+
+def test_program_stops_at_every_goal_and_keeps_all_limits(robot):
+    """Without blends every goal is reached at rest; all joint and tool ratios are <= 1."""
+    p0 = robot.position(Q0)
+    moves = [CIRC(p0 + [0.05, 0.05, 0], p0 + [0, 0.1, 0], speed=0.2),
+             PTP(so.Target(p0 + [0, 0, -0.02]), elbow="lefty"),
+             LIN(p0 + [0.05, 0.0, -0.02], speed=0.1)]
+    traj = plan(robot, moves, ToolLimits(acceleration=2.0), start=Q0)
+    q, qd, _ = traj.sample(traj.waypoint_times)
+    assert np.allclose(q, traj.waypoints, atol=1e-9)
+    assert np.abs(qd).max() < 1e-9
+    for name, ratios in traj.check_limits().items():
+        assert ratios.max() <= 1.0, name
+    assert np.allclose(robot.position(traj.waypoints[-1]), p0 + [0.05, 0.0, -0.02], atol=1e-9)
+
+
+def test_ptp_elbow_choice_and_lin_keeps_the_branch(robot):
+    """elbow='lefty' on a PTP flips the arm; a LIN asked to be lefty from a righty start is
+    refused, as is a LIN to a joint goal on the other branch.
+
+    Mutation: SIGN = {"righty": 1, "lefty": -1} swapped (branch.py) -> the PTP lands righty.
+    """
+    from scara_opt.motion.branch import elbow_signs
+
+    p0 = robot.position(Q0)
+    assert elbow_signs(robot, Q0)[0] == 1
+    traj = plan(robot, [PTP(so.Target(p0 + [0, 0.05, 0]), elbow="lefty")], start=Q0)
+    assert elbow_signs(robot, traj.waypoints[-1])[0] == -1
+    with pytest.raises(MoveError, match="move 0: .*righty, not lefty"):
+        plan(robot, [LIN(p0 + [0, 0.05, 0], elbow="lefty")], start=Q0)
+    lefty = traj.waypoints[-1]
+    with pytest.raises(MoveError, match="move 1: .*reach that goal with a PTP"):
+        plan(robot, [LIN(p0 + [0, 0.05, 0]), LIN(lefty)], start=Q0)
+
+
+@pytest.mark.parametrize("moves, match", [
+    ([CIRC(P0 + [0.02, 0.0, 0.0], P0 + [0.04, 0.0, 0.0])], "move 0: CIRC .* collinear"),
+    ([LIN([0.3, 0.2, -0.06]), LIN([-0.3, 0.01, -0.06])], "move 1: LIN point .* unreachable"),
+    ([PTP([0.5, 0.0, -0.06])], "move 0: PTP goal .* unreachable"),
+    ([LIN([0.3, 0.2, -0.06], speed=0)], "move 0: LIN speed=0 .* > 0"),
+    ([LIN([0.3, 0.2, -0.06], acceleration=-1.0)], "move 0: LIN acceleration=-1"),
+    ([LIN([0.3, 0.2, -0.06], blend=0.5), LIN([0.3, 0.1, -0.06])], "move 0: blend radius 0.5"),
+    ([LIN([0.3, 0.2, -0.06], blend=0.02)], "move 0: the last move has a blend"),
+    ([LIN([0.3, 0.2, -0.06], elbow="left")], "move 0: elbow='left'"),
+    ([LIN([0.3, 0.2])], "move 0: goal must be"),
+    ([PTP(Q0)], "move 0: PTP goal is where the robot already is"),
+])
+def test_bad_moves_name_the_move_and_the_fix(robot, moves, match):
+    """Each bad program raises MoveError naming the move index and what to change."""
+    with pytest.raises(MoveError, match=match):
+        plan(robot, moves, start=Q0)
+
+
+@pytest.mark.parametrize("kw", [{"speed": 0.0}, {"acceleration": -2.0},
+                                {"yaw_rate": float("nan")}, {"speed": math.inf}])
+def test_zero_negative_or_nonfinite_tool_limits_are_refused(kw):
+    """ToolLimits refuses zero, negative, NaN and infinite limits, naming the limit."""
+    name = next(iter(kw))
+    with pytest.raises(InputError, match=f"tool {name} limit"):
+        ToolLimits(**kw)
+
+
+def test_zero_joint_limit_is_refused(robot):
+    """A zero joint limit is refused before planning (the joint limits' own check)."""
+    with pytest.raises(InputError, match="vmax"):
+        plan(robot, [PTP(Q0 + 0.1)], start=Q0, vmax=0.0)
