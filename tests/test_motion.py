@@ -179,3 +179,34 @@ def test_zero_joint_limit_is_refused(robot):
     """A zero joint limit is refused before planning (the joint limits' own check)."""
     with pytest.raises(InputError, match="vmax"):
         plan(robot, [PTP(Q0 + 0.1)], start=Q0, vmax=0.0)
+
+
+def test_exports_round_trip(robot, tmp_path):
+    """CSV, JSON and ROS YAML hold the same samples; ROS stamps are exact and increasing.
+
+    Mutation: ``stamp`` without the carry (``ns % 1_000_000_000`` -> ``ns``) -> nanosec
+    beyond 1e9, fails.
+    """
+    import json
+
+    from scara_opt.motion import export
+
+    yaml = pytest.importorskip("yaml")
+    traj = plan(robot, [PTP(Q0 + [0.3, 0.2, 0.01, 0.5])], start=Q0)
+    t = traj.times(0.01)
+    q, qd, qdd = traj.sample(t)
+    csv = np.loadtxt(traj.to_csv(tmp_path / "t.csv", dt=0.01), delimiter=",", skiprows=1)
+    header = (tmp_path / "t.csv").read_text().splitlines()[0].split(",")
+    assert header[:4] == ["t_s", "theta1_rad", "theta1_rad_per_s", "theta1_rad_per_s2"]
+    assert np.allclose(csv[:, 0], t) and np.allclose(csv[:, 1], q[:, 0], atol=1e-9)
+    data = json.loads(export.to_json(traj, tmp_path / "t.json").read_text())
+    assert data["units"] == ["rad", "rad", "m", "rad"]
+    assert np.allclose(data["qdd"], qdd)
+    msg = yaml.safe_load(export.to_ros_yaml(traj, tmp_path / "t.yaml").read_text())
+    assert msg["joint_names"] == robot.joint_names
+    stamps = [p["time_from_start"] for p in msg["points"]]
+    secs = np.array([s["sec"] + s["nanosec"] * 1e-9 for s in stamps])
+    assert all(0 <= s["nanosec"] < 10**9 for s in stamps)
+    assert np.all(np.diff(secs) > 0) and abs(secs[-1] - traj.duration) < 1e-9
+    assert np.allclose([p["velocities"] for p in msg["points"]], qd)
+    assert export.stamp(1.9999999999) == {"sec": 2, "nanosec": 0}

@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import time
 from dataclasses import dataclass, replace
+from pathlib import Path
 
 import numpy as np
 from numpy.typing import NDArray
@@ -18,7 +19,7 @@ from numpy.typing import NDArray
 from scara_opt.checks import check_real
 from scara_opt.errors import InputError, MoveError
 from scara_opt.model.robot import Robot, check_robot
-from scara_opt.motion import branch, geometry
+from scara_opt.motion import branch, export, geometry
 from scara_opt.motion.moves import LIN, PTP, Move, as_moves, goal_point
 from scara_opt.motion.timing import CHECK_DT, time_section, tool_ratios
 from scara_opt.motion.tool_limits import ToolLimits
@@ -62,6 +63,18 @@ class MotionTrajectory(Trajectory):
             for name, value in tool_ratios(self.robot, part, tool, dt).items():
                 rows[name].append(value)
         return {f"tool_{k}": np.array(v) for k, v in rows.items()}
+
+    def to_json(self, path: str | Path, dt: float = 0.01) -> Path:
+        """Samples every ``dt`` [s] as JSON (:func:`scara_opt.motion.export.to_json`)."""
+        return export.to_json(self, path, dt)
+
+    def to_ros(self, dt: float = 0.01) -> dict:
+        """A ROS ``JointTrajectory``-shaped dict (:func:`scara_opt.motion.export.to_ros`)."""
+        return export.to_ros(self, dt)
+
+    def to_ros_yaml(self, path: str | Path, dt: float = 0.01) -> Path:
+        """The ROS form as YAML (:func:`scara_opt.motion.export.to_ros_yaml`)."""
+        return export.to_ros_yaml(self, path, dt)
 
     def check_limits(self) -> dict[str, Array]:
         """Joint ratios (exact, per joint) and tool ratios (1 kHz FK, per move)."""
