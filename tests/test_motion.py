@@ -210,3 +210,32 @@ def test_exports_round_trip(robot, tmp_path):
     assert np.all(np.diff(secs) > 0) and abs(secs[-1] - traj.duration) < 1e-9
     assert np.allclose([p["velocities"] for p in msg["points"]], qd)
     assert export.stamp(1.9999999999) == {"sec": 2, "nanosec": 0}
+
+
+def test_cycle_time_places_the_standard_cycle_and_beats_the_quintic(robot):
+    """The 25/305/25 mm cycle is placed with the strokes exact; toppra <= quintic baseline.
+
+    The six corners are reached at rest, all limits hold; the ruckig and quintic times
+    stop at the same corners.
+    Mutation: the place corner raised by the up stroke (``B = centre + across / 2 * w
+    + h_place * g.n`` -> ``... + (h_place + up) * g.n``) -> A-B is not 305 mm, fails.
+    """
+    from scara_opt.motion.cycle import cycle_time
+
+    res = cycle_time(robot)
+    P = robot.positions(res.corners)
+    assert np.allclose(np.linalg.norm(P[0] - P[3]), 0.305, atol=1e-9)
+    assert np.allclose(np.linalg.norm(P[1] - P[0]), 0.025, atol=1e-9)
+    assert np.allclose(np.linalg.norm(P[3] - P[2]), 0.025, atol=1e-9)
+    assert np.allclose(P[6], P[0], atol=1e-9)
+    assert res.durations["toppra"] <= res.durations["quintic"]
+    assert set(res.durations) == {"toppra", "ruckig", "quintic"}
+    assert max(v.max() for v in res.trajectory.check_limits().values()) <= 1.0
+
+
+def test_cycle_too_long_for_the_robot_says_what_to_shrink(robot):
+    """An across stroke beyond the reach raises InputError asking for a shorter across=."""
+    from scara_opt.motion.cycle import cycle_time
+
+    with pytest.raises(InputError, match="shorter across="):
+        cycle_time(robot, across=0.9)
