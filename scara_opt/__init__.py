@@ -37,7 +37,7 @@ from scara_opt.ik import (
 )
 from scara_opt.ik.lm_batch import BatchResult, solve_many
 from scara_opt.model import Robot, list_robots, load_robot
-from scara_opt.motion import CIRC, LIN, PTP, MotionTrajectory, ToolLimits, plan
+from scara_opt.motion import CIRC, LIN, PTP, MotionTrajectory, ToolLimits, cycle_time, plan
 from scara_opt.target import Target
 from scara_opt.trajectory import (
     JointPath,
@@ -62,6 +62,7 @@ __all__ = [
     "PTP",
     "ToolLimits",
     "compare",
+    "cycle_time",
     "Footprint",
     "FrameNotFoundError",
     "get_solver",

@@ -239,3 +239,22 @@ def test_cycle_too_long_for_the_robot_says_what_to_shrink(robot):
 
     with pytest.raises(InputError, match="shorter across="):
         cycle_time(robot, across=0.9)
+
+
+def test_cli_cycle_writes_the_csv_at_dt(tmp_path, capsys):
+    """``scara-opt cycle zavar2024 --csv --dt 0.002`` prints the three times, writes the CSV."""
+    import argparse
+
+    from scara_opt import cli_motion
+
+    parser = argparse.ArgumentParser()
+    cli_motion.add_parser(parser.add_subparsers(dest="command"))
+    csv = tmp_path / "cycle.csv"
+    args = parser.parse_args(["cycle", "zavar2024", "--csv", str(csv), "--dt", "0.002",
+                              "--plot", str(tmp_path / "c.png")])
+    assert args.func(args) == 0
+    out = capsys.readouterr().out
+    assert "toppra" in out and "ruckig" in out and "quintic" in out
+    data = np.loadtxt(csv, delimiter=",", skiprows=1)
+    assert np.allclose(np.diff(data[:-1, 0]), 0.002)
+    assert (tmp_path / "c.png").stat().st_size > 0

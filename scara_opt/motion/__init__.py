@@ -5,8 +5,10 @@ rest-to-rest :class:`~scara_opt.Trajectory`, time-optimal (TOPP-RA) under the jo
 and acceleration limits and the tool's speed, acceleration and yaw rate, checked at 1 kHz.
 """
 
+from scara_opt.motion.cycle import CycleResult, cycle_time
 from scara_opt.motion.moves import CIRC, LIN, PTP, Move
 from scara_opt.motion.plan import MotionTrajectory, plan
 from scara_opt.motion.tool_limits import ToolLimits
 
-__all__ = ["CIRC", "LIN", "PTP", "Move", "MotionTrajectory", "ToolLimits", "plan"]
+__all__ = ["CIRC", "CycleResult", "LIN", "PTP", "Move", "MotionTrajectory", "ToolLimits",
+           "cycle_time", "plan"]
