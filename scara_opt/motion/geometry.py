@@ -28,13 +28,6 @@ def count(length: float, step: float, least: int = 8) -> int:
     return max(least, math.ceil(length / step) + 1)
 
 
-def line(p0: Array, p1: Array, step: float) -> tuple[Array, Array]:
-    """Points (n, 3) along the segment and their fraction of the length (n,) in [0, 1]."""
-    n = count(float(np.linalg.norm(p1 - p0)), step)
-    f = np.linspace(0.0, 1.0, n)
-    return p0 + f[:, None] * (p1 - p0), f
-
-
 def circle(p0: Array, via: Array, p1: Array) -> tuple[Array, float, Array, Array, float] | None:
     """Circle through three points: ``(centre, radius, u, w, sweep)`` or ``None`` if collinear.
 
@@ -60,10 +53,34 @@ def circle(p0: Array, via: Array, p1: Array) -> tuple[Array, float, Array, Array
     return centre, r, u, w, angle(p1)
 
 
-def arc(centre: Array, r: float, u: Array, w: Array, sweep: float,
-        step: float) -> tuple[Array, Array]:
-    """Points (n, 3) on the arc and their fraction of its length (n,)."""
-    n = count(r * sweep, step)
-    f = np.linspace(0.0, 1.0, n)
-    th = f * sweep
-    return centre + r * (np.cos(th)[:, None] * u + np.sin(th)[:, None] * w), f
+class Curve:
+    """A LIN or CIRC tool path by arc-length fraction: :meth:`at` (m,) in [0, 1] → (m, 3) [m].
+
+    ``circle`` is ``None`` for a line, else the ``(centre, radius, u, w, sweep)`` of
+    :func:`circle`.
+    """
+
+    def __init__(self, start: Array, end: Array,
+                 circle: tuple[Array, float, Array, Array, float] | None = None) -> None:
+        self.start, self.end, self.circle = start, end, circle
+        self.length = (float(np.linalg.norm(end - start)) if circle is None
+                       else circle[1] * circle[4])
+
+    def at(self, f: Array) -> Array:
+        """Points (m, 3) at arc-length fractions ``f`` (m,)."""
+        f = np.asarray(f, dtype=float)
+        if self.circle is None:
+            return self.start + f[:, None] * (self.end - self.start)
+        centre, r, u, w, sweep = self.circle
+        th = f * sweep
+        return centre + r * (np.cos(th)[:, None] * u + np.sin(th)[:, None] * w)
+
+
+def bezier(a: Array, corner: Array, b: Array, n: int) -> Array:
+    """Quadratic Bézier (n, 3) from ``a`` to ``b`` with control point ``corner``.
+
+    It lies in the triangle (a, corner, b), so within max(|a - corner|, |b - corner|) of the
+    corner, and passes it at ``|a + b - 2 corner| / 4``.
+    """
+    t = np.linspace(0.0, 1.0, n)[:, None]
+    return (1 - t) ** 2 * a + 2 * t * (1 - t) * corner + t**2 * b

@@ -109,6 +109,28 @@ def _goal_pose(index: int, robot: Robot, goal: Target | Array, yaw0: float | Non
     return np.asarray(p, float), geometry.nearest_turn(yaw, yaw0)
 
 
+def move_curve(index: int, move: Move, robot: Robot, p0: Array, yaw0: float | None
+               ) -> tuple[geometry.Curve, float | None]:
+    """Tool path of a LIN or CIRC from ``p0`` and its goal yaw (nearest turn to ``yaw0``).
+
+    Raises:
+        MoveError: a rotation goal; CIRC points collinear or coincident.
+    """
+    goal = goal_point(index, move.goal, robot.nq, "goal")
+    p1, yaw1 = _goal_pose(index, robot, goal, yaw0)
+    if isinstance(move, LIN):
+        return geometry.Curve(p0, p1), yaw1
+    via = goal_point(index, move.via, robot.nq, "via", joints=False).position
+    c = geometry.circle(p0, np.asarray(via, float), p1)
+    if c is None:
+        raise MoveError(index, f"CIRC start {np.round(p0, 6).tolist()}, via "
+                               f"{np.round(via, 6).tolist()} and goal "
+                               f"{np.round(p1, 6).tolist()} m are collinear (or two coincide): "
+                               "no circle passes them; move the via point off the line, or "
+                               "use LIN")
+    return geometry.Curve(p0, p1, c), yaw1
+
+
 def move_joints(index: int, move: Move, robot: Robot, q_prev: Array, step: float) -> Array:
     """Joint path (n, nq) of one move from ``q_prev`` (its first row).
 
@@ -122,19 +144,9 @@ def move_joints(index: int, move: Move, robot: Robot, q_prev: Array, step: float
         Q = np.array([q_prev, q1])
     else:
         p0, yaw0 = branch.tool_pose(robot, q_prev)
-        p1, yaw1 = _goal_pose(index, robot, goal, yaw0)
-        if isinstance(move, LIN):
-            P, f = geometry.line(p0, p1, step)
-        else:
-            via = goal_point(index, move.via, robot.nq, "via", joints=False).position
-            c = geometry.circle(p0, np.asarray(via, float), p1)
-            if c is None:
-                raise MoveError(index, f"CIRC start {np.round(p0, 6).tolist()}, via "
-                                       f"{np.round(via, 6).tolist()} and goal "
-                                       f"{np.round(p1, 6).tolist()} m are collinear (or two "
-                                       "coincide): no circle passes them; move the via point "
-                                       "off the line, or use LIN")
-            P, f = geometry.arc(*c, step)
+        curve, yaw1 = move_curve(index, move, robot, p0, yaw0)
+        f = np.linspace(0.0, 1.0, geometry.count(curve.length, step))
+        P = curve.at(f)
         yaws = None if yaw0 is None else yaw0 + f * (yaw1 - yaw0)
         Q = np.vstack([q_prev, branch.path_joints(index, move.kind, robot, P[1:],
                                                   None if yaws is None else yaws[1:],
