@@ -258,3 +258,37 @@ def test_cli_cycle_writes_the_csv_at_dt(tmp_path, capsys):
     data = np.loadtxt(csv, delimiter=",", skiprows=1)
     assert np.allclose(np.diff(data[:-1, 0]), 0.002)
     assert (tmp_path / "c.png").stat().st_size > 0
+
+
+def test_blended_corners_are_cut_within_the_radius_without_stopping(robot):
+    """Blends keep the tip within r of each corner, never stop there, and save time.
+
+    Reference: a 90° LIN-LIN corner rounded by the Bézier passes the corner at r√2/4.
+    Mutation: the Bézier's control point moved off the corner (``geometry.bezier(A, C,
+    pts[0], ...)`` -> ``geometry.bezier(A, 2 * C - A, pts[0], ...)`` in blend.py) -> the tip
+    swings beyond r, fails.
+    """
+    moves = [LIN(P0 + [0, 0.1, 0], blend=0.02), LIN(P0 + [-0.08, 0.1, 0], blend=0.02),
+             CIRC(P0 + [-0.12, 0.05, 0], P0 + [-0.08, 0.0, 0], blend=0.02), LIN(P0)]
+    tool = ToolLimits(speed=0.3, acceleration=2.0)
+    blended = plan(robot, moves, tool, start=Q0)
+    stopped = plan(robot, [LIN(P0 + [0, 0.1, 0]), LIN(P0 + [-0.08, 0.1, 0]),
+                           CIRC(P0 + [-0.12, 0.05, 0], P0 + [-0.08, 0.0, 0]), LIN(P0)],
+                   tool, start=Q0)
+    dev = blended.blend_deviations()
+    radii = np.array([r for _, r in blended.corners])
+    assert len(dev) == 3 and (dev <= radii).all() and (dev > 0).all()
+    assert abs(dev[0] - 0.02 * math.sqrt(2) / 4) < 1e-5
+    t = blended.times(1e-3)
+    P = robot.positions(blended.evaluate(t))
+    for c, _ in blended.corners:  # moving (joint speed > 0.05) where it passes the corner
+        i = int(np.argmin(np.linalg.norm(P - c, axis=1)))
+        assert np.linalg.norm(blended.evaluate(t[i], 1)) > 0.05
+    assert blended.duration < stopped.duration
+    assert max(v.max() for v in blended.check_limits().values()) <= 1.0
+
+
+def test_blend_into_a_ptp_is_refused(robot):
+    """A blend into or out of a PTP is refused with the move index (not silently dropped)."""
+    with pytest.raises(MoveError, match="move 0: blending into or out of a PTP"):
+        plan(robot, [LIN(P0 + [0, 0.05, 0], blend=0.01), PTP(Q0)], start=Q0)

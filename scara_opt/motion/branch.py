@@ -103,8 +103,10 @@ def ptp_goal(index: int, robot: Robot, goal: Target | Array, q_prev: Array,
 
 
 def path_joints(index: int, kind: str, robot: Robot, P: Array, yaws: Array | None,
-                q_prev: Array, elbow: str | None) -> Array:
+                q_prev: Array, elbow: str | None, owner: list[int] | None = None) -> Array:
     """Joint path (n, nq) of a LIN/CIRC through positions ``P`` (n, 3), on one branch.
+
+    ``owner`` (n,): the move index of each point, for the error (default ``index``).
 
     Raises:
         MoveError: a point unreachable, a joint jump, or the path leaving the start's branch
@@ -117,9 +119,13 @@ def path_joints(index: int, kind: str, robot: Robot, P: Array, yaws: Array | Non
     targets = [Target(p, None if yaws is None else float(y))
                for p, y in zip(P, yaws if yaws is not None else [None] * len(P), strict=True)]
     jp = ik_path(robot, targets, q_start=q_prev)
+
+    def who(i: int) -> int:
+        return index if owner is None else owner[i]
+
     if jp.unsolved:
         i = jp.unsolved[0]
-        raise MoveError(index, f"{kind} point {i} of {len(P)} at {np.round(P[i], 6).tolist()} m "
+        raise MoveError(who(i), f"{kind} point {i} of {len(P)} at {np.round(P[i], 6).tolist()} m "
                                f"is unreachable (residual {jp.error[i]:.3g}); the path leaves "
                                "the workspace (or passes the base hole): move the goal, or go "
                                "around with several moves")
@@ -130,13 +136,13 @@ def path_joints(index: int, kind: str, robot: Robot, P: Array, yaws: Array | Non
         off = np.flatnonzero((signs != ref) & (signs != 0))
         if off.size:
             i = int(off[0])
-            raise MoveError(index, f"{kind} leaves the {NAME[int(ref)]} branch at point {i} "
+            raise MoveError(who(i), f"{kind} leaves the {NAME[int(ref)]} branch at point {i} "
                                    f"of {len(P)}, {np.round(P[i], 6).tolist()} m: it cannot be "
                                    "done on one branch; split it there with a PTP that flips "
                                    "the elbow, or move the path away from the stretched arm")
     if jp.jumps:
         j = jp.jumps[0]
-        raise MoveError(index, f"{kind} joint path jumps at point {j.index} of {len(P)}, "
+        raise MoveError(who(j.index), f"{kind} joint path jumps at point {j.index} of {len(P)}, "
                                f"{np.round(P[j.index], 6).tolist()} m ({j}): a singular pose "
                                "or a wrist turn; move the path away from it")
     return Q

@@ -20,6 +20,7 @@ from scara_opt.checks import check_real
 from scara_opt.errors import InputError, MoveError
 from scara_opt.model.robot import Robot, check_robot
 from scara_opt.motion import branch, export, geometry
+from scara_opt.motion.blend import blended_joints
 from scara_opt.motion.moves import LIN, PTP, Move, as_moves, goal_point
 from scara_opt.motion.timing import CHECK_DT, time_section, tool_ratios
 from scara_opt.motion.tool_limits import ToolLimits
@@ -44,15 +45,27 @@ class MotionTrajectory(Trajectory):
     start then the end of each move [s]):
         robot: the robot it was planned for.
         moves: the program.
-        tool_limits: the tool limits each move was timed for.
+        tool_limits: the tool limits of each stop-to-stop run (one per move without blends;
+            a blended run takes the smallest of its moves').
+        corners: ``(C (3,), r)`` of each blended corner [m].
     """
 
     robot: Robot | None = None
     moves: tuple[Move, ...] = ()
     tool_limits: tuple[ToolLimits, ...] = ()
+    corners: tuple[tuple[Array, float], ...] = ()
+
+    def blend_deviations(self, dt: float = CHECK_DT) -> Array:
+        """Closest approach of the tip to each blended corner (n_corners,) [m], FK at ``dt``.
+
+        Each is at most that corner's radius (``corners[i][1]``), and above 0: the corner is
+        cut, not stopped at.
+        """
+        P = self.robot.positions(self.evaluate(self.times(dt)))
+        return np.array([np.linalg.norm(P - c, axis=1).min() for c, _ in self.corners])
 
     def tool_limit_ratios(self, dt: float = CHECK_DT) -> dict[str, Array]:
-        """Worst tip speed / acceleration / yaw-rate ratio per move (n_moves,), by FK at ``dt``.
+        """Worst tip speed / acceleration / yaw-rate ratio per run (n_runs,), by FK at ``dt``.
 
         0 where a move has no such limit; <= 1 means the limit holds at every sample.
         """
@@ -161,25 +174,35 @@ def move_joints(index: int, move: Move, robot: Robot, q_prev: Array, step: float
     return Q
 
 
-def _check_blend(index: int, program: list[Move], k: int, lengths: list[float]) -> None:
-    """Refuse a blend radius above half of this or the previous move's tool path.
+def _sections(program: list[Move], offset: int) -> list[list[tuple[int, Move]]]:
+    """The program cut into stop-to-stop runs: a move with a blend joins the next one.
 
     Raises:
-        MoveError: the radius is too large, or on the last move.
+        MoveError: a blend on the last move, on a PTP or into a PTP.
     """
-    if k and program[k - 1].blend > lengths[-1] / 2:
-        raise MoveError(index - 1, f"blend radius {program[k - 1].blend:g} m is more than half "
-                                   f"of the next move's tool path ({lengths[-1]:.6g} m); pass "
-                                   f"blend <= {lengths[-1] / 2:.6g}")
-    blend = program[k].blend
-    if not blend:
-        return
-    if blend > lengths[-1] / 2:
-        raise MoveError(index, f"blend radius {blend:g} m is more than half of the move's tool "
-                               f"path ({lengths[-1]:.6g} m); pass blend <= {lengths[-1] / 2:.6g}")
-    if k == len(program) - 1:
-        raise MoveError(index, "the last move has a blend radius but nothing to blend into; "
-                               "pass blend=0")
+    last = len(program) - 1
+    if program[last].blend:
+        raise MoveError(last + offset, "the last move has a blend radius but nothing to blend "
+                                       "into; pass blend=0")
+    runs, run = [], []
+    for k, m in enumerate(program):
+        if m.blend and (isinstance(m, PTP) or isinstance(program[k + 1], PTP)):
+            raise MoveError(k + offset, "blending into or out of a PTP is not available yet; "
+                                        "pass blend=0 there, or use LIN moves")
+        run.append((k + offset, m))
+        if not m.blend:
+            runs.append(run)
+            run = []
+    return runs
+
+
+def _tightest(limits: list[ToolLimits]) -> ToolLimits:
+    """The smallest of each tool limit over ``limits`` (``None`` where none sets it)."""
+    def low(name: str) -> float | None:
+        values = [getattr(t, name) for t in limits if getattr(t, name) is not None]
+        return min(values) if values else None
+
+    return ToolLimits(low("speed"), low("acceleration"), low("yaw_rate"))
 
 
 def plan(robot: Robot, moves: object, limits: ToolLimits | None = None, *,
@@ -227,28 +250,28 @@ def plan(robot: Robot, moves: object, limits: ToolLimits | None = None, *,
             raise InputError("a program of a single PTP without start= does not move")
     else:
         q, offset = robot.check_q(start, "start"), 0
-    pieces, goals, tools, notes = [], [q], [], []
-    lengths = []
-    for k, m in enumerate(program):
-        Q = move_joints(k + offset, m, robot, q, step)
-        lengths.append(float(np.linalg.norm(np.diff(robot.positions(Q), axis=0), axis=1).sum()))
-        _check_blend(k + offset, program, k, lengths)
-        own = tool.merged(m.speed, m.acceleration)
-        if isinstance(m, PTP):
-            own = ToolLimits(m.speed, m.acceleration)
+    pieces, goals, tools, notes, corners = [], [q], [], [], []
+    for run in _sections(program, offset):
+        if len(run) == 1:
+            index, m = run[0]
+            Q = move_joints(index, m, robot, q, step)
+            own = (ToolLimits(m.speed, m.acceleration) if isinstance(m, PTP)
+                   else tool.merged(m.speed, m.acceleration))
+        else:
+            Q, found = blended_joints(run, robot, q, step, move_curve)
+            corners += found
+            own = _tightest([tool.merged(m.speed, m.acceleration) for _, m in run])
         part, note = time_section(robot, Q, joint_limits, own)
         pieces.append(part)
         goals.append(Q[-1])
         tools.append(own)
-        notes.append(f"move {k + offset} ({m.kind}): {note}")
+        kinds = "+".join(m.kind for _, m in run)
+        notes.append(f"move {run[0][0]}" + (f"-{run[-1][0]}" if len(run) > 1 else "")
+                     + f" ({kinds}): {note}")
         q = Q[-1]
-    for k, m in enumerate(program):
-        if m.blend:
-            raise MoveError(k + offset, f"blend={m.blend:g} m: blending is not available yet; "
-                                        "pass blend=0 (stop at the goal)")
     joined = tuple(concatenate([p[j] for p in pieces]) for j in range(robot.nq))
     ends = np.concatenate([[0.0], np.cumsum([p[0].x[-1] for p in pieces])])
     traj = MotionTrajectory(joined, joint_limits, "toppra", np.array(goals), ends,
                             notes="; ".join(notes), robot=robot, moves=tuple(program),
-                            tool_limits=tuple(tools))
+                            tool_limits=tuple(tools), corners=tuple(corners))
     return replace(traj, compute_time_s=time.perf_counter() - begin)

@@ -12,6 +12,7 @@ uniformly (speed / f, acceleration / f²) and said in the notes: nothing is exce
 from __future__ import annotations
 
 import math
+from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
@@ -37,6 +38,12 @@ CHECK_DT = 1e-3
 #: toppra limits are scaled by 1 - MARGIN (the grid enforces them at grid points only)
 MARGIN = 0.005
 
+#: largest time stretch applied silently to remove discretisation overshoot (else an error)
+MAX_STRETCH = 1.05
+
+#: grid doublings tried while a ratio exceeds 1 by more than 1e-3
+REFINE = 2
+
 #: at least this many grid intervals per section
 MIN_GRID = 100
 
@@ -53,6 +60,36 @@ def tool_ratios(robot: Robot, traj: Trajectory, tool: ToolLimits,
     return out
 
 
+def _factor(robot: Robot, traj: Trajectory, tool: ToolLimits) -> float:
+    """Smallest time stretch (>= 1) bringing every joint and tool ratio to <= 1."""
+    joint = traj.check_limits()
+    ratios = tool_ratios(robot, traj, tool)
+    return max(1.0, float(joint["velocity"].max()), ratios["speed"], ratios["yaw_rate"],
+               math.sqrt(float(joint["acceleration"].max())), math.sqrt(ratios["acceleration"]))
+
+
+def _solve(path: Any, s: Array, per: int, cons: list, limits: Limits
+           ) -> tuple[tuple[PPoly, ...], Array]:
+    """One TOPP-RA solve on ``per`` grid intervals per waypoint interval: pieces and grid."""
+    import toppra.algorithm as algo
+
+    frac = np.arange(per) / per
+    grid = np.append((s[:-1, None] + np.diff(s)[:, None] * frac).ravel(), s[-1])
+    instance = algo.TOPPRA(cons, path, gridpoints=grid, solver_wrapper="seidel")
+    instance.compute_parameterization(0.0, 0.0)
+    data = instance.problem_data
+    if data.return_code != algo.ParameterizationReturnCode.Ok or data.sd_vec is None:
+        raise TrajectoryError(f"toppra could not time the section ({data.return_code}); "
+                              "check the limits and the path")
+    sd = np.maximum(np.asarray(data.sd_vec, dtype=float), 0.0)
+    if (sd[:-1] + sd[1:] <= 0.0).any():
+        raise TrajectoryError("toppra's path speed is zero on a grid interval: a limit is so "
+                              "low the motion never ends; raise it")
+    t, coeffs = timed_pieces(path.cspl, grid, sd)
+    return tuple(PPoly(coeffs[:, :, k], t, extrapolate=False)
+                 for k in range(path.cspl.c.shape[2])), grid
+
+
 def time_section(robot: Robot, Q: Array, limits: Limits,
                  tool: ToolLimits) -> tuple[tuple[PPoly, ...], str]:
     """Fastest rest-to-rest timing of joint waypoints ``Q`` (n, nq) within all limits.
@@ -64,7 +101,6 @@ def time_section(robot: Robot, Q: Array, limits: Limits,
         TrajectoryError: toppra failed (its return code is given).
     """
     import toppra
-    import toppra.algorithm as algo
     import toppra.constraint as constraint
 
     s = chord_parameter(Q, limits.vmax)
@@ -81,29 +117,28 @@ def time_section(robot: Robot, Q: Array, limits: Limits,
     if tool.acceleration is not None:
         cons.append(acceleration_constraint(robot, tool.acceleration * scale))
     per = max(1, math.ceil(MIN_GRID / (len(Q) - 1)))
-    frac = np.arange(per) / per
-    grid = np.append((s[:-1, None] + np.diff(s)[:, None] * frac).ravel(), s[-1])
-    instance = algo.TOPPRA(cons, path, gridpoints=grid, solver_wrapper="seidel")
-    instance.compute_parameterization(0.0, 0.0)
-    data = instance.problem_data
-    if data.return_code != algo.ParameterizationReturnCode.Ok or data.sd_vec is None:
-        raise TrajectoryError(f"toppra could not time the section ({data.return_code}); "
-                              "check the limits and the path")
-    sd = np.maximum(np.asarray(data.sd_vec, dtype=float), 0.0)
-    if (sd[:-1] + sd[1:] <= 0.0).any():
-        raise TrajectoryError("toppra's path speed is zero on a grid interval: a limit is so "
-                              "low the motion never ends; raise it")
-    t, coeffs = timed_pieces(path.cspl, grid, sd)
-    pieces = tuple(PPoly(coeffs[:, :, k], t, extrapolate=False) for k in range(Q.shape[1]))
-    traj = Trajectory(pieces, limits, "toppra", Q, t[::per].copy())
-    joint = traj.check_limits()
-    ratios = tool_ratios(robot, traj, tool)
-    factor = max(1.0, float(joint["velocity"].max()), ratios["speed"], ratios["yaw_rate"],
-                 math.sqrt(float(joint["acceleration"].max())),
-                 math.sqrt(ratios["acceleration"]))
+    for attempt in range(REFINE + 1):
+        pieces, grid = _solve(path, s, per, cons, limits)
+        traj = Trajectory(pieces, limits, "toppra", Q, np.array([0.0, pieces[0].x[-1]]))
+        factor = _factor(robot, traj, tool)
+        if factor <= 1.0 + 1e-3 or attempt == REFINE:
+            break
+        per *= 2
     note = f"{len(grid) - 1} grid intervals"
-    if factor > 1.0:
-        factor *= 1.0 + 1e-9
+    if factor > MAX_STRETCH:
+        raise TrajectoryError(
+            f"toppra's timing exceeds a limit by x {factor:.4g} between its grid points (a "
+            "sharp turn of the joint path: points too close, or a near-singular pose); "
+            "refusing to slow it down that much silently: check the moves, or raise step=")
+    total = 1.0
+    for _ in range(5):  # the 1 kHz samples fall elsewhere once stretched: check again
+        if factor <= 1.0:
+            break
+        factor *= 1.0 + 1e-6
+        total *= factor
         pieces = tuple(stretch(p, factor) for p in pieces)
-        note += f", time stretched x {factor:.6f} (discretisation overshoot removed)"
+        factor = _factor(robot, Trajectory(pieces, limits, "toppra", Q,
+                                           np.array([0.0, pieces[0].x[-1]])), tool)
+    if total > 1.0:
+        note += f", time stretched x {total:.6f} (discretisation overshoot removed)"
     return pieces, note
