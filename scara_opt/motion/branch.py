@@ -9,12 +9,14 @@ SCARA-type have no branch: ``elbow=`` is refused for them.
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 from numpy.typing import NDArray
 
 from scara_opt.errors import MoveError
 from scara_opt.ik.analytic import ik_all
-from scara_opt.ik.geometry import NotScaraError, ScaraGeometry, scara_geometry
+from scara_opt.ik.geometry import NotScaraError, ScaraGeometry, scara_geometry, solve_batch
 from scara_opt.ik.registry import get_solver
 from scara_opt.model.robot import Robot
 from scara_opt.target import Target
@@ -102,6 +104,37 @@ def ptp_goal(index: int, robot: Robot, goal: Target | Array, q_prev: Array,
     return sols[0]
 
 
+def closed_form_path(robot: Robot, P: Array, yaws: Array | None, q_prev: Array) -> Array | None:
+    """Vectorised closed-form IK of a path on ``q_prev``'s branch, or ``None`` to fall back.
+
+    Each revolute joint takes the turn nearest the previous point (``np.unwrap`` from
+    ``q_prev``). ``None`` (use :func:`~scara_opt.ik_path`, which explains failures) when the
+    robot has redundant joints or no wrist, the start is stretched out, or some point is out
+    of reach, out of the limits, jumps, or misses its target by more than 1e-9.
+    """
+    g = geometry(robot)
+    if g is None or g.redundant or g.wrist < 0 or yaws is None:
+        return None
+    side = int(elbow_signs(robot, q_prev)[0])
+    if side == 0:
+        return None
+    Q2, valid = solve_batch(robot, P, yaws)
+    b = 0 if side > 0 else 1
+    if not valid[:, b].all():
+        return None
+    Q = Q2[:, b, :].copy()
+    revolute = np.flatnonzero(g.s)
+    Q[:, revolute] = np.unwrap(np.vstack([q_prev[revolute], Q[:, revolute]]), axis=0)[1:]
+    steps = np.abs(np.diff(np.vstack([q_prev, Q]), axis=0))
+    if ((Q < robot.lower - 1e-12) | (Q > robot.upper + 1e-12)).any() \
+            or (steps[:, revolute] > math.pi / 2).any():
+        return None
+    p, yaw = g.fk(Q)
+    if np.abs(robot.positions(Q) - P).max() > 1e-9 or np.abs(yaw - yaws).max() > 1e-9:
+        return None
+    return Q
+
+
 def path_joints(index: int, kind: str, robot: Robot, P: Array, yaws: Array | None,
                 q_prev: Array, elbow: str | None, owner: list[int] | None = None) -> Array:
     """Joint path (n, nq) of a LIN/CIRC through positions ``P`` (n, 3), on one branch.
@@ -116,6 +149,9 @@ def path_joints(index: int, kind: str, robot: Robot, P: Array, yaws: Array | Non
     if elbow is not None:
         _check_branch(index, robot, q_prev, elbow,
                       f"the {kind} start (a {kind} keeps its branch; change it with a PTP)")
+    fast = closed_form_path(robot, P, yaws, q_prev)
+    if fast is not None:
+        return fast
     targets = [Target(p, None if yaws is None else float(y))
                for p, y in zip(P, yaws if yaws is not None else [None] * len(P), strict=True)]
     jp = ik_path(robot, targets, q_start=q_prev)

@@ -41,7 +41,7 @@ MARGIN = 0.005
 #: largest time stretch applied silently to remove discretisation overshoot (else an error)
 MAX_STRETCH = 1.05
 
-#: grid doublings tried while a ratio exceeds 1 by more than 1e-3
+#: grid doublings tried while a ratio (sampled) exceeds 1 by more than MARGIN
 REFINE = 2
 
 #: at least this many grid intervals per section
@@ -60,12 +60,22 @@ def tool_ratios(robot: Robot, traj: Trajectory, tool: ToolLimits,
     return out
 
 
-def _factor(robot: Robot, traj: Trajectory, tool: ToolLimits) -> float:
-    """Smallest time stretch (>= 1) bringing every joint and tool ratio to <= 1."""
-    joint = traj.check_limits()
+def _factor(robot: Robot, traj: Trajectory, tool: ToolLimits, exact: bool = True) -> float:
+    """Smallest time stretch (>= 1) bringing every joint and tool ratio to <= 1.
+
+    ``exact``: joint peaks exact (piecewise-polynomial extrema), else sampled at 1 kHz
+    (cheaper; to decide whether to refine the grid).
+    """
+    if exact:
+        joint = traj.check_limits()
+        jv, ja = float(joint["velocity"].max()), float(joint["acceleration"].max())
+    else:
+        t = traj.times(min(CHECK_DT, traj.duration / 4))
+        jv = float((np.abs(traj.evaluate(t, 1)) / traj.limits.vmax).max())
+        ja = float((np.abs(traj.evaluate(t, 2)) / traj.limits.amax).max())
     ratios = tool_ratios(robot, traj, tool)
-    return max(1.0, float(joint["velocity"].max()), ratios["speed"], ratios["yaw_rate"],
-               math.sqrt(float(joint["acceleration"].max())), math.sqrt(ratios["acceleration"]))
+    return max(1.0, jv, ratios["speed"], ratios["yaw_rate"], math.sqrt(ja),
+               math.sqrt(ratios["acceleration"]))
 
 
 def _solve(path: Any, s: Array, per: int, cons: list, limits: Limits
@@ -120,10 +130,10 @@ def time_section(robot: Robot, Q: Array, limits: Limits,
     for attempt in range(REFINE + 1):
         pieces, grid = _solve(path, s, per, cons, limits)
         traj = Trajectory(pieces, limits, "toppra", Q, np.array([0.0, pieces[0].x[-1]]))
-        factor = _factor(robot, traj, tool)
-        if factor <= 1.0 + 1e-3 or attempt == REFINE:
+        if attempt == REFINE or _factor(robot, traj, tool, exact=False) <= 1.0 + MARGIN:
             break
         per *= 2
+    factor = _factor(robot, traj, tool)
     note = f"{len(grid) - 1} grid intervals"
     if factor > MAX_STRETCH:
         raise TrajectoryError(
