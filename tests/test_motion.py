@@ -292,3 +292,28 @@ def test_blend_into_a_ptp_is_refused(robot):
     """A blend into or out of a PTP is refused with the move index (not silently dropped)."""
     with pytest.raises(MoveError, match="move 0: blending into or out of a PTP"):
         plan(robot, [LIN(P0 + [0, 0.05, 0], blend=0.01), PTP(Q0)], start=Q0)
+
+
+def test_wrist_takes_the_nearest_turn_and_fast_ik_matches_ik_path():
+    """On fang (wrist ±360°) a LIN whose goal yaw is given wrapped keeps the wrist's turn.
+
+    The vectorised closed form equals ik_path's solution point by point (1e-9).
+    Mutation: the unwrap from the previous point dropped (``Q[:, revolute] = np.unwrap(...)``
+    -> ``Q[:, revolute] = Q[:, revolute]`` in branch.py) -> the wrist takes the turn nearest
+    0 (3.4 rad -> -2.9 rad): the fast path is refused and so is the step, fails.
+    """
+    from scara_opt.motion.branch import closed_form_path, tool_pose
+
+    fang = so.load_robot("fang")
+    q0 = np.array([-1.0, 1.2, 0.0, 3.4])
+    p, yaw = tool_pose(fang, q0)
+    wrapped = math.remainder(yaw + 0.3, 2 * math.pi)  # 3.9 rad given as -2.38 rad
+    traj = plan(fang, [LIN(so.Target(p + [0, 0.1, 0], yaw=wrapped))], start=q0)
+    wrist = traj.evaluate(traj.times(0.01))[:, 3]
+    assert np.abs(np.diff(wrist)).max() < 0.05 and wrist.min() > 3.0
+    P = p + np.linspace(0, 1, 20)[1:, None] * [0, 0.1, 0]
+    yaws = yaw + np.linspace(0, 0.3, 20)[1:]
+    fast = closed_form_path(fang, P, yaws, q0)
+    targets = [so.Target(pt, float(y)) for pt, y in zip(P, yaws, strict=True)]
+    slow = so.ik_path(fang, targets, q_start=q0).q
+    assert fast is not None and np.abs(fast - slow).max() < 1e-9
