@@ -276,12 +276,12 @@ def test_blended_corners_are_cut_within_the_radius_without_stopping(robot):
                            CIRC(P0 + [-0.12, 0.05, 0], P0 + [-0.08, 0.0, 0]), LIN(P0)],
                    tool, start=Q0)
     dev = blended.blend_deviations()
-    radii = np.array([r for _, r in blended.corners])
+    radii = np.array([r for _, r, _ in blended.corners])
     assert len(dev) == 3 and (dev <= radii).all() and (dev > 0).all()
     assert abs(dev[0] - 0.02 * math.sqrt(2) / 4) < 1e-5
     t = blended.times(1e-3)
     P = robot.positions(blended.evaluate(t))
-    for c, _ in blended.corners:  # moving (joint speed > 0.05) where it passes the corner
+    for c, _, _ in blended.corners:  # moving (joint speed > 0.05) where it passes the corner
         i = int(np.argmin(np.linalg.norm(P - c, axis=1)))
         assert np.linalg.norm(blended.evaluate(t[i], 1)) > 0.05
     assert blended.duration < stopped.duration

@@ -5,6 +5,8 @@ elbow branch for a Target), a LIN or CIRC the IK of its Cartesian points every `
 metres, on the branch it starts on (:mod:`scara_opt.motion.branch`). Each path is timed
 time-optimally under the joint limits and the move's tool limits
 (:mod:`scara_opt.motion.timing`); without blends the robot stops exactly at every goal.
+LIN/CIRC moves with a ``blend`` radius run on into the next move through a rounded corner
+(:mod:`scara_opt.motion.blend`), the whole run timed at once.
 """
 
 from __future__ import annotations
@@ -47,13 +49,14 @@ class MotionTrajectory(Trajectory):
         moves: the program.
         tool_limits: the tool limits of each stop-to-stop run (one per move without blends;
             a blended run takes the smallest of its moves').
-        corners: ``(C (3,), r)`` of each blended corner [m].
+        corners: ``(C (3,), r, run)`` of each blended corner [m], ``run`` the index of the
+            stop-to-stop run it belongs to.
     """
 
     robot: Robot | None = None
     moves: tuple[Move, ...] = ()
     tool_limits: tuple[ToolLimits, ...] = ()
-    corners: tuple[tuple[Array, float], ...] = ()
+    corners: tuple[tuple[Array, float, int], ...] = ()
 
     def blend_deviations(self, dt: float = CHECK_DT) -> Array:
         """Closest approach of the tip to each blended corner (n_corners,) [m], FK at ``dt``.
@@ -61,8 +64,13 @@ class MotionTrajectory(Trajectory):
         Each is at most that corner's radius (``corners[i][1]``), and above 0: the corner is
         cut, not stopped at.
         """
-        P = self.robot.positions(self.evaluate(self.times(dt)))
-        return np.array([np.linalg.norm(P - c, axis=1).min() for c, _ in self.corners])
+        t = self.times(dt)
+        P = self.robot.positions(self.evaluate(t))
+        out = []
+        for c, _, run in self.corners:  # only while that run is under way
+            inside = (t >= self.waypoint_times[run]) & (t <= self.waypoint_times[run + 1])
+            out.append(np.linalg.norm(P[inside] - c, axis=1).min())
+        return np.array(out)
 
     def tool_limit_ratios(self, dt: float = CHECK_DT) -> dict[str, Array]:
         """Worst tip speed / acceleration / yaw-rate ratio per run (n_runs,), by FK at ``dt``.
@@ -223,8 +231,8 @@ def plan(robot: Robot, moves: object, limits: ToolLimits | None = None, *,
         step: spacing of the Cartesian points of LIN/CIRC moves [m].
 
     Returns:
-        MotionTrajectory: rest to rest, stopping at every goal; ``check_limits()`` has the
-        joint ratios and the tool ratios per move.
+        MotionTrajectory: rest to rest, stopping at every goal not blended;
+        ``check_limits()`` has the joint ratios and the tool ratios per stop-to-stop run.
 
     Raises:
         MoveError: a bad move, named by index, with what to change (see the module).
@@ -259,7 +267,7 @@ def plan(robot: Robot, moves: object, limits: ToolLimits | None = None, *,
                    else tool.merged(m.speed, m.acceleration))
         else:
             Q, found = blended_joints(run, robot, q, step, move_curve)
-            corners += found
+            corners += [(c, r, len(pieces)) for c, r in found]
             own = _tightest([tool.merged(m.speed, m.acceleration) for _, m in run])
         part, note = time_section(robot, Q, joint_limits, own)
         pieces.append(part)
