@@ -105,7 +105,7 @@ def main() -> None:
     from scara_opt.motion.blend import blended_joints
     from scara_opt.motion.plan import move_curve
 
-    Qb, _ = blended_joints(list(enumerate(smooth)), robot, START, 0.002, move_curve)
+    Qb, _, _ = blended_joints(list(enumerate(smooth)), robot, START, 0.002, move_curve)
     t_raw_b = median_ms(lambda: raw_toppra([Qb], lim.vmax, lim.amax))
     print(f"10-move blended program (10 mm radii, one toppra run of {len(Qb)} points): "
           f"{t_blend:.1f} ms (goal <= 50 ms), duration {one.duration:.3f} s; raw toppra on "

@@ -38,8 +38,8 @@ def _speeds(robot: so.Robot, traj: so.Trajectory) -> np.ndarray:
 def test_lin_cruises_at_the_commanded_speed(robot):
     """A 0.3 m LIN at 0.25 m/s cruises at 0.25 m/s within 1 % (FK at 1 kHz) and never above.
 
-    Mutation: the tool-speed bound given to toppra scaled by 0.9 (``tool.speed * scale`` ->
-    ``tool.speed * scale * 0.9`` in timing.py) -> the cruise is 10 % slow, fails.
+    Mutation: the tool limits given to toppra scaled by 0.9 (``tool.scaled(scale)`` ->
+    ``tool.scaled(scale * 0.9)`` in timing.py) -> the cruise is 10 % slow, fails.
     """
     p0 = robot.position(Q0)
     traj = plan(robot, [LIN(p0 + [0.0, 0.3, 0.0], speed=0.25)],
@@ -317,3 +317,24 @@ def test_wrist_takes_the_nearest_turn_and_fast_ik_matches_ik_path():
     targets = [so.Target(pt, float(y)) for pt, y in zip(P, yaws, strict=True)]
     slow = so.ik_path(fang, targets, q_start=q0).q
     assert fast is not None and np.abs(fast - slow).max() < 1e-9
+
+
+def test_blended_run_keeps_each_moves_own_speed():
+    """A 0.1 m/s LIN blended into a 0.3 m/s LIN cruises at each speed on its own stretch.
+
+    Mutation: the profile takes the run's smallest limit everywhere (``np.minimum(v[:-1],
+    v[1:])`` -> ``np.full(len(v) - 1, v.min())`` in tool_limits.py) -> the second LIN
+    crawls at 0.1 m/s, fails.
+    """
+    robot = so.load_robot("zavar2024")
+    moves = [LIN(P0 + [0, 0.1, 0], speed=0.1, blend=0.01), LIN(P0 + [-0.1, 0.1, 0], speed=0.3)]
+    traj = plan(robot, moves, ToolLimits(acceleration=3.0), start=Q0)
+    t = traj.times(1e-3)
+    P = robot.positions(traj.evaluate(t))
+    v = np.linalg.norm(np.diff(P, axis=0), axis=1) / 1e-3
+    mid = (P[1:] + P[:-1]) / 2
+    first = np.abs(mid[:, 1] - (P0[1] + 0.05)) < 0.01  # around the middle of each LIN
+    second = np.abs(mid[:, 0] - (P0[0] - 0.05)) < 0.01
+    assert np.abs(v[first] / 0.1 - 1).max() < 0.01
+    assert np.abs(v[second] / 0.3 - 1).max() < 0.01
+    assert traj.check_limits()["tool_speed"].max() <= 1.0

@@ -5,7 +5,8 @@ before C (point A), the next move's at ``r`` after C (point B), and a quadratic 
 A → (C) → B replaces the corner. The Bézier lies in the triangle (A, C, B), so every point of
 it is within ``r`` of C and it misses C by :math:`|A + B - 2C| / 4 \le r / 2`. The yaw goes
 linearly from A's to B's. The whole blended run is one joint path (IK on one branch) timed
-in one go; its tool limits are the smallest of its moves'. PTP moves do not blend (yet).
+in one go, each stretch under its own move's tool limits (a corner under the move it leaves,
+the smaller of both where they meet). PTP moves do not blend (yet).
 """
 
 from __future__ import annotations
@@ -32,11 +33,12 @@ def _span(curve: geometry.Curve, a: float, b: float, step: float) -> Array:
 
 
 def blended_joints(section: list[tuple[int, Move]], robot: Robot, q_prev: Array, step: float,
-                   move_curve) -> tuple[Array, list[tuple[Array, float]]]:
+                   move_curve) -> tuple[Array, list[tuple[Array, float]], list[int]]:
     """Joint path (n, nq) of a blended run of LIN/CIRC moves from ``q_prev``, and its corners.
 
     Returns:
-        ``(Q, corners)``: Q's first row is ``q_prev``; corners are ``(C (3,), r)``.
+        ``(Q, corners, owner)``: Q's first row is ``q_prev``; corners are ``(C (3,), r)``;
+        ``owner`` (n,) the move index of each row (a corner's points: the move it leaves).
 
     Raises:
         MoveError: a radius above half of the move's or the next move's tool path (naming
@@ -86,4 +88,4 @@ def blended_joints(section: list[tuple[int, Move]], robot: Robot, q_prev: Array,
     if not isinstance(goal, Target) and np.abs(Q[-1] - goal).max() > 1e-6:
         raise MoveError(section[-1][0], "the blended run does not end at the joint goal "
                                         "(another branch or wrist turn); reach it with a PTP")
-    return np.vstack([q_prev, Q]), corners
+    return np.vstack([q_prev, Q]), corners, owner

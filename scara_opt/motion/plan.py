@@ -25,7 +25,7 @@ from scara_opt.motion import branch, export, geometry
 from scara_opt.motion.blend import blended_joints
 from scara_opt.motion.moves import LIN, PTP, Move, as_moves, goal_point
 from scara_opt.motion.timing import CHECK_DT, time_section, tool_ratios
-from scara_opt.motion.tool_limits import ToolLimits
+from scara_opt.motion.tool_limits import ToolLimits, ToolProfile
 from scara_opt.target import Target
 from scara_opt.trajectory.limits import resolve_limits
 from scara_opt.trajectory.trajectory import Trajectory, concatenate
@@ -47,8 +47,10 @@ class MotionTrajectory(Trajectory):
     start then the end of each move [s]):
         robot: the robot it was planned for.
         moves: the program.
-        tool_limits: the tool limits of each stop-to-stop run (one per move without blends;
-            a blended run takes the smallest of its moves').
+        tool_limits: the tightest tool limits of each stop-to-stop run (one per move without
+            blends).
+        profiles: per run, the waypoint times [s] from the run's start and the tool limits
+            per waypoint interval (:class:`~scara_opt.motion.tool_limits.ToolProfile`).
         corners: ``(C (3,), r, run)`` of each blended corner [m], ``run`` the index of the
             stop-to-stop run it belongs to.
     """
@@ -57,6 +59,7 @@ class MotionTrajectory(Trajectory):
     moves: tuple[Move, ...] = ()
     tool_limits: tuple[ToolLimits, ...] = ()
     corners: tuple[tuple[Array, float, int], ...] = ()
+    profiles: tuple[tuple[Array, ToolProfile], ...] = ()
 
     def blend_deviations(self, dt: float = CHECK_DT) -> Array:
         """Closest approach of the tip to each blended corner (n_corners,) [m], FK at ``dt``.
@@ -75,13 +78,15 @@ class MotionTrajectory(Trajectory):
     def tool_limit_ratios(self, dt: float = CHECK_DT) -> dict[str, Array]:
         """Worst tip speed / acceleration / yaw-rate ratio per run (n_runs,), by FK at ``dt``.
 
-        0 where a move has no such limit; <= 1 means the limit holds at every sample.
+        Each sample is judged against the limit in force where it is (a blended run crosses
+        moves with different limits). 0 where a run has no such limit; <= 1 means the limit
+        holds at every sample.
         """
         rows: dict[str, list[float]] = {"speed": [], "acceleration": [], "yaw_rate": []}
-        for i, tool in enumerate(self.tool_limits):
+        for i, (knots, profile) in enumerate(self.profiles):
             t0, t1 = self.waypoint_times[i], self.waypoint_times[i + 1]
             part = _window(self, t0, t1)
-            for name, value in tool_ratios(self.robot, part, tool, dt).items():
+            for name, value in tool_ratios(self.robot, part, profile, knots, dt).items():
                 rows[name].append(value)
         return {f"tool_{k}": np.array(v) for k, v in rows.items()}
 
@@ -258,18 +263,21 @@ def plan(robot: Robot, moves: object, limits: ToolLimits | None = None, *,
             raise InputError("a program of a single PTP without start= does not move")
     else:
         q, offset = robot.check_q(start, "start"), 0
-    pieces, goals, tools, notes, corners = [], [q], [], [], []
+    pieces, goals, tools, notes, corners, profiles = [], [q], [], [], [], []
     for run in _sections(program, offset):
         if len(run) == 1:
             index, m = run[0]
             Q = move_joints(index, m, robot, q, step)
-            own = (ToolLimits(m.speed, m.acceleration) if isinstance(m, PTP)
-                   else tool.merged(m.speed, m.acceleration))
+            owner = [index] * len(Q)
         else:
-            Q, found = blended_joints(run, robot, q, step, move_curve)
+            Q, found, owner = blended_joints(run, robot, q, step, move_curve)
             corners += [(c, r, len(pieces)) for c, r in found]
-            own = _tightest([tool.merged(m.speed, m.acceleration) for _, m in run])
-        part, note = time_section(robot, Q, joint_limits, own)
+        by_index = {i: (ToolLimits(m.speed, m.acceleration) if isinstance(m, PTP)
+                        else tool.merged(m.speed, m.acceleration)) for i, m in run}
+        own = _tightest(list(by_index.values()))
+        profile = ToolProfile.per_point([by_index[i] for i in owner])
+        part, note, knots = time_section(robot, Q, joint_limits, profile)
+        profiles.append((knots, profile))
         pieces.append(part)
         goals.append(Q[-1])
         tools.append(own)
@@ -281,5 +289,6 @@ def plan(robot: Robot, moves: object, limits: ToolLimits | None = None, *,
     ends = np.concatenate([[0.0], np.cumsum([p[0].x[-1] for p in pieces])])
     traj = MotionTrajectory(joined, joint_limits, "toppra", np.array(goals), ends,
                             notes="; ".join(notes), robot=robot, moves=tuple(program),
-                            tool_limits=tuple(tools), corners=tuple(corners))
+                            tool_limits=tuple(tools), corners=tuple(corners),
+                            profiles=tuple(profiles))
     return replace(traj, compute_time_s=time.perf_counter() - begin)

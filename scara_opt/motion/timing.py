@@ -21,7 +21,7 @@ from scipy.interpolate import PPoly
 from scara_opt.errors import TrajectoryError
 from scara_opt.model.robot import Robot
 from scara_opt.motion.tool_limits import (
-    ToolLimits,
+    ToolProfile,
     acceleration_constraint,
     speed_constraint,
     tool_peaks,
@@ -48,19 +48,29 @@ REFINE = 2
 MIN_GRID = 100
 
 
-def tool_ratios(robot: Robot, traj: Trajectory, tool: ToolLimits,
+def tool_ratios(robot: Robot, traj: Trajectory, tool: ToolProfile, knots: Array,
                 dt: float = CHECK_DT) -> dict[str, float]:
-    """Worst ratio of the tip's speed, acceleration, yaw rate to ``tool`` (0: no limit)."""
+    """Worst ratio of the tip's speed, acceleration, yaw rate to the limit in force (0: none).
+
+    ``knots`` (n,): the times [s] of the waypoints the profile's intervals join. Speeds
+    (between samples) are judged at the middle of their step, accelerations at the sample.
+    """
     t = traj.times(min(dt, traj.duration / 4))
     peaks = tool_peaks(robot, traj.evaluate(t), float(t[1] - t[0]))
+    mid = (t[1:] + t[:-1]) / 2
+    where = {"speed": mid, "acceleration": t[1:-1], "yaw_rate": mid}
     out = {}
     for name, values in peaks.items():
-        limit = getattr(tool, name)
-        out[name] = 0.0 if limit is None or not values.size else float(values.max() / limit)
+        if not values.size or not tool.limited(name):
+            out[name] = 0.0
+            continue
+        limit = tool.at(name, where[name], knots)
+        out[name] = float((values / limit).max())
     return out
 
 
-def _factor(robot: Robot, traj: Trajectory, tool: ToolLimits, exact: bool = True) -> float:
+def _factor(robot: Robot, traj: Trajectory, tool: ToolProfile, knots: Array,
+            exact: bool = True) -> float:
     """Smallest time stretch (>= 1) bringing every joint and tool ratio to <= 1.
 
     ``exact``: joint peaks exact (piecewise-polynomial extrema), else sampled at 1 kHz
@@ -73,14 +83,18 @@ def _factor(robot: Robot, traj: Trajectory, tool: ToolLimits, exact: bool = True
         t = traj.times(min(CHECK_DT, traj.duration / 4))
         jv = float((np.abs(traj.evaluate(t, 1)) / traj.limits.vmax).max())
         ja = float((np.abs(traj.evaluate(t, 2)) / traj.limits.amax).max())
-    ratios = tool_ratios(robot, traj, tool)
+    ratios = tool_ratios(robot, traj, tool, knots)
     return max(1.0, jv, ratios["speed"], ratios["yaw_rate"], math.sqrt(ja),
                math.sqrt(ratios["acceleration"]))
 
 
 def _solve(path: Any, s: Array, per: int, cons: list, limits: Limits
-           ) -> tuple[tuple[PPoly, ...], Array]:
-    """One TOPP-RA solve on ``per`` grid intervals per waypoint interval: pieces and grid."""
+           ) -> tuple[tuple[PPoly, ...], Array, Array]:
+    """One TOPP-RA solve on ``per`` grid intervals per waypoint interval.
+
+    Returns:
+        One PPoly per joint, the grid, and the waypoint times (n,) [s].
+    """
     import toppra.algorithm as algo
 
     frac = np.arange(per) / per
@@ -96,19 +110,24 @@ def _solve(path: Any, s: Array, per: int, cons: list, limits: Limits
         raise TrajectoryError("toppra's path speed is zero on a grid interval: a limit is so "
                               "low the motion never ends; raise it")
     t, coeffs = timed_pieces(path.cspl, grid, sd)
-    return tuple(PPoly(coeffs[:, :, k], t, extrapolate=False)
-                 for k in range(path.cspl.c.shape[2])), grid
+    pieces = tuple(PPoly(coeffs[:, :, k], t, extrapolate=False)
+                   for k in range(path.cspl.c.shape[2]))
+    return pieces, grid, t[::per].copy()
 
 
 def time_section(robot: Robot, Q: Array, limits: Limits,
-                 tool: ToolLimits) -> tuple[tuple[PPoly, ...], str]:
+                 tool: ToolProfile) -> tuple[tuple[PPoly, ...], str, Array]:
     """Fastest rest-to-rest timing of joint waypoints ``Q`` (n, nq) within all limits.
 
+    ``tool``: the tool limits per waypoint interval.
+
     Returns:
-        One PPoly per joint (time from 0 [s] → q) and a note on grid and stretch.
+        One PPoly per joint (time from 0 [s] → q), a note on grid and stretch, and the
+        waypoint times (n,) [s].
 
     Raises:
-        TrajectoryError: toppra failed (its return code is given).
+        TrajectoryError: toppra failed (its return code is given), or its result exceeds a
+            limit by more than :data:`MAX_STRETCH` between grid points.
     """
     import toppra
     import toppra.constraint as constraint
@@ -120,20 +139,19 @@ def time_section(robot: Robot, Q: Array, limits: Limits,
             constraint.JointAccelerationConstraint(
                 limits.amax * scale,
                 discretization_scheme=constraint.DiscretizationType.Interpolation)]
-    if tool.speed is not None or tool.yaw_rate is not None:
-        cons.append(speed_constraint(robot, ToolLimits(
-            None if tool.speed is None else tool.speed * scale, None,
-            None if tool.yaw_rate is None else tool.yaw_rate * scale)))
-    if tool.acceleration is not None:
-        cons.append(acceleration_constraint(robot, tool.acceleration * scale))
+    scaled = tool.scaled(scale)
+    if tool.limited("speed") or tool.limited("yaw_rate"):
+        cons.append(speed_constraint(robot, scaled, s))
+    if tool.limited("acceleration"):
+        cons.append(acceleration_constraint(robot, scaled, s))
     per = max(1, math.ceil(MIN_GRID / (len(Q) - 1)))
     for attempt in range(REFINE + 1):
-        pieces, grid = _solve(path, s, per, cons, limits)
+        pieces, grid, knots = _solve(path, s, per, cons, limits)
         traj = Trajectory(pieces, limits, "toppra", Q, np.array([0.0, pieces[0].x[-1]]))
-        if attempt == REFINE or _factor(robot, traj, tool, exact=False) <= 1.0 + MARGIN:
+        if attempt == REFINE or _factor(robot, traj, tool, knots, exact=False) <= 1 + MARGIN:
             break
         per *= 2
-    factor = _factor(robot, traj, tool)
+    factor = _factor(robot, traj, tool, knots)
     note = f"{len(grid) - 1} grid intervals"
     if factor > MAX_STRETCH:
         raise TrajectoryError(
@@ -147,8 +165,9 @@ def time_section(robot: Robot, Q: Array, limits: Limits,
         factor *= 1.0 + 1e-6
         total *= factor
         pieces = tuple(stretch(p, factor) for p in pieces)
+        knots = knots * factor
         factor = _factor(robot, Trajectory(pieces, limits, "toppra", Q,
-                                           np.array([0.0, pieces[0].x[-1]])), tool)
+                                           np.array([0.0, pieces[0].x[-1]])), tool, knots)
     if total > 1.0:
         note += f", time stretched x {total:.6f} (discretisation overshoot removed)"
-    return pieces, note
+    return pieces, note, knots

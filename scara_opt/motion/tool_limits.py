@@ -79,6 +79,54 @@ class ToolLimits:
         return self.speed is None and self.acceleration is None and self.yaw_rate is None
 
 
+#: stands for "no limit" where toppra needs a finite bound
+UNLIMITED = 1e12
+
+
+@dataclass(frozen=True)
+class ToolProfile:
+    """Tool limits per interval between the waypoints of a joint path, (n-1,) each.
+
+    A blended run crosses moves with different limits: interval ``i`` (waypoints ``i`` to
+    ``i+1``) takes the smaller of its two points' limits. :data:`UNLIMITED` where none.
+    """
+
+    speed: Array
+    acceleration: Array
+    yaw_rate: Array
+
+    @classmethod
+    def per_point(cls, tools: list[ToolLimits]) -> ToolProfile:
+        """From one :class:`ToolLimits` per waypoint (n >= 2)."""
+        def row(name: str) -> Array:
+            v = np.array([UNLIMITED if getattr(t, name) is None else getattr(t, name)
+                          for t in tools])
+            return np.minimum(v[:-1], v[1:])
+        return cls(row("speed"), row("acceleration"), row("yaw_rate"))
+
+    def at(self, name: str, x: Array, knots: Array) -> Array:
+        """Limit in force at ``x`` (m,) on a path with waypoints at ``knots`` (n,).
+
+        At a waypoint itself, the smaller of the two intervals meeting there.
+        """
+        v = getattr(self, name)
+        i = np.clip(np.searchsorted(knots, x, side="right") - 1, 0, len(v) - 1)
+        out = v[i]
+        on = (i > 0) & np.isclose(x, knots[i], rtol=0.0, atol=1e-12)
+        out[on] = np.minimum(out[on], v[i[on] - 1])
+        return out
+
+    def limited(self, name: str) -> bool:
+        """Whether some interval limits ``name``."""
+        return bool((getattr(self, name) < UNLIMITED).any())
+
+    def scaled(self, factor: float) -> ToolProfile:
+        """Every finite limit times ``factor``."""
+        def sc(v: Array) -> Array:
+            return np.where(v < UNLIMITED, v * factor, UNLIMITED)
+        return ToolProfile(sc(self.speed), sc(self.acceleration), sc(self.yaw_rate))
+
+
 def yaw_signs(robot: Robot) -> Array | None:
     """(nq,) with ψ = ψ0 + signs @ q for a SCARA-type robot, else ``None``."""
     from scara_opt.motion.branch import geometry
@@ -104,8 +152,11 @@ def _linear_constraint() -> type:
     return LinearConstraint
 
 
-def speed_constraint(robot: Robot, tool: ToolLimits) -> Any:
-    """toppra first-order constraint: tip speed and yaw rate (``xbound``)."""
+def speed_constraint(robot: Robot, tool: ToolProfile, knots: Array) -> Any:
+    """toppra first-order constraint: tip speed and yaw rate (``xbound``).
+
+    ``knots`` (n,): the path parameter at the waypoints the profile's intervals join.
+    """
     base = _linear_constraint()
 
     class _Speed(base):  # type: ignore[misc, valid-type]
@@ -116,19 +167,20 @@ def speed_constraint(robot: Robot, tool: ToolLimits) -> Any:
         def compute_constraint_params(self, path: Any, gridpoints: Array,
                                       *args: Any, **kwargs: Any) -> tuple:
             dp, _, dyaw = path_derivatives(robot, path, gridpoints)
-            upper = np.full(len(gridpoints), np.inf)
-            if tool.speed is not None:
-                upper = np.minimum(upper, tool.speed**2 / np.maximum(
-                    np.einsum("ij,ij->i", dp, dp), 1e-300))
-            if tool.yaw_rate is not None and dyaw is not None:
-                upper = np.minimum(upper, tool.yaw_rate**2 / np.maximum(dyaw**2, 1e-300))
+            v = tool.at("speed", gridpoints, knots)
+            with np.errstate(over="ignore", divide="ignore"):  # no motion: no bound (inf)
+                upper = v**2 / np.einsum("ij,ij->i", dp, dp)
+                if dyaw is not None:
+                    w = tool.at("yaw_rate", gridpoints, knots)
+                    upper = np.minimum(upper, w**2 / dyaw**2)
+            upper = np.minimum(upper, UNLIMITED)
             xbound = np.column_stack([np.zeros_like(upper), upper])
             return None, None, None, None, None, None, xbound
 
     return _Speed()
 
 
-def acceleration_constraint(robot: Robot, acceleration: float) -> Any:
+def acceleration_constraint(robot: Robot, tool: ToolProfile, knots: Array) -> Any:
     """toppra second-order constraint: ``‖p' u + p'' x‖ <= a`` as an inscribed polygon."""
     base = _linear_constraint()
     from toppra.constraint import DiscretizationType
@@ -136,13 +188,11 @@ def acceleration_constraint(robot: Robot, acceleration: float) -> Any:
 
     phi = 2 * np.pi * np.arange(POLYGON) / POLYGON
     F = np.column_stack([np.cos(phi), np.sin(phi)])
-    g = np.full(POLYGON, acceleration * math.cos(math.pi / POLYGON))
 
     class _Acc(base):  # type: ignore[misc, valid-type]
         def __init__(self) -> None:
             super().__init__()
             self.dof = robot.nq
-            self.identical = True
             self.set_discretization_type(DiscretizationType.Interpolation)
 
         def compute_constraint_params(self, path: Any, gridpoints: Array,
@@ -154,8 +204,11 @@ def acceleration_constraint(robot: Robot, acceleration: float) -> Any:
             across = np.linalg.norm(ddp - along[:, None] * e1, axis=1)
             a = np.column_stack([speed, np.zeros_like(speed)])
             b = np.column_stack([along, across])
-            return canlinear_colloc_to_interpolate(a, b, np.zeros_like(a), F, g, None, None,
-                                                   gridpoints, identical=True)
+            lim = tool.at("acceleration", gridpoints, knots) * math.cos(math.pi / POLYGON)
+            g = np.repeat(lim[:, None], POLYGON, axis=1)
+            Fs = np.repeat(F[None], len(gridpoints), axis=0)
+            return canlinear_colloc_to_interpolate(a, b, np.zeros_like(a), Fs, g, None, None,
+                                                   gridpoints, identical=False)
 
     return _Acc()
 
