@@ -338,3 +338,24 @@ def test_blended_run_keeps_each_moves_own_speed():
     assert np.abs(v[first] / 0.1 - 1).max() < 0.01
     assert np.abs(v[second] / 0.3 - 1).max() < 0.01
     assert traj.check_limits()["tool_speed"].max() <= 1.0
+
+
+def test_jerk_limited_variant_matches_ruckig_on_one_joint_and_keeps_limits(robot):
+    """method='ruckig': on a one-joint PTP it equals joint-space Ruckig (same v, a, j);
+    on a blended program every ratio is <= 1 and it is no faster than toppra.
+
+    Mutation: the path jerk 10/s x U -> 5/s x U (``JERK_PER_ACCELERATION * U`` ->
+    ``5 * U`` in jerk.py) -> slower than joint-space Ruckig, fails.
+    """
+    q1 = Q0 + [1.5, 0.0, 0.0, 0.0]
+    ours = plan(robot, [PTP(q1)], start=Q0, method="ruckig")
+    ref = so.time_parameterize([Q0, q1], robot, method="ruckig")
+    assert abs(ours.duration - ref.duration) < 1e-5 * ref.duration
+    moves = [LIN(P0 + [0, 0.1, 0], blend=0.01), CIRC(P0 + [-0.05, 0.15, 0], P0 + [0, 0.2, 0])]
+    tool = ToolLimits(speed=0.3, acceleration=2.0)
+    jerk = plan(robot, moves, tool, start=Q0, method="ruckig")
+    fast = plan(robot, moves, tool, start=Q0)
+    assert max(v.max() for v in jerk.check_limits().values()) <= 1.0
+    assert jerk.duration >= fast.duration
+    with pytest.raises(InputError, match="method must be one of"):
+        plan(robot, moves, start=Q0, method="quintic")

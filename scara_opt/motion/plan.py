@@ -23,6 +23,7 @@ from scara_opt.errors import InputError, MoveError
 from scara_opt.model.robot import Robot, check_robot
 from scara_opt.motion import branch, export, geometry
 from scara_opt.motion.blend import blended_joints
+from scara_opt.motion.jerk import jerk_limited_section
 from scara_opt.motion.moves import LIN, PTP, Move, as_moves, goal_point
 from scara_opt.motion.timing import CHECK_DT, time_section, tool_ratios
 from scara_opt.motion.tool_limits import ToolLimits, ToolProfile
@@ -31,6 +32,9 @@ from scara_opt.trajectory.limits import resolve_limits
 from scara_opt.trajectory.trajectory import Trajectory, concatenate
 
 Array = NDArray[np.float64]
+
+#: how each stop-to-stop run is timed, by ``method``
+SECTION_TIMERS = {"toppra": time_section, "ruckig": jerk_limited_section}
 
 #: default spacing of the Cartesian points of a LIN or CIRC [m]
 STEP = 0.002
@@ -220,7 +224,7 @@ def _tightest(limits: list[ToolLimits]) -> ToolLimits:
 
 def plan(robot: Robot, moves: object, limits: ToolLimits | None = None, *,
          start: object | None = None, vmax: object | None = None, amax: object | None = None,
-         step: float = STEP) -> MotionTrajectory:
+         step: float = STEP, method: str = "toppra") -> MotionTrajectory:
     """Plan a program of PTP / LIN / CIRC moves into one timed trajectory.
 
     Args:
@@ -234,6 +238,8 @@ def plan(robot: Robot, moves: object, limits: ToolLimits | None = None, *,
         vmax: joint velocity limits, scalar or (nq,) [rad/s or m/s]; default the robot's.
         amax: joint acceleration limits, scalar or (nq,) [rad/s² or m/s²]; default the robot's.
         step: spacing of the Cartesian points of LIN/CIRC moves [m].
+        method: ``"toppra"`` (time-optimal) or ``"ruckig"`` (jerk-limited along the path,
+            under constant bounds on the path speed: :mod:`scara_opt.motion.jerk`).
 
     Returns:
         MotionTrajectory: rest to rest, stopping at every goal not blended;
@@ -249,6 +255,8 @@ def plan(robot: Robot, moves: object, limits: ToolLimits | None = None, *,
     if not isinstance(tool, ToolLimits):
         raise InputError("limits must be a ToolLimits(speed=, acceleration=, yaw_rate=) or None")
     step = check_real("step", step, 0.0, 0.1, low_open=True, unit="m")
+    if method not in SECTION_TIMERS:
+        raise InputError(f"method must be one of {sorted(SECTION_TIMERS)}; got {method!r}")
     joint_limits = resolve_limits(robot, robot.nq, vmax, amax)
     begin = time.perf_counter()
     if start is None:
@@ -276,7 +284,7 @@ def plan(robot: Robot, moves: object, limits: ToolLimits | None = None, *,
                         else tool.merged(m.speed, m.acceleration)) for i, m in run}
         own = _tightest(list(by_index.values()))
         profile = ToolProfile.per_point([by_index[i] for i in owner])
-        part, note, knots = time_section(robot, Q, joint_limits, profile)
+        part, note, knots = SECTION_TIMERS[method](robot, Q, joint_limits, profile)
         profiles.append((knots, profile))
         pieces.append(part)
         goals.append(Q[-1])
@@ -287,7 +295,7 @@ def plan(robot: Robot, moves: object, limits: ToolLimits | None = None, *,
         q = Q[-1]
     joined = tuple(concatenate([p[j] for p in pieces]) for j in range(robot.nq))
     ends = np.concatenate([[0.0], np.cumsum([p[0].x[-1] for p in pieces])])
-    traj = MotionTrajectory(joined, joint_limits, "toppra", np.array(goals), ends,
+    traj = MotionTrajectory(joined, joint_limits, method, np.array(goals), ends,
                             notes="; ".join(notes), robot=robot, moves=tuple(program),
                             tool_limits=tuple(tools), corners=tuple(corners),
                             profiles=tuple(profiles))
