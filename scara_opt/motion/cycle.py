@@ -7,11 +7,11 @@ the ray along the first joint's zero first) whose six corners the closed-form IK
 elbow branch and whose program plans is used. The program is LIN up, PTP across, LIN down,
 and the same back, stopping at each corner (as cycle-time specifications are measured).
 
-Three timings of the same corners: ``toppra`` (:func:`~scara_opt.motion.plan`, time-optimal
-under the joint limits and any tool limits), ``ruckig`` (jerk-limited, rest to rest per
-segment) and ``quintic`` (rest-to-rest quintic per segment, the baseline). Both baselines
-move each segment on the same joint line as the toppra plan (the vertical strokes move the
-height joint only, so they are the LINs too).
+Three timings of the same program: ``toppra`` (:func:`~scara_opt.motion.plan`, time-optimal
+under the joint limits and any tool limits), ``ruckig`` (the same plan jerk-limited along
+the path, :mod:`scara_opt.motion.jerk`) and ``quintic`` (rest-to-rest quintic per segment
+through the same corners, the baseline; its segments are the same joint lines, since the
+vertical strokes move the height joint only).
 """
 
 from __future__ import annotations
@@ -149,7 +149,7 @@ def cycle_time(robot: Robot, up: float = 0.025, across: float = 0.305, down: flo
     except MoveError as exc:  # pragma: no cover - placement checked the corners
         raise InputError(f"the placed cycle does not plan: {exc}; pass shorter strokes") from None
     corners = traj.waypoints
-    durations = {"toppra": traj.duration}
-    for method in ("ruckig", "quintic"):
-        durations[method] = time_parameterize(corners, robot, method=method).duration
+    durations = {"toppra": traj.duration,
+                 "ruckig": plan(robot, moves, limits, start=q0, method="ruckig").duration,
+                 "quintic": time_parameterize(corners, robot, method="quintic").duration}
     return CycleResult(robot.name, up, across, down, A, B, durations, traj, corners)
