@@ -359,3 +359,22 @@ def test_jerk_limited_variant_matches_ruckig_on_one_joint_and_keeps_limits(robot
     assert jerk.duration >= fast.duration
     with pytest.raises(InputError, match="method must be one of"):
         plan(robot, moves, start=Q0, method="quintic")
+
+
+def test_lin_that_needs_the_other_branch_is_refused_with_the_point(robot):
+    """A righty LIN whose end the righty arm cannot reach (θ1 beyond -120°) but the lefty arm
+    can is refused as leaving the branch, with the point; the arc to -70° is fine.
+
+    Reference (zavar2024, r = 0.3 m): at -80° the righty shoulder angle is
+    -80° - γ/2 = -121.4° with γ = arccos(0.125) = 82.8°, beyond the -120° limit.
+    Mutation: the branch check of the solved path dropped (``off = np.flatnonzero(...)`` ->
+    ``off = np.flatnonzero(signs != signs)`` in branch.py) -> reported as a joint jump, fails.
+    """
+    def at(deg: float) -> so.Target:
+        a = math.radians(deg)
+        return so.Target([0.3 * math.cos(a), 0.3 * math.sin(a), -0.06], yaw=-1.0)
+
+    start = PTP(at(0), elbow="righty")
+    plan(robot, [start, LIN(at(-70))])
+    with pytest.raises(MoveError, match=r"move 1: LIN leaves the righty branch at point \d+"):
+        plan(robot, [start, LIN(at(-80))])

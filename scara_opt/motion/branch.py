@@ -161,10 +161,18 @@ def path_joints(index: int, kind: str, robot: Robot, P: Array, yaws: Array | Non
 
     if jp.unsolved:
         i = jp.unsolved[0]
-        raise MoveError(who(i), f"{kind} point {i} of {len(P)} at {np.round(P[i], 6).tolist()} m "
-                               f"is unreachable (residual {jp.error[i]:.3g}); the path leaves "
-                               "the workspace (or passes the base hole): move the goal, or go "
-                               "around with several moves")
+        where = f"point {i} of {len(P)} at {np.round(P[i], 6).tolist()} m"
+        other = ik_all(robot, targets[i]) if start is not None else []
+        if other:
+            side = NAME[int(start[0])]
+            raise MoveError(who(i), f"{kind} leaves the {side} branch at {where}: it is "
+                                    f"reachable there only on another branch; split the move "
+                                    "there with a PTP that flips the elbow, or keep the path "
+                                    "where this branch reaches")
+        raise MoveError(who(i), f"{kind} {where} is unreachable (residual "
+                                f"{jp.error[i]:.3g}); the path leaves the workspace (or passes "
+                                "the base hole): move the goal, or go around with several "
+                                "moves")
     Q = jp.q
     if start is not None:
         signs = elbow_signs(robot, Q)
