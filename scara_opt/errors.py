@@ -101,3 +101,17 @@ class MoveError(TrajectoryError):
     def __init__(self, index: int, message: str) -> None:
         self.index = index
         super().__init__(f"move {index}: {message}")
+
+
+class BranchError(MoveError):
+    """A LIN/CIRC cannot stay on its elbow branch.
+
+    Attributes:
+        point: index (into the move's Cartesian points after the start) where it leaves.
+        side: the branch it started on (``"lefty"`` / ``"righty"``).
+    """
+
+    def __init__(self, index: int, message: str, point: int, side: str) -> None:
+        self.point = point
+        self.side = side
+        super().__init__(index, message)

@@ -374,7 +374,15 @@ def test_lin_that_needs_the_other_branch_is_refused_with_the_point(robot):
         a = math.radians(deg)
         return so.Target([0.3 * math.cos(a), 0.3 * math.sin(a), -0.06], yaw=-1.0)
 
+    from scara_opt.motion.branch import elbow_signs
+
     start = PTP(at(0), elbow="righty")
     plan(robot, [start, LIN(at(-70))])
     with pytest.raises(MoveError, match=r"move 1: LIN leaves the righty branch at point \d+"):
         plan(robot, [start, LIN(at(-80))])
+    split = plan(robot, [start, LIN(at(-80))], allow_flip=True)  # stop, flip, go on
+    P = robot.positions(split.waypoints)
+    assert list(elbow_signs(robot, split.waypoints)) == [1, 1, -1, -1]
+    assert np.allclose(P[1], P[2], atol=1e-9) and np.allclose(P[3], at(-80).position, atol=1e-9)
+    line = np.cross(P[1] - P[0], at(-80).position - P[0])  # the cut is on the line
+    assert np.linalg.norm(line) < 1e-9

@@ -14,7 +14,7 @@ import math
 import numpy as np
 from numpy.typing import NDArray
 
-from scara_opt.errors import MoveError
+from scara_opt.errors import BranchError, MoveError
 from scara_opt.ik.analytic import ik_all
 from scara_opt.ik.geometry import NotScaraError, ScaraGeometry, scara_geometry, solve_batch
 from scara_opt.ik.registry import get_solver
@@ -165,10 +165,11 @@ def path_joints(index: int, kind: str, robot: Robot, P: Array, yaws: Array | Non
         other = ik_all(robot, targets[i]) if start is not None else []
         if other:
             side = NAME[int(start[0])]
-            raise MoveError(who(i), f"{kind} leaves the {side} branch at {where}: it is "
-                                    f"reachable there only on another branch; split the move "
-                                    "there with a PTP that flips the elbow, or keep the path "
-                                    "where this branch reaches")
+            raise BranchError(who(i), f"{kind} leaves the {side} branch at {where}: it is "
+                                      f"reachable there only on another branch; split the "
+                                      "move there with a PTP that flips the elbow "
+                                      "(plan(..., allow_flip=True) does it), or keep the path "
+                                      "where this branch reaches", i, side)
         raise MoveError(who(i), f"{kind} {where} is unreachable (residual "
                                 f"{jp.error[i]:.3g}); the path leaves the workspace (or passes "
                                 "the base hole): move the goal, or go around with several "
@@ -180,10 +181,12 @@ def path_joints(index: int, kind: str, robot: Robot, P: Array, yaws: Array | Non
         off = np.flatnonzero((signs != ref) & (signs != 0))
         if off.size:
             i = int(off[0])
-            raise MoveError(who(i), f"{kind} leaves the {NAME[int(ref)]} branch at point {i} "
-                                   f"of {len(P)}, {np.round(P[i], 6).tolist()} m: it cannot be "
-                                   "done on one branch; split it there with a PTP that flips "
-                                   "the elbow, or move the path away from the stretched arm")
+            raise BranchError(who(i), f"{kind} leaves the {NAME[int(ref)]} branch at point {i} "
+                                      f"of {len(P)}, {np.round(P[i], 6).tolist()} m: it cannot "
+                                      "be done on one branch; split it there with a PTP that "
+                                      "flips the elbow (plan(..., allow_flip=True) does it), or "
+                                      "move the path away from the stretched arm", i,
+                                      NAME[int(ref)])
     if jp.jumps:
         j = jp.jumps[0]
         raise MoveError(who(j.index), f"{kind} joint path jumps at point {j.index} of {len(P)}, "

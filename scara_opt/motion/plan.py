@@ -12,19 +12,20 @@ LIN/CIRC moves with a ``blend`` radius run on into the next move through a round
 from __future__ import annotations
 
 import time
+from collections import deque
 from dataclasses import dataclass, replace
 from pathlib import Path
 
 import numpy as np
 from numpy.typing import NDArray
 
-from scara_opt.checks import check_real
-from scara_opt.errors import InputError, MoveError
+from scara_opt.checks import check_flag, check_real
+from scara_opt.errors import BranchError, InputError, MoveError
 from scara_opt.model.robot import Robot, check_robot
 from scara_opt.motion import branch, export, geometry
 from scara_opt.motion.blend import blended_joints
 from scara_opt.motion.jerk import jerk_limited_section
-from scara_opt.motion.moves import LIN, PTP, Move, as_moves, goal_point
+from scara_opt.motion.moves import CIRC, LIN, PTP, Move, as_moves, goal_point
 from scara_opt.motion.timing import CHECK_DT, time_section, tool_ratios
 from scara_opt.motion.tool_limits import ToolLimits, ToolProfile
 from scara_opt.target import Target
@@ -222,9 +223,36 @@ def _tightest(limits: list[ToolLimits]) -> ToolLimits:
     return ToolLimits(low("speed"), low("acceleration"), low("yaw_rate"))
 
 
+def _flip(index: int, move: Move, robot: Robot, q: Array, exc: BranchError,
+          step: float) -> list[list[tuple[int, Move]]]:
+    """A LIN/CIRC that leaves its branch, split where it leaves it.
+
+    Up to the last point on the branch, a PTP flipping the elbow at that pose (a stop),
+    then the rest on the other branch.
+    """
+    p0, yaw0 = branch.tool_pose(robot, q)
+    curve, yaw1 = move_curve(index, move, robot, p0, yaw0)
+    f = np.linspace(0.0, 1.0, geometry.count(curve.length, step))[exc.point]
+
+    def pose(x: float) -> Target:
+        return Target(curve.at(np.array([x]))[0], None if yaw0 is None else
+                      yaw0 + x * (yaw1 - yaw0))
+
+    def part(a: float, b: float, goal: object) -> Move:
+        kw = {"speed": move.speed, "acceleration": move.acceleration}
+        if isinstance(move, LIN):
+            return LIN(goal, **kw)
+        return CIRC(curve.at(np.array([(a + b) / 2]))[0], goal, **kw)
+
+    other = "lefty" if exc.side == "righty" else "righty"
+    runs = [[(index, part(0.0, f, pose(f)))]] if f > 0 else []
+    return runs + [[(index, PTP(pose(f), elbow=other))], [(index, part(f, 1.0, move.goal))]]
+
+
 def plan(robot: Robot, moves: object, limits: ToolLimits | None = None, *,
          start: object | None = None, vmax: object | None = None, amax: object | None = None,
-         step: float = STEP, method: str = "toppra") -> MotionTrajectory:
+         step: float = STEP, method: str = "toppra",
+         allow_flip: bool = False) -> MotionTrajectory:
     """Plan a program of PTP / LIN / CIRC moves into one timed trajectory.
 
     Args:
@@ -240,6 +268,9 @@ def plan(robot: Robot, moves: object, limits: ToolLimits | None = None, *,
         step: spacing of the Cartesian points of LIN/CIRC moves [m].
         method: ``"toppra"`` (time-optimal) or ``"ruckig"`` (jerk-limited along the path,
             under constant bounds on the path speed: :mod:`scara_opt.motion.jerk`).
+        allow_flip: a LIN/CIRC (not blended) that cannot stay on its elbow branch is split
+            where it leaves it: a stop, a PTP flipping the elbow at that pose, then the rest
+            on the other branch (said in the notes). Default: refused with BranchError.
 
     Returns:
         MotionTrajectory: rest to rest, stopping at every goal not blended;
@@ -255,6 +286,7 @@ def plan(robot: Robot, moves: object, limits: ToolLimits | None = None, *,
     if not isinstance(tool, ToolLimits):
         raise InputError("limits must be a ToolLimits(speed=, acceleration=, yaw_rate=) or None")
     step = check_real("step", step, 0.0, 0.1, low_open=True, unit="m")
+    check_flag("allow_flip", allow_flip)
     if method not in SECTION_TIMERS:
         raise InputError(f"method must be one of {sorted(SECTION_TIMERS)}; got {method!r}")
     joint_limits = resolve_limits(robot, robot.nq, vmax, amax)
@@ -272,10 +304,18 @@ def plan(robot: Robot, moves: object, limits: ToolLimits | None = None, *,
     else:
         q, offset = robot.check_q(start, "start"), 0
     pieces, goals, tools, notes, corners, profiles = [], [q], [], [], [], []
-    for run in _sections(program, offset):
+    queue = deque(_sections(program, offset))
+    while queue:
+        run = queue.popleft()
         if len(run) == 1:
             index, m = run[0]
-            Q = move_joints(index, m, robot, q, step)
+            try:
+                Q = move_joints(index, m, robot, q, step)
+            except BranchError as exc:
+                if not allow_flip:
+                    raise
+                queue.extendleft(reversed(_flip(index, m, robot, q, exc, step)))
+                continue
             owner = [index] * len(Q)
         else:
             Q, found, owner = blended_joints(run, robot, q, step, move_curve)
