@@ -14,9 +14,11 @@ from typing import Any
 from scara_opt import metaheuristics, paths  # noqa: F401  (metaheuristics register themselves)
 from scara_opt.comparison import compare
 from scara_opt.errors import (
+    BranchError,
     FrameNotFoundError,
     InputError,
     JointLimitError,
+    MoveError,
     RobotNotFoundError,
     ScaraOptError,
     SolverOptionError,
@@ -55,9 +57,11 @@ logging.getLogger(__name__).addHandler(logging.NullHandler())
 __all__ = [
     "__version__",
     "BatchResult",
+    "BranchError",
     "CIRC",
     "LIN",
     "MotionTrajectory",
+    "MoveError",
     "plan",
     "PTP",
     "ToolLimits",
