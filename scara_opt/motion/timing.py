@@ -69,20 +69,24 @@ def tool_ratios(robot: Robot, traj: Trajectory, tool: ToolProfile, knots: Array,
     return out
 
 
+def _joint_peaks(traj: Trajectory, exact: bool) -> tuple[float, float]:
+    """Largest joint velocity and acceleration ratios: exact (polynomial extrema) or at 1 kHz."""
+    if exact:
+        joint = traj.check_limits()
+        return float(joint["velocity"].max()), float(joint["acceleration"].max())
+    t = traj.times(min(CHECK_DT, traj.duration / 4))
+    return (float((np.abs(traj.evaluate(t, 1)) / traj.limits.vmax).max()),
+            float((np.abs(traj.evaluate(t, 2)) / traj.limits.amax).max()))
+
+
 def _factor(robot: Robot, traj: Trajectory, tool: ToolProfile, knots: Array,
-            exact: bool = True) -> float:
+            exact: bool = True, joint: tuple[float, float] | None = None) -> float:
     """Smallest time stretch (>= 1) bringing every joint and tool ratio to <= 1.
 
     ``exact``: joint peaks exact (piecewise-polynomial extrema), else sampled at 1 kHz
-    (cheaper; to decide whether to refine the grid).
+    (cheaper; to decide whether to refine the grid). ``joint``: the joint peaks if known.
     """
-    if exact:
-        joint = traj.check_limits()
-        jv, ja = float(joint["velocity"].max()), float(joint["acceleration"].max())
-    else:
-        t = traj.times(min(CHECK_DT, traj.duration / 4))
-        jv = float((np.abs(traj.evaluate(t, 1)) / traj.limits.vmax).max())
-        ja = float((np.abs(traj.evaluate(t, 2)) / traj.limits.amax).max())
+    jv, ja = _joint_peaks(traj, exact) if joint is None else joint
     ratios = tool_ratios(robot, traj, tool, knots)
     return max(1.0, jv, ratios["speed"], ratios["yaw_rate"], math.sqrt(ja),
                math.sqrt(ratios["acceleration"]))
@@ -151,7 +155,8 @@ def time_section(robot: Robot, Q: Array, limits: Limits,
         if attempt == REFINE or _factor(robot, traj, tool, knots, exact=False) <= 1 + MARGIN:
             break
         per *= 2
-    factor = _factor(robot, traj, tool, knots)
+    jv, ja = _joint_peaks(traj, exact=True)
+    factor = _factor(robot, traj, tool, knots, joint=(jv, ja))
     note = f"{len(grid) - 1} grid intervals"
     if factor > MAX_STRETCH:
         raise TrajectoryError(
@@ -166,8 +171,10 @@ def time_section(robot: Robot, Q: Array, limits: Limits,
         total *= factor
         pieces = tuple(stretch(p, factor) for p in pieces)
         knots = knots * factor
+        # joint peaks scale exactly (velocity / total, acceleration / total²)
         factor = _factor(robot, Trajectory(pieces, limits, "toppra", Q,
-                                           np.array([0.0, pieces[0].x[-1]])), tool, knots)
+                                           np.array([0.0, pieces[0].x[-1]])), tool, knots,
+                         joint=(jv / total, ja / total**2))
     if total > 1.0:
         note += f", time stretched x {total:.6f} (discretisation overshoot removed)"
     return pieces, note, knots
