@@ -104,6 +104,22 @@ def ptp_goal(index: int, robot: Robot, goal: Target | Array, q_prev: Array,
     return sols[0]
 
 
+def first_unreachable(robot: Robot, P: Array, yaws: Array | None, q_prev: Array) -> int | None:
+    """Index of the first point the closed form cannot reach on ``q_prev``'s branch, if any.
+
+    ``None`` also when the closed form does not apply (then nothing is known).
+    """
+    g = geometry(robot)
+    if g is None or g.redundant or g.wrist < 0 or yaws is None:
+        return None
+    side = int(elbow_signs(robot, q_prev)[0])
+    if side == 0:
+        return None
+    _, valid = solve_batch(robot, P, yaws)
+    bad = np.flatnonzero(~valid[:, 0 if side > 0 else 1])
+    return int(bad[0]) if bad.size else None
+
+
 def closed_form_path(robot: Robot, P: Array, yaws: Array | None, q_prev: Array) -> Array | None:
     """Vectorised closed-form IK of a path on ``q_prev``'s branch, or ``None`` to fall back.
 
@@ -145,13 +161,25 @@ def path_joints(index: int, kind: str, robot: Robot, P: Array, yaws: Array | Non
         MoveError: a point unreachable, a joint jump, or the path leaving the start's branch
             (index of the point and its position named).
     """
-    start = elbow_signs(robot, q_prev)
     if elbow is not None:
         _check_branch(index, robot, q_prev, elbow,
                       f"the {kind} start (a {kind} keeps its branch; change it with a PTP)")
     fast = closed_form_path(robot, P, yaws, q_prev)
     if fast is not None:
         return fast
+    stop = first_unreachable(robot, P, yaws, q_prev)
+    if stop is not None:  # explain it with ik_path up to there only (slow on misses)
+        _ik_path_joints(index, kind, robot, P[:stop + 1],
+                        None if yaws is None else yaws[:stop + 1], q_prev, elbow,
+                        None if owner is None else owner[:stop + 1], len(P))
+    return _ik_path_joints(index, kind, robot, P, yaws, q_prev, elbow, owner, len(P))
+
+
+def _ik_path_joints(index: int, kind: str, robot: Robot, P: Array, yaws: Array | None,
+                    q_prev: Array, elbow: str | None, owner: list[int] | None,
+                    total: int) -> Array:
+    """:func:`path_joints` by :func:`~scara_opt.ik_path`, explaining any failure."""
+    start = elbow_signs(robot, q_prev)
     targets = [Target(p, None if yaws is None else float(y))
                for p, y in zip(P, yaws if yaws is not None else [None] * len(P), strict=True)]
     jp = ik_path(robot, targets, q_start=q_prev)
@@ -161,7 +189,7 @@ def path_joints(index: int, kind: str, robot: Robot, P: Array, yaws: Array | Non
 
     if jp.unsolved:
         i = jp.unsolved[0]
-        where = f"point {i} of {len(P)} at {np.round(P[i], 6).tolist()} m"
+        where = f"point {i} of {total} at {np.round(P[i], 6).tolist()} m"
         other = ik_all(robot, targets[i]) if start is not None else []
         if other:
             side = NAME[int(start[0])]
@@ -182,14 +210,14 @@ def path_joints(index: int, kind: str, robot: Robot, P: Array, yaws: Array | Non
         if off.size:
             i = int(off[0])
             raise BranchError(who(i), f"{kind} leaves the {NAME[int(ref)]} branch at point {i} "
-                                      f"of {len(P)}, {np.round(P[i], 6).tolist()} m: it cannot "
+                                      f"of {total}, {np.round(P[i], 6).tolist()} m: it cannot "
                                       "be done on one branch; split it there with a PTP that "
                                       "flips the elbow (plan(..., allow_flip=True) does it), or "
                                       "move the path away from the stretched arm", i,
                                       NAME[int(ref)])
     if jp.jumps:
         j = jp.jumps[0]
-        raise MoveError(who(j.index), f"{kind} joint path jumps at point {j.index} of {len(P)}, "
+        raise MoveError(who(j.index), f"{kind} joint path jumps at point {j.index} of {total}, "
                                f"{np.round(P[j.index], 6).tolist()} m ({j}): a singular pose "
                                "or a wrist turn; move the path away from it")
     return Q
