@@ -64,7 +64,7 @@ def raw_toppra(paths: list[np.ndarray], vmax: np.ndarray, amax: np.ndarray) -> N
     for Q in paths:
         s = chord_parameter(Q, vmax)
         path = toppra.SplineInterpolator(s, Q)
-        per = max(1, math.ceil(MIN_GRID / (len(Q) - 1)))
+        per = max(2, math.ceil(MIN_GRID / (len(Q) - 1)))  # as timing.time_section
         frac = np.arange(per) / per
         grid = np.append((s[:-1, None] + np.diff(s)[:, None] * frac).ravel(), s[-1])
         cons = [constraint.JointVelocityConstraint(vmax), constraint.JointAccelerationConstraint(

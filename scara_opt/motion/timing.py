@@ -148,7 +148,7 @@ def time_section(robot: Robot, Q: Array, limits: Limits,
         cons.append(speed_constraint(robot, scaled, s))
     if tool.limited("acceleration"):
         cons.append(acceleration_constraint(robot, scaled, s))
-    per = max(1, math.ceil(MIN_GRID / (len(Q) - 1)))
+    per = max(2, math.ceil(MIN_GRID / (len(Q) - 1)))
     for attempt in range(REFINE + 1):
         pieces, grid, knots = _solve(path, s, per, cons, limits)
         traj = Trajectory(pieces, limits, "toppra", Q, np.array([0.0, pieces[0].x[-1]]))
