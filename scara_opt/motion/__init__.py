@@ -7,7 +7,8 @@ and acceleration limits and the tool's speed, acceleration and yaw rate, checked
 
 from scara_opt.motion.cycle import CycleResult, cycle_time
 from scara_opt.motion.moves import CIRC, LIN, PTP, Move
-from scara_opt.motion.plan import MotionTrajectory, plan
+from scara_opt.motion.plan import plan
+from scara_opt.motion.result import MotionTrajectory
 from scara_opt.motion.tool_limits import ToolLimits
 
 __all__ = ["CIRC", "CycleResult", "LIN", "PTP", "Move", "MotionTrajectory", "ToolLimits",

@@ -28,7 +28,8 @@ from scara_opt.ik.analytic import ik_all
 from scara_opt.model.robot import Robot, check_robot
 from scara_opt.motion import branch
 from scara_opt.motion.moves import LIN, PTP
-from scara_opt.motion.plan import MotionTrajectory, plan
+from scara_opt.motion.plan import plan
+from scara_opt.motion.result import MotionTrajectory
 from scara_opt.motion.tool_limits import ToolLimits
 from scara_opt.target import Target
 from scara_opt.trajectory.registry import time_parameterize

@@ -13,8 +13,7 @@ from __future__ import annotations
 
 import time
 from collections import deque
-from dataclasses import dataclass, replace
-from pathlib import Path
+from dataclasses import replace
 
 import numpy as np
 from numpy.typing import NDArray
@@ -22,15 +21,16 @@ from numpy.typing import NDArray
 from scara_opt.checks import check_flag, check_real
 from scara_opt.errors import BranchError, InputError, MoveError
 from scara_opt.model.robot import Robot, check_robot
-from scara_opt.motion import branch, export, geometry
+from scara_opt.motion import branch, geometry
 from scara_opt.motion.blend import blended_joints
 from scara_opt.motion.jerk import jerk_limited_section
 from scara_opt.motion.moves import CIRC, LIN, PTP, Move, as_moves, goal_point
-from scara_opt.motion.timing import CHECK_DT, time_section, tool_ratios
+from scara_opt.motion.result import MotionTrajectory
+from scara_opt.motion.timing import time_section
 from scara_opt.motion.tool_limits import ToolLimits, ToolProfile
 from scara_opt.target import Target
 from scara_opt.trajectory.limits import resolve_limits
-from scara_opt.trajectory.trajectory import Trajectory, concatenate
+from scara_opt.trajectory.trajectory import concatenate
 
 Array = NDArray[np.float64]
 
@@ -42,87 +42,6 @@ STEP = 0.002
 
 #: a move whose goal is this close to its start (joints [rad or m]) does not move
 STILL = 1e-9
-
-
-@dataclass(frozen=True, repr=False, eq=False)
-class MotionTrajectory(Trajectory):
-    """A :class:`~scara_opt.Trajectory` planned from moves; it also knows its tool limits.
-
-    Attributes (beyond Trajectory's; ``waypoints`` are the goals, ``waypoint_times`` the
-    start then the end of each move [s]):
-        robot: the robot it was planned for.
-        moves: the program.
-        tool_limits: the tightest tool limits of each stop-to-stop run (one per move without
-            blends).
-        profiles: per run, the waypoint times [s] from the run's start and the tool limits
-            per waypoint interval (:class:`~scara_opt.motion.tool_limits.ToolProfile`).
-        corners: ``(C (3,), r, run)`` of each blended corner [m], ``run`` the index of the
-            stop-to-stop run it belongs to.
-    """
-
-    robot: Robot | None = None
-    moves: tuple[Move, ...] = ()
-    tool_limits: tuple[ToolLimits, ...] = ()
-    corners: tuple[tuple[Array, float, int], ...] = ()
-    profiles: tuple[tuple[Array, ToolProfile], ...] = ()
-
-    def blend_deviations(self, dt: float = CHECK_DT) -> Array:
-        """Closest approach of the tip to each blended corner (n_corners,) [m], FK at ``dt``.
-
-        Each is at most that corner's radius (``corners[i][1]``), and above 0: the corner is
-        cut, not stopped at.
-        """
-        t = self.times(dt)
-        P = self.robot.positions(self.evaluate(t))
-        out = []
-        for c, _, run in self.corners:  # only while that run is under way
-            inside = (t >= self.waypoint_times[run]) & (t <= self.waypoint_times[run + 1])
-            out.append(np.linalg.norm(P[inside] - c, axis=1).min())
-        return np.array(out)
-
-    def tool_limit_ratios(self, dt: float = CHECK_DT) -> dict[str, Array]:
-        """Worst tip speed / acceleration / yaw-rate ratio per run (n_runs,), by FK at ``dt``.
-
-        Each sample is judged against the limit in force where it is (a blended run crosses
-        moves with different limits). 0 where a run has no such limit; <= 1 means the limit
-        holds at every sample.
-        """
-        rows: dict[str, list[float]] = {"speed": [], "acceleration": [], "yaw_rate": []}
-        for i, (knots, profile) in enumerate(self.profiles):
-            t0, t1 = self.waypoint_times[i], self.waypoint_times[i + 1]
-            part = _window(self, t0, t1)
-            for name, value in tool_ratios(self.robot, part, profile, knots, dt).items():
-                rows[name].append(value)
-        return {f"tool_{k}": np.array(v) for k, v in rows.items()}
-
-    def to_json(self, path: str | Path, dt: float = 0.01) -> Path:
-        """Samples every ``dt`` [s] as JSON (:func:`scara_opt.motion.export.to_json`)."""
-        return export.to_json(self, path, dt)
-
-    def to_ros(self, dt: float = 0.01) -> dict:
-        """A ROS ``JointTrajectory``-shaped dict (:func:`scara_opt.motion.export.to_ros`)."""
-        return export.to_ros(self, dt)
-
-    def to_ros_yaml(self, path: str | Path, dt: float = 0.01) -> Path:
-        """The ROS form as YAML (:func:`scara_opt.motion.export.to_ros_yaml`)."""
-        return export.to_ros_yaml(self, path, dt)
-
-    def check_limits(self) -> dict[str, Array]:
-        """Joint ratios (exact, per joint) and tool ratios (1 kHz FK, per move)."""
-        return {**super().check_limits(), **self.tool_limit_ratios()}
-
-
-def _window(traj: Trajectory, t0: float, t1: float) -> Trajectory:
-    """The part of ``traj`` between ``t0`` and ``t1``, as a Trajectory starting at 0."""
-    pieces = []
-    for p in traj.pieces:
-        i0 = int(np.searchsorted(p.x, t0 + 1e-12, side="right")) - 1
-        i1 = int(np.searchsorted(p.x, t1 - 1e-12, side="left"))
-        from scipy.interpolate import PPoly
-
-        pieces.append(PPoly(p.c[:, i0:i1], p.x[i0:i1 + 1] - p.x[i0], extrapolate=False))
-    return Trajectory(tuple(pieces), traj.limits, traj.method, traj.waypoints[:2],
-                      np.array([0.0, t1 - t0]))
 
 
 def _goal_pose(index: int, robot: Robot, goal: Target | Array, yaw0: float | None
