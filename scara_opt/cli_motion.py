@@ -36,8 +36,8 @@ def cmd_cycle(args: argparse.Namespace) -> int:
                           "place_m": res.place.tolist(), "cycle_s": res.durations}))
         return 0
     print(f"{robot.name}: pick-and-place cycle {args.up:g}/{args.across:g}/{args.down:g} mm, "
-          f"pick at {[round(v, 4) for v in res.pick]} m, place at "
-          f"{[round(v, 4) for v in res.place]} m")
+          f"pick at {[round(float(v), 4) for v in res.pick]} m, place at "
+          f"{[round(float(v), 4) for v in res.place]} m")
     for method, seconds in res.durations.items():
         print(f"  {method:8s} {seconds:8.4f} s")
     ratios = traj.check_limits()
