@@ -22,9 +22,12 @@ logging.getLogger(__name__).addHandler(logging.NullHandler())
 #: public name -> the module that defines it (imported at the name's first use)
 _EXPORTS = {
     "compare": "scara_opt.comparison",
-    **dict.fromkeys(("DynamicsError", "FrameNotFoundError", "InputError", "JointLimitError",
-                     "RobotNotFoundError", "ScaraOptError", "SolverOptionError", "TargetError",
-                     "TrajectoryError", "UnknownSolverError", "URDFError"), "scara_opt.errors"),
+    **dict.fromkeys(("BranchError", "DynamicsError", "FrameNotFoundError", "InputError",
+                     "JointLimitError", "MoveError", "RobotNotFoundError", "ScaraOptError",
+                     "SolverOptionError", "TargetError", "TrajectoryError", "UnknownSolverError",
+                     "URDFError"), "scara_opt.errors"),
+    **dict.fromkeys(("CIRC", "LIN", "PTP", "MotionTrajectory", "ToolLimits", "cycle_time",
+                     "plan"), "scara_opt.motion"),
     **dict.fromkeys(("IKResult", "Reason", "Status", "get_solver", "ik_all", "register_solver",
                      "solve_ik", "solvers"), "scara_opt.ik"),
     **dict.fromkeys(("BatchResult", "solve_many"), "scara_opt.ik.lm_batch"),
@@ -36,12 +39,14 @@ _EXPORTS = {
 }
 
 #: public submodules, imported at first attribute access
-_LAZY = ("cli", "comparison", "dh", "ik", "metaheuristics", "model", "paths", "plots", "pose",
-         "reports", "robot", "trajectory", "view", "workspace_analysis")
+_LAZY = ("cli", "comparison", "dh", "ik", "metaheuristics", "model", "motion", "paths", "plots",
+         "pose", "reports", "robot", "trajectory", "view", "workspace_analysis")
 
 __all__ = [
-    "__version__", "BatchResult", "compare", "DynamicsError", "Footprint", "FrameNotFoundError",
-    "get_solver", "ik_all", "ik_path", "IKResult", "InputError", "JointLimitError", "JointPath",
+    "__version__", "BatchResult", "BranchError", "CIRC", "LIN", "MotionTrajectory", "MoveError",
+    "plan", "PTP", "ToolLimits", "cycle_time", "compare", "DynamicsError", "Footprint",
+    "FrameNotFoundError", "get_solver", "ik_all", "ik_path", "IKResult", "InputError",
+    "JointLimitError", "JointPath",
     "list_robots", "load_robot", "paths", "pose", "register_solver", "Robot", "Reason",
     "RobotNotFoundError", "ScaraOptError", "solve_ik", "solve_many", "SolverOptionError",
     "solvers", "Status", "Target", "TargetError", "time_parameterize", "timing_methods",
@@ -69,10 +74,12 @@ if TYPE_CHECKING:  # for type checkers and IDEs: the same names, imported eagerl
     from scara_opt import paths, pose
     from scara_opt.comparison import compare
     from scara_opt.errors import (
+        BranchError,
         DynamicsError,
         FrameNotFoundError,
         InputError,
         JointLimitError,
+        MoveError,
         RobotNotFoundError,
         ScaraOptError,
         SolverOptionError,
@@ -93,6 +100,7 @@ if TYPE_CHECKING:  # for type checkers and IDEs: the same names, imported eagerl
     )
     from scara_opt.ik.lm_batch import BatchResult, solve_many
     from scara_opt.model import Robot, list_robots, load_robot
+    from scara_opt.motion import CIRC, LIN, PTP, MotionTrajectory, ToolLimits, cycle_time, plan
     from scara_opt.target import Target
     from scara_opt.trajectory import (
         JointPath,

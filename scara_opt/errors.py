@@ -97,3 +97,29 @@ class TrajectoryError(ScaraOptError, ValueError):
 
 class DynamicsError(ScaraOptError, ValueError):
     """A robot lacks the inertial data or torque limits a dynamic computation needs."""
+
+
+class MoveError(TrajectoryError):
+    """A move of a motion program cannot be planned as given.
+
+    Attributes:
+        index: the move's position in the program (0-based).
+    """
+
+    def __init__(self, index: int, message: str) -> None:
+        self.index = index
+        super().__init__(f"move {index}: {message}")
+
+
+class BranchError(MoveError):
+    """A LIN/CIRC cannot stay on its elbow branch.
+
+    Attributes:
+        point: index (into the move's Cartesian points after the start) where it leaves.
+        side: the branch it started on (``"lefty"`` / ``"righty"``).
+    """
+
+    def __init__(self, index: int, message: str, point: int, side: str) -> None:
+        self.point = point
+        self.side = side
+        super().__init__(index, message)

@@ -20,6 +20,7 @@ EXAMPLES = {
     "inverted5_redundancy.py": [],
     "own_urdf.py": [],
     "panda.py": [],
+    "pick_and_place_cell.py": [],
 }
 
 

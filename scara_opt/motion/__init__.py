@@ -1,0 +1,15 @@
+"""Motion programs as a SCARA cell runs them: PTP / LIN / CIRC moves, tool limits, one trajectory.
+
+``plan(robot, [PTP(...), LIN(...), CIRC(via, goal)], ToolLimits(speed=0.25))`` gives one
+rest-to-rest :class:`~scara_opt.Trajectory`, time-optimal (TOPP-RA) under the joint velocity
+and acceleration limits and the tool's speed, acceleration and yaw rate, checked at 1 kHz.
+"""
+
+from scara_opt.motion.cycle import CycleResult, cycle_time
+from scara_opt.motion.moves import CIRC, LIN, PTP, Move
+from scara_opt.motion.plan import plan
+from scara_opt.motion.result import MotionTrajectory
+from scara_opt.motion.tool_limits import ToolLimits
+
+__all__ = ["CIRC", "CycleResult", "LIN", "PTP", "Move", "MotionTrajectory", "ToolLimits",
+           "cycle_time", "plan"]

@@ -1,0 +1,156 @@
+"""Cycle time of the standard SCARA pick-and-place cycle: 25 mm up, 305 mm across, 25 mm down, back.
+
+The cycle is placed where the robot reaches it (:func:`place_cycle`): the horizontal stroke
+perpendicular to a ray from the shoulder axis, its ends at the same distance, the vertical
+strokes centred in the height range; the first placement (nearest the middle of the reach,
+the ray along the first joint's zero first) whose six corners the closed-form IK reaches on one
+elbow branch and whose program plans is used. The program is LIN up, PTP across, LIN down,
+and the same back, stopping at each corner (as cycle-time specifications are measured).
+
+Three timings of the same program: ``toppra`` (:func:`~scara_opt.motion.plan`, time-optimal
+under the joint limits and any tool limits), ``ruckig`` (the same plan jerk-limited along
+the path, :mod:`scara_opt.motion.jerk`) and ``quintic`` (rest-to-rest quintic per segment
+through the same corners, the baseline; its segments are the same joint lines, since the
+vertical strokes move the height joint only).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+from numpy.typing import NDArray
+
+from scara_opt.checks import check_real
+from scara_opt.errors import InputError, MoveError
+from scara_opt.ik.analytic import ik_all
+from scara_opt.model.robot import Robot, check_robot
+from scara_opt.motion import branch
+from scara_opt.motion.moves import LIN, PTP
+from scara_opt.motion.plan import plan
+from scara_opt.motion.result import MotionTrajectory
+from scara_opt.motion.tool_limits import ToolLimits
+from scara_opt.target import Target
+from scara_opt.trajectory.registry import time_parameterize
+
+Array = NDArray[np.float64]
+
+#: ray angles tried (about the shoulder axis, from the first link's zero) [rad]
+ANGLES = np.radians([0, 30, -30, 60, -60, 90, -90, 120, -120, 150, -150, 180])
+
+
+@dataclass(frozen=True, repr=False)
+class CycleResult:
+    """Times of one placed pick-and-place cycle.
+
+    Attributes:
+        robot: robot name.
+        up, across, down: the strokes [m].
+        pick, place: (3,) lower corners A and B [m].
+        durations: cycle time [s] by method (``toppra``, ``ruckig``, ``quintic``).
+        trajectory: the toppra :class:`~scara_opt.motion.MotionTrajectory`.
+        corners: (7, nq) joint values at A, A up, B up, B, B up, A up, A.
+    """
+
+    robot: str
+    up: float
+    across: float
+    down: float
+    pick: Array
+    place: Array
+    durations: dict[str, float]
+    trajectory: MotionTrajectory
+    corners: Array
+
+    def __repr__(self) -> str:
+        times = ", ".join(f"{k} {v:.4f} s" for k, v in self.durations.items())
+        return (f"CycleResult({self.robot}: {self.up * 1e3:g}/{self.across * 1e3:g}/"
+                f"{self.down * 1e3:g} mm, {times})")
+
+
+def _candidates(robot: Robot, up: float, across: float, down: float):
+    g = branch.geometry(robot)
+    if g is None:
+        raise InputError(f"cycle_time needs a SCARA-type robot; {robot.name!r} is not")
+    lo = g.h0 + sum(min(g.sigma[k] * robot.lower[k], g.sigma[k] * robot.upper[k])
+                    for k in g.heights)
+    hi = g.h0 + sum(max(g.sigma[k] * robot.lower[k], g.sigma[k] * robot.upper[k])
+                    for k in g.heights)
+    stroke = max(up, down)
+    if hi - lo < stroke:
+        raise InputError(f"robot {robot.name!r} has a vertical stroke of {(hi - lo) * 1e3:.4g} "
+                         f"mm, less than the {stroke * 1e3:g} mm asked; pass up= and down= "
+                         f"<= {(hi - lo):.4g} m")
+    h_pick = (lo + hi) / 2 - up / 2
+    h_place = h_pick + up - down
+    reach = g.l1 + g.l2
+    base = g.base[0] * g.e1 + g.base[1] * g.e2
+    phi0 = g.phi1
+    for d in sorted(np.linspace(0.0, reach, 41), key=lambda d: abs(d - reach / 2)):
+        if d * d + (across / 2) ** 2 > reach * reach:
+            continue
+        for a in ANGLES:
+            u = math.cos(phi0 + a) * g.e1 + math.sin(phi0 + a) * g.e2
+            w = np.cross(g.n, u)
+            centre = base + d * u
+            A = centre - across / 2 * w + h_pick * g.n
+            B = centre + across / 2 * w + h_place * g.n
+            yield A, B, g.n
+
+
+def place_cycle(robot: Robot, up: float = 0.025, across: float = 0.305,
+                down: float = 0.025) -> tuple[Array, Array, Array, str]:
+    """Lower corners A, B (3,) [m], the joint start at A and its branch, for a reachable cycle.
+
+    Raises:
+        InputError: no placement reaches all six corners on one branch (the message says
+            which strokes to shrink).
+    """
+    for A, B, n in _candidates(robot, up, across, down):
+        corners = [A, A + up * n, B + down * n, B]
+        sols = [ik_all(robot, Target(p)) for p in corners]
+        if not all(sols):
+            continue
+        for q in (s.q for s in sols[0]):
+            side = int(branch.elbow_signs(robot, q)[0])
+            if side and all(any(branch.elbow_signs(robot, s.q)[0] == side for s in ss)
+                            for ss in sols[1:]):
+                return A, B, q, branch.NAME[side]
+    raise InputError(f"robot {robot.name!r} cannot reach a {up * 1e3:g}/{across * 1e3:g}/"
+                     f"{down * 1e3:g} mm cycle on one elbow branch anywhere: pass a shorter "
+                     "across= (and up=/down=) for a small robot")
+
+
+def cycle_time(robot: Robot, up: float = 0.025, across: float = 0.305, down: float = 0.025,
+               limits: ToolLimits | None = None) -> CycleResult:
+    """Time the pick-and-place cycle (A up, across, down to B, and back) three ways.
+
+    Args:
+        robot: a SCARA-type robot (its joint limits are used).
+        up: the lift at the pick [m] (standard 0.025).
+        across: the horizontal stroke [m] (standard 0.305).
+        down: the descent at the place [m] (standard 0.025).
+        limits: optional tool limits for the LIN strokes of the toppra plan.
+
+    Raises:
+        InputError: strokes not positive, or no reachable placement.
+    """
+    robot = check_robot(robot)
+    up = check_real("up", up, 0.0, 1.0, low_open=True, unit="m")
+    down = check_real("down", down, 0.0, 1.0, low_open=True, unit="m")
+    across = check_real("across", across, 0.0, 10.0, low_open=True, unit="m")
+    A, B, q0, elbow = place_cycle(robot, up, across, down)
+    n = branch.geometry(robot).n
+    Au, Bu = A + up * n, B + down * n
+    moves = [LIN(Target(Au)), PTP(Target(Bu), elbow=elbow), LIN(Target(B)),
+             LIN(Target(Bu)), PTP(Target(Au), elbow=elbow), LIN(Target(A))]
+    try:
+        traj = plan(robot, moves, limits, start=q0)
+    except MoveError as exc:  # pragma: no cover - placement checked the corners
+        raise InputError(f"the placed cycle does not plan: {exc}; pass shorter strokes") from None
+    corners = traj.waypoints
+    durations = {"toppra": traj.duration,
+                 "ruckig": plan(robot, moves, limits, start=q0, method="ruckig").duration,
+                 "quintic": time_parameterize(corners, robot, method="quintic").duration}
+    return CycleResult(robot.name, up, across, down, A, B, durations, traj, corners)

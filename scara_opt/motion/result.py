@@ -1,0 +1,98 @@
+"""What :func:`~scara_opt.motion.plan` returns: a Trajectory that knows its moves and limits."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+from numpy.typing import NDArray
+from scipy.interpolate import PPoly
+
+from scara_opt.model.robot import Robot
+from scara_opt.motion import export
+from scara_opt.motion.moves import Move
+from scara_opt.motion.timing import CHECK_DT, tool_ratios
+from scara_opt.motion.tool_limits import ToolLimits, ToolProfile
+from scara_opt.trajectory.trajectory import Trajectory
+
+Array = NDArray[np.float64]
+
+
+@dataclass(frozen=True, repr=False, eq=False)
+class MotionTrajectory(Trajectory):
+    """A :class:`~scara_opt.Trajectory` planned from moves; it also knows its tool limits.
+
+    Attributes (beyond Trajectory's; ``waypoints`` are the goals, ``waypoint_times`` the
+    start then the end of each move [s]):
+        robot: the robot it was planned for.
+        moves: the program.
+        tool_limits: the tightest tool limits of each stop-to-stop run (one per move without
+            blends).
+        profiles: per run, the waypoint times [s] from the run's start and the tool limits
+            per waypoint interval (:class:`~scara_opt.motion.tool_limits.ToolProfile`).
+        corners: ``(C (3,), r, run)`` of each blended corner [m], ``run`` the index of the
+            stop-to-stop run it belongs to.
+    """
+
+    robot: Robot | None = None
+    moves: tuple[Move, ...] = ()
+    tool_limits: tuple[ToolLimits, ...] = ()
+    corners: tuple[tuple[Array, float, int], ...] = ()
+    profiles: tuple[tuple[Array, ToolProfile], ...] = ()
+
+    def blend_deviations(self, dt: float = CHECK_DT) -> Array:
+        """Closest approach of the tip to each blended corner (n_corners,) [m], FK at ``dt``.
+
+        Each is at most that corner's radius (``corners[i][1]``), and above 0: the corner is
+        cut, not stopped at.
+        """
+        t = self.times(dt)
+        P = self.robot.positions(self.evaluate(t))
+        out = []
+        for c, _, run in self.corners:  # only while that run is under way
+            inside = (t >= self.waypoint_times[run]) & (t <= self.waypoint_times[run + 1])
+            out.append(np.linalg.norm(P[inside] - c, axis=1).min())
+        return np.array(out)
+
+    def tool_limit_ratios(self, dt: float = CHECK_DT) -> dict[str, Array]:
+        """Worst tip speed / acceleration / yaw-rate ratio per run (n_runs,), by FK at ``dt``.
+
+        Each sample is judged against the limit in force where it is (a blended run crosses
+        moves with different limits). 0 where a run has no such limit; <= 1 means the limit
+        holds at every sample.
+        """
+        rows: dict[str, list[float]] = {"speed": [], "acceleration": [], "yaw_rate": []}
+        for i, (knots, profile) in enumerate(self.profiles):
+            t0, t1 = self.waypoint_times[i], self.waypoint_times[i + 1]
+            part = _window(self, t0, t1)
+            for name, value in tool_ratios(self.robot, part, profile, knots, dt).items():
+                rows[name].append(value)
+        return {f"tool_{k}": np.array(v) for k, v in rows.items()}
+
+    def to_json(self, path: str | Path, dt: float = 0.01) -> Path:
+        """Samples every ``dt`` [s] as JSON (:func:`scara_opt.motion.export.to_json`)."""
+        return export.to_json(self, path, dt)
+
+    def to_ros(self, dt: float = 0.01) -> dict:
+        """A ROS ``JointTrajectory``-shaped dict (:func:`scara_opt.motion.export.to_ros`)."""
+        return export.to_ros(self, dt)
+
+    def to_ros_yaml(self, path: str | Path, dt: float = 0.01) -> Path:
+        """The ROS form as YAML (:func:`scara_opt.motion.export.to_ros_yaml`)."""
+        return export.to_ros_yaml(self, path, dt)
+
+    def check_limits(self) -> dict[str, Array]:
+        """Joint ratios (exact, per joint) and tool ratios (1 kHz FK, per move)."""
+        return {**super().check_limits(), **self.tool_limit_ratios()}
+
+
+def _window(traj: Trajectory, t0: float, t1: float) -> Trajectory:
+    """The part of ``traj`` between ``t0`` and ``t1``, as a Trajectory starting at 0."""
+    pieces = []
+    for p in traj.pieces:
+        i0 = int(np.searchsorted(p.x, t0 + 1e-12, side="right")) - 1
+        i1 = int(np.searchsorted(p.x, t1 - 1e-12, side="left"))
+        pieces.append(PPoly(p.c[:, i0:i1], p.x[i0:i1 + 1] - p.x[i0], extrapolate=False))
+    return Trajectory(tuple(pieces), traj.limits, traj.method, traj.waypoints[:2],
+                      np.array([0.0, t1 - t0]))

@@ -1,0 +1,180 @@
+"""Time one stop-to-stop section of a program with TOPP-RA: joint and tool limits together.
+
+The joint path is toppra's cubic spline through the section's joint waypoints (chord
+parameter, as in :mod:`scara_opt.trajectory.toppra_backend`); the constraints are the joint
+velocity and acceleration limits and the tool limits of :mod:`scara_opt.motion.tool_limits`,
+all scaled by ``1 - margin``. The result is then checked as the user would check it: joint
+ratios exactly (:meth:`~scara_opt.Trajectory.check_limits`), tool ratios by FK finite
+differences at :data:`CHECK_DT`. Any ratio still above 1 is removed by stretching time
+uniformly (speed / f, acceleration / f²) and said in the notes: nothing is exceeded silently.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Any
+
+import numpy as np
+from numpy.typing import NDArray
+from scipy.interpolate import PPoly
+
+from scara_opt.errors import TrajectoryError
+from scara_opt.model.robot import Robot
+from scara_opt.motion.tool_limits import (
+    ToolProfile,
+    acceleration_constraint,
+    speed_constraint,
+    tool_peaks,
+)
+from scara_opt.trajectory.limits import Limits
+from scara_opt.trajectory.toppra_backend import chord_parameter, timed_pieces
+from scara_opt.trajectory.trajectory import Trajectory, stretch
+
+Array = NDArray[np.float64]
+
+#: sampling step of the independent tool-limit check [s] (1 kHz)
+CHECK_DT = 1e-3
+
+#: toppra limits are scaled by 1 - MARGIN (the grid enforces them at grid points only)
+MARGIN = 0.005
+
+#: largest time stretch applied silently to remove discretisation overshoot (else an error)
+MAX_STRETCH = 1.05
+
+#: grid doublings tried while a ratio (sampled) exceeds 1 by more than MARGIN
+REFINE = 2
+
+#: at least this many grid intervals per section
+MIN_GRID = 100
+
+
+def tool_ratios(robot: Robot, traj: Trajectory, tool: ToolProfile, knots: Array,
+                dt: float = CHECK_DT) -> dict[str, float]:
+    """Worst ratio of the tip's speed, acceleration, yaw rate to the limit in force (0: none).
+
+    ``knots`` (n,): the times [s] of the waypoints the profile's intervals join. Speeds
+    (between samples) are judged at the middle of their step, accelerations at the sample.
+    """
+    t = traj.times(min(dt, traj.duration / 4))
+    peaks = tool_peaks(robot, traj.evaluate(t), float(t[1] - t[0]))
+    mid = (t[1:] + t[:-1]) / 2
+    where = {"speed": mid, "acceleration": t[1:-1], "yaw_rate": mid}
+    out = {}
+    for name, values in peaks.items():
+        if not values.size or not tool.limited(name):
+            out[name] = 0.0
+            continue
+        limit = tool.at(name, where[name], knots)
+        out[name] = float((values / limit).max())
+    return out
+
+
+def _joint_peaks(traj: Trajectory, exact: bool) -> tuple[float, float]:
+    """Largest joint velocity and acceleration ratios: exact (polynomial extrema) or at 1 kHz."""
+    if exact:
+        joint = traj.check_limits()
+        return float(joint["velocity"].max()), float(joint["acceleration"].max())
+    t = traj.times(min(CHECK_DT, traj.duration / 4))
+    return (float((np.abs(traj.evaluate(t, 1)) / traj.limits.vmax).max()),
+            float((np.abs(traj.evaluate(t, 2)) / traj.limits.amax).max()))
+
+
+def _factor(robot: Robot, traj: Trajectory, tool: ToolProfile, knots: Array,
+            exact: bool = True, joint: tuple[float, float] | None = None) -> float:
+    """Smallest time stretch (>= 1) bringing every joint and tool ratio to <= 1.
+
+    ``exact``: joint peaks exact (piecewise-polynomial extrema), else sampled at 1 kHz
+    (cheaper; to decide whether to refine the grid). ``joint``: the joint peaks if known.
+    """
+    jv, ja = _joint_peaks(traj, exact) if joint is None else joint
+    ratios = tool_ratios(robot, traj, tool, knots)
+    return max(1.0, jv, ratios["speed"], ratios["yaw_rate"], math.sqrt(ja),
+               math.sqrt(ratios["acceleration"]))
+
+
+def _solve(path: Any, s: Array, per: int, cons: list, limits: Limits
+           ) -> tuple[tuple[PPoly, ...], Array, Array]:
+    """One TOPP-RA solve on ``per`` grid intervals per waypoint interval.
+
+    Returns:
+        One PPoly per joint, the grid, and the waypoint times (n,) [s].
+    """
+    import toppra.algorithm as algo
+
+    frac = np.arange(per) / per
+    grid = np.append((s[:-1, None] + np.diff(s)[:, None] * frac).ravel(), s[-1])
+    instance = algo.TOPPRA(cons, path, gridpoints=grid, solver_wrapper="seidel")
+    instance.compute_parameterization(0.0, 0.0)
+    data = instance.problem_data
+    if data.return_code != algo.ParameterizationReturnCode.Ok or data.sd_vec is None:
+        raise TrajectoryError(f"toppra could not time the section ({data.return_code}); "
+                              "check the limits and the path")
+    sd = np.maximum(np.asarray(data.sd_vec, dtype=float), 0.0)
+    if (sd[:-1] + sd[1:] <= 0.0).any():
+        raise TrajectoryError("toppra's path speed is zero on a grid interval: a limit is so "
+                              "low the motion never ends; raise it")
+    t, coeffs = timed_pieces(path.cspl, grid, sd)
+    pieces = tuple(PPoly(coeffs[:, :, k], t, extrapolate=False)
+                   for k in range(path.cspl.c.shape[2]))
+    return pieces, grid, t[::per].copy()
+
+
+def time_section(robot: Robot, Q: Array, limits: Limits,
+                 tool: ToolProfile) -> tuple[tuple[PPoly, ...], str, Array]:
+    """Fastest rest-to-rest timing of joint waypoints ``Q`` (n, nq) within all limits.
+
+    ``tool``: the tool limits per waypoint interval.
+
+    Returns:
+        One PPoly per joint (time from 0 [s] → q), a note on grid and stretch, and the
+        waypoint times (n,) [s].
+
+    Raises:
+        TrajectoryError: toppra failed (its return code is given), or its result exceeds a
+            limit by more than :data:`MAX_STRETCH` between grid points.
+    """
+    import toppra
+    import toppra.constraint as constraint
+
+    s = chord_parameter(Q, limits.vmax)
+    path = toppra.SplineInterpolator(s, Q)
+    scale = 1.0 - MARGIN
+    cons = [constraint.JointVelocityConstraint(limits.vmax * scale),
+            constraint.JointAccelerationConstraint(
+                limits.amax * scale,
+                discretization_scheme=constraint.DiscretizationType.Interpolation)]
+    scaled = tool.scaled(scale)
+    if tool.limited("speed") or tool.limited("yaw_rate"):
+        cons.append(speed_constraint(robot, scaled, s))
+    if tool.limited("acceleration"):
+        cons.append(acceleration_constraint(robot, scaled, s))
+    per = max(2, math.ceil(MIN_GRID / (len(Q) - 1)))
+    for attempt in range(REFINE + 1):
+        pieces, grid, knots = _solve(path, s, per, cons, limits)
+        traj = Trajectory(pieces, limits, "toppra", Q, np.array([0.0, pieces[0].x[-1]]))
+        if attempt == REFINE or _factor(robot, traj, tool, knots, exact=False) <= 1 + MARGIN:
+            break
+        per *= 2
+    jv, ja = _joint_peaks(traj, exact=True)
+    factor = _factor(robot, traj, tool, knots, joint=(jv, ja))
+    note = f"{len(grid) - 1} grid intervals"
+    if factor > MAX_STRETCH:
+        raise TrajectoryError(
+            f"toppra's timing exceeds a limit by x {factor:.4g} between its grid points (a "
+            "sharp turn of the joint path: points too close, or a near-singular pose); "
+            "refusing to slow it down that much silently: check the moves, or raise step=")
+    total = 1.0
+    for _ in range(5):  # the 1 kHz samples fall elsewhere once stretched: check again
+        if factor <= 1.0:
+            break
+        factor *= 1.0 + 1e-6
+        total *= factor
+        pieces = tuple(stretch(p, factor) for p in pieces)
+        knots = knots * factor
+        # joint peaks scale exactly (velocity / total, acceleration / total²)
+        factor = _factor(robot, Trajectory(pieces, limits, "toppra", Q,
+                                           np.array([0.0, pieces[0].x[-1]])), tool, knots,
+                         joint=(jv / total, ja / total**2))
+    if total > 1.0:
+        note += f", time stretched x {total:.6f} (discretisation overshoot removed)"
+    return pieces, note, knots
