@@ -19,7 +19,7 @@ from typing import Any
 
 import numpy as np
 
-from scara_opt import interrupt
+from scara_opt import cli_motion, interrupt
 from scara_opt.checks import count_text
 from scara_opt.errors import InputError, ScaraOptError
 from scara_opt.outputs import (
@@ -454,6 +454,8 @@ def build_parser() -> argparse.ArgumentParser:
                    "--out; needs the view extra)")
     p.add_argument("--force", action="store_true", help=FORCE_HELP)
     p.set_defaults(func=cmd_path)
+
+    cli_motion.add_parser(sub)  # cycle
 
     p = sub.add_parser("workspace", help="Monte Carlo workspace with figures")
     p.add_argument("robot", metavar="ROBOT", help="bundled robot name or path to .urdf/.toml")

@@ -1,39 +1,59 @@
 """``scara-opt cycle ROBOT``: time the standard pick-and-place cycle (kept out of cli.py).
 
-Wire it into :func:`scara_opt.cli.build_parser` with::
-
-    from scara_opt import cli_motion
-    cli_motion.add_parser(sub)
+Wired into :func:`scara_opt.cli.build_parser` by ``cli_motion.add_parser(sub)``. Its files go
+into ``--out`` as every command's do (never overwritten unasked: ``--force``).
 """
 
 from __future__ import annotations
 
 import argparse
 import json
+import math
+
+#: the files ``cycle`` writes into ``--out`` when asked, by option
+FILES = {"csv": "cycle.csv", "ros": "cycle_ros.yaml", "plot": "cycle.png", "html": "cycle.html"}
 
 
 def cmd_cycle(args: argparse.Namespace) -> int:
-    """Place and time the cycle; print the times, write CSV / ROS YAML / figure if asked."""
+    """Place and time the cycle; print the times; write CSV / ROS YAML / figure / 3-D view."""
     import scara_opt as so
+    from scara_opt.errors import InputError
     from scara_opt.motion.cycle import cycle_time
     from scara_opt.motion.plot import plot_motion
+    from scara_opt.outputs import OutputDir
 
+    asked = [k for k in FILES if getattr(args, k)]
+    if asked and args.out is None:
+        raise InputError(f"--{' --'.join(asked)}: the files go into a folder; give it with "
+                         "--out DIR")
     robot = so.load_robot(args.robot)
     limits = None
     if args.speed is not None or args.acceleration is not None:
         limits = so.ToolLimits(speed=args.speed, acceleration=args.acceleration)
     res = cycle_time(robot, args.up / 1e3, args.across / 1e3, args.down / 1e3, limits)
     traj = res.trajectory
-    if args.csv:
-        traj.to_csv(args.csv, dt=args.dt)
-    if args.ros:
-        traj.to_ros_yaml(args.ros, dt=args.dt)
-    if args.plot:
-        plot_motion(robot, traj, args.plot, title=f"{robot.name}: {res!r}")
+    written = []
+    if asked:
+        with OutputDir(args.out, [FILES[k] for k in asked], args.force) as out:
+            if args.csv:
+                traj.to_csv(out / FILES["csv"], dt=args.dt)
+            if args.ros:
+                traj.to_ros_yaml(out / FILES["ros"], dt=args.dt)
+            if args.plot:
+                plot_motion(robot, traj, out / FILES["plot"], title=f"{robot.name}: {res!r}")
+            if args.html:
+                from scara_opt.view import write_html
+
+                try:
+                    write_html(robot, traj, out / FILES["html"], title=f"{robot.name}: {res!r}")
+                except ModuleNotFoundError as exc:  # the view extra is not installed
+                    raise InputError(f"--html: {exc}; or drop --html") from None
+        written = [str(out.final / FILES[k]) for k in asked]
     if args.json:
         print(json.dumps({"robot": robot.name, "up_mm": args.up, "across_mm": args.across,
                           "down_mm": args.down, "pick_m": res.pick.tolist(),
-                          "place_m": res.place.tolist(), "cycle_s": res.durations}))
+                          "place_m": res.place.tolist(), "cycle_s": res.durations,
+                          "files": written}))
         return 0
     print(f"{robot.name}: pick-and-place cycle {args.up:g}/{args.across:g}/{args.down:g} mm, "
           f"pick at {[round(float(v), 4) for v in res.pick]} m, place at "
@@ -43,13 +63,15 @@ def cmd_cycle(args: argparse.Namespace) -> int:
     ratios = traj.check_limits()
     print(f"  worst limit ratio (toppra, joints exact, tool at 1 kHz): "
           f"{max(float(v.max()) for v in ratios.values()):.4f}")
+    if written:
+        print("wrote " + ", ".join(written))
     return 0
 
 
 def _positive(text: str) -> float:
     value = float(text)
-    if not value > 0:
-        raise argparse.ArgumentTypeError(f"must be > 0; got {text}")
+    if not (value > 0 and math.isfinite(value)):
+        raise argparse.ArgumentTypeError(f"must be a finite number > 0; got {text}")
     return value
 
 
@@ -64,10 +86,18 @@ def add_parser(sub: argparse._SubParsersAction) -> argparse.ArgumentParser:
     p.add_argument("--speed", type=_positive, help="tool speed limit on the LIN strokes [m/s]")
     p.add_argument("--acceleration", type=_positive,
                    help="tool acceleration limit on the LIN strokes [m/s²]")
-    p.add_argument("--csv", help="write the toppra trajectory as CSV (t, q, qd, qdd)")
-    p.add_argument("--ros", help="write it as ROS JointTrajectory-shaped YAML")
+    p.add_argument("--out", help="folder for the files below")
+    p.add_argument("--csv", action="store_true",
+                   help=f"write the toppra trajectory as {FILES['csv']} (t, q, qd, qdd)")
+    p.add_argument("--ros", action="store_true",
+                   help=f"write it as ROS JointTrajectory-shaped YAML, {FILES['ros']}")
     p.add_argument("--dt", type=_positive, default=0.001, help="export sampling step [s] (0.001)")
-    p.add_argument("--plot", help="save a PNG of tool speed and joint profiles")
+    p.add_argument("--plot", action="store_true",
+                   help=f"save {FILES['plot']}: tool speed and joint profiles")
+    p.add_argument("--html", action="store_true",
+                   help=f"save {FILES['html']}: a 3-D animation (needs the view extra)")
+    p.add_argument("--force", action="store_true",
+                   help="overwrite files of an earlier run in --out (refused without it)")
     p.add_argument("--json", action="store_true", help="print JSON for scripts")
     p.set_defaults(func=cmd_cycle)
     return p

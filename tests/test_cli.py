@@ -31,7 +31,7 @@ def test_robots_lists_every_bundled_robot_with_limits_and_source():
             "paper's text: venue, doi.") in out.stdout
 
 
-@pytest.mark.parametrize("command", ["robots", "solvers", "fk", "ik", "compare", "path",
+@pytest.mark.parametrize("command", ["robots", "solvers", "fk", "ik", "compare", "path", "cycle",
                                      "workspace", "reproduce"])
 def test_help_everywhere(command):
     """Every subcommand answers --help with exit code 0."""

@@ -242,22 +242,30 @@ def test_cycle_too_long_for_the_robot_says_what_to_shrink(robot):
 
 
 def test_cli_cycle_writes_the_csv_at_dt(tmp_path, capsys):
-    """``scara-opt cycle zavar2024 --csv --dt 0.002`` prints the three times, writes the CSV."""
-    import argparse
+    """``scara-opt cycle zavar2024 --out DIR --csv --plot --dt 0.002`` prints the three
+    times and writes the CSV and figure into DIR; a second run into DIR is refused without
+    ``--force`` (exit 2, the CSV untouched), and files without ``--out`` are bad input.
 
-    from scara_opt import cli_motion
+    Mutation caught: the cycle's files written without the OutputDir conflict check (the
+    user's cycle.csv overwritten).
+    """
+    from scara_opt.cli import main
 
-    parser = argparse.ArgumentParser()
-    cli_motion.add_parser(parser.add_subparsers(dest="command"))
-    csv = tmp_path / "cycle.csv"
-    args = parser.parse_args(["cycle", "zavar2024", "--csv", str(csv), "--dt", "0.002",
-                              "--plot", str(tmp_path / "c.png")])
-    assert args.func(args) == 0
+    code = main(["cycle", "zavar2024", "--out", str(tmp_path), "--csv", "--dt", "0.002",
+                 "--plot"])
+    assert code == 0
     out = capsys.readouterr().out
     assert "toppra" in out and "ruckig" in out and "quintic" in out
+    csv = tmp_path / "cycle.csv"
     data = np.loadtxt(csv, delimiter=",", skiprows=1)
     assert np.allclose(np.diff(data[:-1, 0]), 0.002)
-    assert (tmp_path / "c.png").stat().st_size > 0
+    assert (tmp_path / "cycle.png").stat().st_size > 0
+    before = csv.read_bytes()
+    assert main(["cycle", "zavar2024", "--out", str(tmp_path), "--csv", "--dt", "0.01"]) == 2
+    assert csv.read_bytes() == before
+    assert "--force" in capsys.readouterr().err
+    assert main(["cycle", "zavar2024", "--csv"]) == 2
+    assert "--out" in capsys.readouterr().err
 
 
 def test_blended_corners_are_cut_within_the_radius_without_stopping(robot):
@@ -386,3 +394,20 @@ def test_lin_that_needs_the_other_branch_is_refused_with_the_point(robot):
     assert np.allclose(P[1], P[2], atol=1e-9) and np.allclose(P[3], at(-80).position, atol=1e-9)
     line = np.cross(P[1] - P[0], at(-80).position - P[0])  # the cut is on the line
     assert np.linalg.norm(line) < 1e-9
+
+
+def test_each_paper_report_times_the_standard_cycle(tmp_path):
+    """reproduce carries a beyond-the-paper row with the standard cycle's three times, equal
+    to cycle_time's for that robot (computed, not written down).
+
+    Mutation caught: ``add_cycle_finding`` not called from inverted5's ``run`` (no row).
+    """
+    from scara_opt.motion.cycle import cycle_time
+    from scara_opt.reports import run_paper
+
+    rep = run_paper("inverted5", tmp_path)
+    rows = [f for f in rep.findings if f.item.startswith("standard pick-and-place cycle")]
+    assert len(rows) == 1 and rows[0].verdict == "beyond the paper"
+    times = cycle_time(so.load_robot("inverted5")).durations
+    assert f"toppra {times['toppra']:.3f} s" in rows[0].ours
+    assert f"quintic {times['quintic']:.3f} s" in rows[0].ours

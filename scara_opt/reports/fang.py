@@ -18,6 +18,7 @@ import pandas as pd
 import scara_opt as so
 from scara_opt.reports import Finding, PaperReport, reference_data
 from scara_opt.reports import verdicts as rules
+from scara_opt.reports.cycle import add_cycle_finding
 from scara_opt.trajectory.plot import plot_trajectories
 
 METHODS = ("quintic", "toppra", "ruckig")
@@ -171,4 +172,5 @@ def run(out: Path, quick: bool = False) -> PaperReport:
                      "of Table 2 (-64.4042, ..., -61.4099): kept as printed.")
     rep.notes.append("Velocity and acceleration limits are assumptions (robots/fang.toml); "
                      "ruckig's jerk limit is 10/s x amax.")
+    add_cycle_finding(robot, rep)
     return rep

@@ -14,6 +14,7 @@ import scara_opt as so
 from scara_opt.plots import draw_robot
 from scara_opt.reports import Finding, PaperReport
 from scara_opt.reports import verdicts as rules
+from scara_opt.reports.cycle import add_cycle_finding
 
 IN = 0.0254  # m per inch
 
@@ -69,4 +70,5 @@ def run(out: Path, quick: bool = False) -> PaperReport:
     draw_robot(robot, res.q, ax=ax, color="C1", label="IK of (9, 5, -3) in",
                path=rep.figures[-1], title="inverted5 Fig. 3 pose and the IK of (9, 5, -3) in "
                                            "(228.6, 127, -76.2) mm, method auto")
+    add_cycle_finding(robot, rep)
     return rep

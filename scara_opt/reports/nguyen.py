@@ -24,6 +24,7 @@ from scara_opt.ik.registry import method_label
 from scara_opt.plots import draw_robot
 from scara_opt.reports import Finding, PaperReport
 from scara_opt.reports import verdicts as rules
+from scara_opt.reports.cycle import add_cycle_finding
 from scara_opt.trajectory import JointPath, ik_path, time_parameterize
 from scara_opt.trajectory.plot import new_figure
 
@@ -172,4 +173,5 @@ def run(out: Path, quick: bool = False) -> PaperReport:
                                       f"{traj.duration:.3f} s")
     rep.notes.append("The contour is representative (the paper shows it only as a figure); the "
                      "joint limits are assumptions (robots/nguyen.toml).")
+    add_cycle_finding(robot, rep)
     return rep

@@ -14,6 +14,7 @@ import scara_opt as so
 from scara_opt.plots import draw_robot
 from scara_opt.reports import Finding, PaperReport
 from scara_opt.reports import verdicts as rules
+from scara_opt.reports.cycle import add_cycle_finding
 
 #: eq. 21, rotated back into the paper's base frame (180° about x): position [mm], yaw 0
 VALIDATION_MM = np.array([400.0, -120.0, 170.0])
@@ -30,6 +31,7 @@ def run(out: Path, quick: bool = False) -> PaperReport:
                                 rule=rule + " mm", basis="fk"))
     _validation(robot, rep, out)
     _workspace(robot, rep, out, quick)
+    add_cycle_finding(robot, rep)
     return rep
 
 

@@ -20,6 +20,7 @@ from scara_opt.ik.registry import method_label
 from scara_opt.plots import plot_boxes, plot_convergence, plot_path_runs, plot_time_vs_population
 from scara_opt.reports import Finding, PaperReport
 from scara_opt.reports import verdicts as rules
+from scara_opt.reports.cycle import add_cycle_finding
 
 #: the paper's six algorithms; its Genetic-Hybrid (GA, then Nelder-Mead) is our "gha"
 METHODS = ["ca", "gwo", "pso", "gha", "fa", "aco"]
@@ -90,6 +91,7 @@ def run(out: Path, quick: bool = False) -> PaperReport:
     circle = so.ik_path(robot, circle_targets(0.30, -0.07) + circle_targets(0.30, -0.07)[:1])
     rep.animation = (robot, circle, "zavar2024: the reachable circle r = 0.30 m, z = -0.07 m "
                                     "(IK along the path)")
+    add_cycle_finding(robot, rep)
     return rep
 
 
