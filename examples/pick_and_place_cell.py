@@ -4,6 +4,8 @@
 # ///
 """A pick-and-place cell programmed in moves (PTP / LIN / CIRC), timed, checked and exported.
 
+Needs: the base install only (``pip install scara-opt``).
+
 The zavar2024 SCARA (its limits are the assumed ones of robots/zavar2024.toml) picks a part
 at P, lifts it, carries it on an arc over a fixture to Q and sets it down:
 

@@ -2,12 +2,21 @@
 
 from __future__ import annotations
 
+import signal
 from pathlib import Path
 
 import numpy as np
 import pytest
 
 import scara_opt as so
+
+# The Ctrl-C tests need SIGINT delivered. A shell that starts a job in the background (`cmd &`
+# without job control, as some CI runners do) makes it ignore SIGINT, and Python keeps an
+# ignored SIGINT ignored, in this process and in the child processes the tests start (an
+# ignored signal stays ignored across exec). Python's own handler here makes the children's
+# disposition the default again, and their Python installs its handler in turn.
+if signal.getsignal(signal.SIGINT) is signal.SIG_IGN:
+    signal.signal(signal.SIGINT, signal.default_int_handler)
 
 DATA = Path(__file__).parent / "data"
 ROOT = Path(__file__).resolve().parent.parent
