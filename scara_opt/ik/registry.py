@@ -26,13 +26,14 @@ _LOAD_STATE = {"loading": False, "loaded": False}
 def _registry() -> dict[str, Callable[..., Solver]]:
     """The registered solvers, with the built-in ones of :data:`BUILTIN_MODULES` loaded."""
     if not _LOAD_STATE["loaded"]:
-        with _LOAD_LOCK:  # re-entrant: the modules' own register_solver calls come back here
+        with _LOAD_LOCK:  # re-entrant: a module being loaded may itself look a solver up
             if not _LOAD_STATE["loading"]:
                 _LOAD_STATE["loading"] = True
                 for module in BUILTIN_MODULES:
                     importlib.import_module(module)
                 _LOAD_STATE["loaded"] = True
     return _REGISTRY
+
 
 F = TypeVar("F", bound=Callable[..., Solver])
 
