@@ -18,7 +18,7 @@ def cmd_cycle(args: argparse.Namespace) -> int:
     """Place and time the cycle; print the times; write CSV / ROS YAML / figure / 3-D view."""
     import scara_opt as so
     from scara_opt.errors import InputError
-    from scara_opt.motion.cycle import cycle_time
+    from scara_opt.motion.cycle import cycle_time, cycle_with_payload
     from scara_opt.motion.plot import plot_motion
     from scara_opt.outputs import OutputDir
 
@@ -32,6 +32,8 @@ def cmd_cycle(args: argparse.Namespace) -> int:
         limits = so.ToolLimits(speed=args.speed, acceleration=args.acceleration)
     res = cycle_time(robot, args.up / 1e3, args.across / 1e3, args.down / 1e3, limits)
     traj = res.trajectory
+    loaded = (None if args.payload is None
+              else cycle_with_payload(robot, res, args.payload, limits))
     written = []
     if asked:
         with OutputDir(args.out, [FILES[k] for k in asked], args.force) as out:
@@ -53,6 +55,8 @@ def cmd_cycle(args: argparse.Namespace) -> int:
         print(json.dumps({"robot": robot.name, "up_mm": args.up, "across_mm": args.across,
                           "down_mm": args.down, "pick_m": res.pick.tolist(),
                           "place_m": res.place.tolist(), "cycle_s": res.durations,
+                          "payload_kg": args.payload,
+                          "payload_toppra_s": None if loaded is None else loaded.duration,
                           "files": written}))
         return 0
     print(f"{robot.name}: pick-and-place cycle {args.up:g}/{args.across:g}/{args.down:g} mm, "
@@ -63,6 +67,10 @@ def cmd_cycle(args: argparse.Namespace) -> int:
     ratios = traj.check_limits()
     print(f"  worst limit ratio (toppra, joints exact, tool at 1 kHz): "
           f"{max(float(v.max()) for v in ratios.values()):.4f}")
+    if loaded is not None:
+        torque = float(loaded.check_limits()["torque"].max())
+        print(f"  toppra with {args.payload:g} kg at the tool, torque-limited: "
+              f"{loaded.duration:8.4f} s (worst torque ratio {torque:.3f})")
     if written:
         print("wrote " + ", ".join(written))
     return 0
@@ -72,6 +80,13 @@ def _positive(text: str) -> float:
     value = float(text)
     if not (value > 0 and math.isfinite(value)):
         raise argparse.ArgumentTypeError(f"must be a finite number > 0; got {text}")
+    return value
+
+
+def _nonnegative(text: str) -> float:
+    value = float(text)
+    if not (value >= 0 and math.isfinite(value)):
+        raise argparse.ArgumentTypeError(f"must be a finite number >= 0; got {text}")
     return value
 
 
@@ -86,6 +101,9 @@ def add_parser(sub: argparse._SubParsersAction) -> argparse.ArgumentParser:
     p.add_argument("--speed", type=_positive, help="tool speed limit on the LIN strokes [m/s]")
     p.add_argument("--acceleration", type=_positive,
                    help="tool acceleration limit on the LIN strokes [m/s²]")
+    p.add_argument("--payload", type=_nonnegative, metavar="KG",
+                   help="also time it by toppra with KG at the tool under the robot's torque "
+                        "limits (needs its inertias)")
     p.add_argument("--out", help="folder for the files below")
     p.add_argument("--csv", action="store_true",
                    help=f"write the toppra trajectory as {FILES['csv']} (t, q, qd, qdd)")

@@ -8,6 +8,7 @@ trapezoid.
 
 from __future__ import annotations
 
+import json
 import math
 
 import numpy as np
@@ -411,3 +412,35 @@ def test_each_paper_report_times_the_standard_cycle(tmp_path):
     times = cycle_time(so.load_robot("inverted5")).durations
     assert f"toppra {times['toppra']:.3f} s" in rows[0].ours
     assert f"quintic {times['quintic']:.3f} s" in rows[0].ours
+
+
+def test_a_motion_program_keeps_torque_limits_and_a_payload_only_slows_it(tmp_path, capsys):
+    """plan(torque_limits=, payload=) adds toppra's torque constraint (RNEA, gravity) to the
+    joint and tool limits: with fang's arm torques cut to 3 % the cycle is slower than the
+    rate-limited one, every sampled torque ratio stays <= 1, and 1 and 2 kg at the tool are
+    each slower still; ruckig refuses torque limits; ``cycle --payload`` reports the time.
+
+    Mutations caught: the torque constraint not given to toppra (a > 5 % stretch, refused);
+    plan() not passing its dynamics to the sections (no torque in check_limits).
+    """
+    from scara_opt.cli import main
+    from scara_opt.motion.cycle import cycle_with_payload
+
+    robot = so.load_robot("fang")
+    res = so.cycle_time(robot)
+    weak = robot.torque_limit * np.array([0.03, 0.03, 1.0, 0.03])  # d3 still holds gravity
+    times = []
+    for kg in (0.0, 1.0, 2.0):
+        traj = so.plan(robot, res.trajectory.moves, start=res.corners[0], torque_limits=weak,
+                       payload=kg)
+        assert float(traj.check_limits()["torque"].max()) <= 1.0 + 1e-9
+        times.append(traj.duration)
+    assert res.durations["toppra"] < times[0] < times[1] < times[2]
+    with pytest.raises(so.InputError, match="toppra"):
+        so.plan(robot, res.trajectory.moves, start=res.corners[0], method="ruckig", payload=1.0)
+    loaded = cycle_with_payload(robot, res, 2.0)
+    assert loaded.duration >= res.durations["toppra"] - 1e-12
+    assert main(["cycle", "fang", "--payload", "2", "--json"]) == 0
+    data = json.loads(capsys.readouterr().out)
+    assert data["payload_kg"] == 2.0 and data["payload_toppra_s"] == pytest.approx(
+        loaded.duration)

@@ -154,3 +154,16 @@ def cycle_time(robot: Robot, up: float = 0.025, across: float = 0.305, down: flo
                  "ruckig": plan(robot, moves, limits, start=q0, method="ruckig").duration,
                  "quintic": time_parameterize(corners, robot, method="quintic").duration}
     return CycleResult(robot.name, up, across, down, A, B, durations, traj, corners)
+
+
+def cycle_with_payload(robot: Robot, result: CycleResult, payload: object,
+                       limits: ToolLimits | None = None) -> MotionTrajectory:
+    """The placed cycle of ``result`` timed by toppra under the robot's torque limits too.
+
+    ``payload``: the load at the tool, ``mass`` [kg] or ``(mass, com[, inertia])``.
+
+    Raises:
+        DynamicsError: the robot has no inertias or torque limits, or cannot hold the load.
+    """
+    return plan(robot, result.trajectory.moves, limits, start=result.corners[0],
+                payload=payload)

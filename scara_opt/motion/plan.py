@@ -29,6 +29,7 @@ from scara_opt.motion.result import MotionTrajectory
 from scara_opt.motion.timing import time_section
 from scara_opt.motion.tool_limits import ToolLimits, ToolProfile
 from scara_opt.target import Target
+from scara_opt.trajectory.dynamics import RobotDynamics
 from scara_opt.trajectory.limits import resolve_limits
 from scara_opt.trajectory.trajectory import concatenate
 
@@ -170,8 +171,9 @@ def _flip(index: int, move: Move, robot: Robot, q: Array, exc: BranchError,
 
 def plan(robot: Robot, moves: object, limits: ToolLimits | None = None, *,
          start: object | None = None, vmax: object | None = None, amax: object | None = None,
-         step: float = STEP, method: str = "toppra",
-         allow_flip: bool = False) -> MotionTrajectory:
+         step: float = STEP, method: str = "toppra", allow_flip: bool = False,
+         torque_limits: object = None, payload: object = None,
+         payload_frame: str | None = None) -> MotionTrajectory:
     """Plan a program of PTP / LIN / CIRC moves into one timed trajectory.
 
     Args:
@@ -190,6 +192,12 @@ def plan(robot: Robot, moves: object, limits: ToolLimits | None = None, *,
         allow_flip: a LIN/CIRC (not blended) that cannot stay on its elbow branch is split
             where it leaves it: a stop, a PTP flipping the elbow at that pose, then the rest
             on the other branch (said in the notes). Default: refused with BranchError.
+        torque_limits: ``True`` (the robot's own), a scalar or (nq,) [N·m or N]: toppra
+            also keeps the joint torques (Pinocchio's RNEA, gravity included) within them,
+            checked at 1 kHz (``check_limits()["torque"]``); needs the robot's inertias.
+        payload: a load at the tool (``mass`` [kg] or ``(mass, com[, inertia])``, see
+            :func:`scara_opt.time_parameterize`); implies ``torque_limits=True``.
+        payload_frame: the frame carrying the payload (default the tip).
 
     Returns:
         MotionTrajectory: rest to rest, stopping at every goal not blended;
@@ -197,7 +205,9 @@ def plan(robot: Robot, moves: object, limits: ToolLimits | None = None, *,
 
     Raises:
         MoveError: a bad move, named by index, with what to change (see the module).
-        InputError: bad limits, start or step.
+        InputError: bad limits, start or step; torque limits with ``method="ruckig"``.
+        DynamicsError: torque limits for a robot without inertias, or a load gravity alone
+            makes too heavy.
     """
     robot = check_robot(robot)
     program = as_moves(moves, robot.nq)
@@ -209,6 +219,13 @@ def plan(robot: Robot, moves: object, limits: ToolLimits | None = None, *,
     if method not in SECTION_TIMERS:
         raise InputError(f"method must be one of {sorted(SECTION_TIMERS)}; got {method!r}")
     joint_limits = resolve_limits(robot, robot.nq, vmax, amax)
+    dynamics = None
+    if torque_limits is not None or payload is not None:
+        if method != "toppra":
+            raise InputError("torque_limits= and payload= are kept by method='toppra' only; "
+                             "drop them or use toppra")
+        dynamics = RobotDynamics(robot, True if torque_limits is None else torque_limits,
+                                 payload, payload_frame)
     begin = time.perf_counter()
     if start is None:
         if not isinstance(program[0], PTP):
@@ -243,7 +260,9 @@ def plan(robot: Robot, moves: object, limits: ToolLimits | None = None, *,
                         else tool.merged(m.speed, m.acceleration)) for i, m in run}
         own = _tightest(list(by_index.values()))
         profile = ToolProfile.per_point([by_index[i] for i in owner])
-        part, note, knots = SECTION_TIMERS[method](robot, Q, joint_limits, profile)
+        part, note, knots = (time_section(robot, Q, joint_limits, profile, dynamics)
+                             if dynamics is not None
+                             else SECTION_TIMERS[method](robot, Q, joint_limits, profile))
         profiles.append((knots, profile))
         pieces.append(part)
         goals.append(Q[-1])
@@ -257,5 +276,5 @@ def plan(robot: Robot, moves: object, limits: ToolLimits | None = None, *,
     traj = MotionTrajectory(joined, joint_limits, method, np.array(goals), ends,
                             notes="; ".join(notes), robot=robot, moves=tuple(program),
                             tool_limits=tuple(tools), corners=tuple(corners),
-                            profiles=tuple(profiles))
+                            profiles=tuple(profiles), dynamics=dynamics)
     return replace(traj, compute_time_s=time.perf_counter() - begin)

@@ -26,6 +26,7 @@ from scara_opt.motion.tool_limits import (
     speed_constraint,
     tool_peaks,
 )
+from scara_opt.trajectory.dynamics import RobotDynamics
 from scara_opt.trajectory.limits import Limits
 from scara_opt.trajectory.toppra_backend import chord_parameter, timed_pieces
 from scara_opt.trajectory.trajectory import Trajectory, stretch
@@ -80,16 +81,19 @@ def _joint_peaks(traj: Trajectory, exact: bool) -> tuple[float, float]:
 
 
 def _factor(robot: Robot, traj: Trajectory, tool: ToolProfile, knots: Array,
-            exact: bool = True, joint: tuple[float, float] | None = None) -> float:
-    """Smallest time stretch (>= 1) bringing every joint and tool ratio to <= 1.
+            exact: bool = True, joint: tuple[float, float] | None = None,
+            dynamics: RobotDynamics | None = None) -> float:
+    """Smallest time stretch (>= 1) bringing every joint, tool and torque ratio to <= 1.
 
     ``exact``: joint peaks exact (piecewise-polynomial extrema), else sampled at 1 kHz
     (cheaper; to decide whether to refine the grid). ``joint``: the joint peaks if known.
+    ``dynamics``: torques sampled at 1 kHz (gravity does not scale with the stretch).
     """
     jv, ja = _joint_peaks(traj, exact) if joint is None else joint
     ratios = tool_ratios(robot, traj, tool, knots)
+    torque = 1.0 if dynamics is None else dynamics.stretch_factor(traj)
     return max(1.0, jv, ratios["speed"], ratios["yaw_rate"], math.sqrt(ja),
-               math.sqrt(ratios["acceleration"]))
+               math.sqrt(ratios["acceleration"]), torque)
 
 
 def _solve(path: Any, s: Array, per: int, cons: list, limits: Limits
@@ -119,11 +123,12 @@ def _solve(path: Any, s: Array, per: int, cons: list, limits: Limits
     return pieces, grid, t[::per].copy()
 
 
-def time_section(robot: Robot, Q: Array, limits: Limits,
-                 tool: ToolProfile) -> tuple[tuple[PPoly, ...], str, Array]:
+def time_section(robot: Robot, Q: Array, limits: Limits, tool: ToolProfile,
+                 dynamics: RobotDynamics | None = None) -> tuple[tuple[PPoly, ...], str, Array]:
     """Fastest rest-to-rest timing of joint waypoints ``Q`` (n, nq) within all limits.
 
-    ``tool``: the tool limits per waypoint interval.
+    ``tool``: the tool limits per waypoint interval. ``dynamics``: joint torque limits (and
+    any payload) as well: toppra's torque constraint, checked at 1 kHz like the rest.
 
     Returns:
         One PPoly per joint (time from 0 [s] → q), a note on grid and stretch, and the
@@ -132,6 +137,7 @@ def time_section(robot: Robot, Q: Array, limits: Limits,
     Raises:
         TrajectoryError: toppra failed (its return code is given), or its result exceeds a
             limit by more than :data:`MAX_STRETCH` between grid points.
+        DynamicsError: gravity alone exceeds a torque limit on the path.
     """
     import toppra
     import toppra.constraint as constraint
@@ -148,15 +154,19 @@ def time_section(robot: Robot, Q: Array, limits: Limits,
         cons.append(speed_constraint(robot, scaled, s))
     if tool.limited("acceleration"):
         cons.append(acceleration_constraint(robot, scaled, s))
+    if dynamics is not None:
+        dynamics.check_static(Q)
+        cons.append(dynamics.toppra_constraint(scale))
     per = max(2, math.ceil(MIN_GRID / (len(Q) - 1)))
     for attempt in range(REFINE + 1):
         pieces, grid, knots = _solve(path, s, per, cons, limits)
         traj = Trajectory(pieces, limits, "toppra", Q, np.array([0.0, pieces[0].x[-1]]))
-        if attempt == REFINE or _factor(robot, traj, tool, knots, exact=False) <= 1 + MARGIN:
+        if attempt == REFINE or _factor(robot, traj, tool, knots, exact=False,
+                                        dynamics=dynamics) <= 1 + MARGIN:
             break
         per *= 2
     jv, ja = _joint_peaks(traj, exact=True)
-    factor = _factor(robot, traj, tool, knots, joint=(jv, ja))
+    factor = _factor(robot, traj, tool, knots, joint=(jv, ja), dynamics=dynamics)
     note = f"{len(grid) - 1} grid intervals"
     if factor > MAX_STRETCH:
         raise TrajectoryError(
@@ -174,7 +184,7 @@ def time_section(robot: Robot, Q: Array, limits: Limits,
         # joint peaks scale exactly (velocity / total, acceleration / total²)
         factor = _factor(robot, Trajectory(pieces, limits, "toppra", Q,
                                            np.array([0.0, pieces[0].x[-1]])), tool, knots,
-                         joint=(jv / total, ja / total**2))
+                         joint=(jv / total, ja / total**2), dynamics=dynamics)
     if total > 1.0:
         note += f", time stretched x {total:.6f} (discretisation overshoot removed)"
     return pieces, note, knots
