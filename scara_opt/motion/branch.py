@@ -109,15 +109,25 @@ def first_unreachable(robot: Robot, P: Array, yaws: Array | None, q_prev: Array)
 
     ``None`` also when the closed form does not apply (then nothing is known).
     """
+    b = _branch_column(robot, yaws, q_prev)
+    if b is None:
+        return None
+    _, valid = solve_batch(robot, P, yaws)
+    bad = np.flatnonzero(~valid[:, b])
+    return int(bad[0]) if bad.size else None
+
+
+def _branch_column(robot: Robot, yaws: Array | None, q_prev: Array) -> int | None:
+    """Column (0 or 1) of ``solve_batch``'s answers on ``q_prev``'s elbow branch.
+
+    ``None`` where the closed form does not apply (no SCARA geometry, redundant joints, no
+    wrist, no yaws) or ``q_prev`` is stretched out (on neither branch).
+    """
     g = geometry(robot)
     if g is None or g.redundant or g.wrist < 0 or yaws is None:
         return None
     side = int(elbow_signs(robot, q_prev)[0])
-    if side == 0:
-        return None
-    _, valid = solve_batch(robot, P, yaws)
-    bad = np.flatnonzero(~valid[:, 0 if side > 0 else 1])
-    return int(bad[0]) if bad.size else None
+    return None if side == 0 else (0 if side > 0 else 1)
 
 
 def closed_form_path(robot: Robot, P: Array, yaws: Array | None, q_prev: Array) -> Array | None:
@@ -128,14 +138,11 @@ def closed_form_path(robot: Robot, P: Array, yaws: Array | None, q_prev: Array) 
     robot has redundant joints or no wrist, the start is stretched out, or some point is out
     of reach, out of the limits, jumps, or misses its target by more than 1e-9.
     """
+    b = _branch_column(robot, yaws, q_prev)
+    if b is None:
+        return None
     g = geometry(robot)
-    if g is None or g.redundant or g.wrist < 0 or yaws is None:
-        return None
-    side = int(elbow_signs(robot, q_prev)[0])
-    if side == 0:
-        return None
     Q2, valid = solve_batch(robot, P, yaws)
-    b = 0 if side > 0 else 1
     if not valid[:, b].all():
         return None
     Q = Q2[:, b, :].copy()
