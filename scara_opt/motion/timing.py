@@ -12,7 +12,6 @@ uniformly (speed / f, acceleration / f²) and said in the notes: nothing is exce
 from __future__ import annotations
 
 import math
-from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
@@ -28,10 +27,14 @@ from scara_opt.motion.tool_limits import (
 )
 from scara_opt.trajectory.dynamics import RobotDynamics
 from scara_opt.trajectory.limits import Limits
-from scara_opt.trajectory.toppra_backend import chord_parameter, timed_pieces
+from scara_opt.trajectory.toppra_backend import chord_parameter, solve_on_grid
 from scara_opt.trajectory.trajectory import Trajectory, stretch
 
 Array = NDArray[np.float64]
+
+#: what to do when toppra fails on a section, or stalls on a grid interval
+FAILED = "check the limits and the path"
+STALLED = "a limit is so low the motion never ends; raise it"
 
 #: sampling step of the independent tool-limit check [s] (1 kHz)
 CHECK_DT = 1e-3
@@ -96,33 +99,6 @@ def _factor(robot: Robot, traj: Trajectory, tool: ToolProfile, knots: Array,
                math.sqrt(ratios["acceleration"]), torque)
 
 
-def _solve(path: Any, s: Array, per: int, cons: list, limits: Limits
-           ) -> tuple[tuple[PPoly, ...], Array, Array]:
-    """One TOPP-RA solve on ``per`` grid intervals per waypoint interval.
-
-    Returns:
-        One PPoly per joint, the grid, and the waypoint times (n,) [s].
-    """
-    import toppra.algorithm as algo
-
-    frac = np.arange(per) / per
-    grid = np.append((s[:-1, None] + np.diff(s)[:, None] * frac).ravel(), s[-1])
-    instance = algo.TOPPRA(cons, path, gridpoints=grid, solver_wrapper="seidel")
-    instance.compute_parameterization(0.0, 0.0)
-    data = instance.problem_data
-    if data.return_code != algo.ParameterizationReturnCode.Ok or data.sd_vec is None:
-        raise TrajectoryError(f"toppra could not time the section ({data.return_code}); "
-                              "check the limits and the path")
-    sd = np.maximum(np.asarray(data.sd_vec, dtype=float), 0.0)
-    if (sd[:-1] + sd[1:] <= 0.0).any():
-        raise TrajectoryError("toppra's path speed is zero on a grid interval: a limit is so "
-                              "low the motion never ends; raise it")
-    t, coeffs = timed_pieces(path.cspl, grid, sd)
-    pieces = tuple(PPoly(coeffs[:, :, k], t, extrapolate=False)
-                   for k in range(path.cspl.c.shape[2]))
-    return pieces, grid, t[::per].copy()
-
-
 def time_section(robot: Robot, Q: Array, limits: Limits, tool: ToolProfile,
                  dynamics: RobotDynamics | None = None) -> tuple[tuple[PPoly, ...], str, Array]:
     """Fastest rest-to-rest timing of joint waypoints ``Q`` (n, nq) within all limits.
@@ -159,7 +135,7 @@ def time_section(robot: Robot, Q: Array, limits: Limits, tool: ToolProfile,
         cons.append(dynamics.toppra_constraint(scale))
     per = max(2, math.ceil(MIN_GRID / (len(Q) - 1)))
     for attempt in range(REFINE + 1):
-        pieces, grid, knots = _solve(path, s, per, cons, limits)
+        pieces, grid, knots = solve_on_grid(path, s, per, cons, FAILED, STALLED)
         traj = Trajectory(pieces, limits, "toppra", Q, np.array([0.0, pieces[0].x[-1]]))
         if attempt == REFINE or _factor(robot, traj, tool, knots, exact=False,
                                         dynamics=dynamics) <= 1 + MARGIN:

@@ -190,7 +190,6 @@ def _solve(path: Any, s: Array, per_segment: int, limits: Limits, scale: float,
     Returns:
         One PPoly per joint and the waypoint times (n,) [s].
     """
-    import toppra.algorithm as algo
     import toppra.constraint as constraint
 
     interpolation = constraint.DiscretizationType.Interpolation
@@ -199,28 +198,48 @@ def _solve(path: Any, s: Array, per_segment: int, limits: Limits, scale: float,
                                                    discretization_scheme=interpolation)]
     if dynamics is not None:
         cons.append(dynamics.toppra_constraint(scale))
+    failed = ("check the waypoints (nearly duplicate ones make the spline degenerate) or try "
+              "method='ruckig'" + ("; under torque limits, also whether the limits can hold "
+                                   "the payload along the path" if dynamics is not None else ""))
+    stalled = (f"the grid is too coarse; raise grid_per_segment= or min_grid= (defaults "
+               f"{OPTIONS['grid_per_segment']} and {OPTIONS['min_grid']})")
+    pieces, _, times = solve_on_grid(path, s, per_segment, cons, failed, stalled)
+    return pieces, times
+
+
+def solve_on_grid(path: Any, s: Array, per_segment: int, cons: list, failed: str,
+                  stalled: str) -> tuple[tuple[PPoly, ...], Array, Array]:
+    """TOPP-RA with the constraints ``cons`` on ``per_segment`` grid intervals per waypoint.
+
+    The waypoints are at the path parameter ``s`` (n,). ``failed`` / ``stalled``: what to do,
+    appended to the error when toppra fails or when its path speed is zero at both ends of a
+    grid interval (the motion would take forever).
+
+    Returns:
+        One PPoly per joint (time from 0 [s] → q), the grid, and the waypoint times (n,) [s].
+
+    Raises:
+        TrajectoryError: either failure, with toppra's return code or the interval.
+    """
+    import toppra.algorithm as algo
+
     frac = np.arange(per_segment) / per_segment
     grid = np.append((s[:-1, None] + np.diff(s)[:, None] * frac).ravel(), s[-1])
     instance = algo.TOPPRA(cons, path, gridpoints=grid, solver_wrapper="seidel")
     instance.compute_parameterization(0.0, 0.0)
     data = instance.problem_data
     if data.return_code != algo.ParameterizationReturnCode.Ok or data.sd_vec is None:
-        raise TrajectoryError(
-            f"toppra could not parameterise the path ({data.return_code}); check the "
-            "waypoints (nearly duplicate ones make the spline degenerate) or try "
-            "method='ruckig'" + ("; under torque limits, also whether the limits can hold "
-                                 "the payload along the path" if dynamics is not None else ""))
+        raise TrajectoryError(f"toppra could not parameterise the path ({data.return_code}); "
+                              + failed)
     sd = np.maximum(np.asarray(data.sd_vec, dtype=float), 0.0)
-    stalled = np.flatnonzero(sd[:-1] + sd[1:] <= 0.0)
-    if stalled.size:
+    stall = np.flatnonzero(sd[:-1] + sd[1:] <= 0.0)
+    if stall.size:
         raise TrajectoryError(
-            f"toppra's path speed is zero at both ends of grid interval {int(stalled[0])} of "
-            f"{len(grid) - 1}, so it would take forever: the grid is too coarse; raise "
-            f"grid_per_segment= or min_grid= (defaults {OPTIONS['grid_per_segment']} and "
-            f"{OPTIONS['min_grid']})")
+            f"toppra's path speed is zero at both ends of grid interval {int(stall[0])} of "
+            f"{len(grid) - 1}, so it would take forever: " + stalled)
     t, coeffs = timed_pieces(path.cspl, grid, sd)
     pieces = tuple(PPoly(coeffs[:, :, k], t, extrapolate=False) for k in range(coeffs.shape[2]))
-    return pieces, t[::per_segment].copy()
+    return pieces, grid, t[::per_segment].copy()
 
 
 def _check_positions(traj: Trajectory) -> None:
