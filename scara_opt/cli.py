@@ -1,7 +1,8 @@
 """The ``scara-opt`` command line.
 
-Exit codes: 0 success; 2 bad usage or bad input (one line ``scara-opt: error: ...`` on
-stderr); 130 interrupted (Ctrl-C; one line ``scara-opt: interrupted``).
+Exit codes: 0 success; 1 ``ik`` did not solve (its status says why); 2 bad usage or bad
+input (one line ``scara-opt: error: ...`` on stderr); 130 interrupted (Ctrl-C; one line
+``scara-opt: interrupted``).
 
 Units are explicit at this edge: lengths in metres unless ``--mm``, joint angles in radians
 unless ``--deg``; ``--yaw`` is always in degrees. Output folders (``--out``) are handled by
@@ -24,8 +25,10 @@ from scara_opt.checks import count_text
 from scara_opt.errors import InputError, ScaraOptError
 from scara_opt.outputs import (
     COMPARE_FILES,
+    FORCE_HELP,
     OutputDir,
     html_name,
+    write_animation,
     write_compare,
     write_joint_path,
 )
@@ -302,13 +305,8 @@ def cmd_path(args: argparse.Namespace) -> int:
         traj.to_csv(out / "trajectory.csv")
         traj.plot(out / "trajectory.png")
         if args.html is not None:
-            from scara_opt.view import write_html
-
-            try:
-                write_html(robot, traj, out / names[-1], title=f"{robot.name}: {len(jp)}-point "
-                           f"path, {args.time} {traj.duration:.3f} s")
-            except ModuleNotFoundError as exc:  # the view extra is not installed
-                raise InputError(f"--html: {exc}; or drop --html") from None
+            write_animation(robot, traj, out / names[-1], f"{robot.name}: {len(jp)}-point "
+                            f"path, {args.time} {traj.duration:.3f} s")
     files = [out.final / n for n in names]
     ratios = {k: float(np.max(v)) for k, v in traj.check_limits().items()}
     if args.json:
@@ -347,9 +345,6 @@ def cmd_solvers(args: argparse.Namespace) -> int:
 
     print("\n".join(so.solvers()))
     return 0
-
-
-FORCE_HELP = "overwrite files of an earlier run in --out (refused without it)"
 
 
 class UsageError(Exception):

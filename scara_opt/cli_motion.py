@@ -10,6 +10,8 @@ import argparse
 import json
 import math
 
+from scara_opt.outputs import FORCE_HELP
+
 #: the files ``cycle`` writes into ``--out`` when asked, by option
 FILES = {"csv": "cycle.csv", "ros": "cycle_ros.yaml", "plot": "cycle.png", "html": "cycle.html"}
 
@@ -20,7 +22,7 @@ def cmd_cycle(args: argparse.Namespace) -> int:
     from scara_opt.errors import InputError
     from scara_opt.motion.cycle import cycle_time, cycle_with_payload
     from scara_opt.motion.plot import plot_motion
-    from scara_opt.outputs import OutputDir
+    from scara_opt.outputs import OutputDir, write_animation
 
     asked = [k for k in FILES if getattr(args, k)]
     if asked and args.out is None:
@@ -44,12 +46,7 @@ def cmd_cycle(args: argparse.Namespace) -> int:
             if args.plot:
                 plot_motion(robot, traj, out / FILES["plot"], title=f"{robot.name}: {res!r}")
             if args.html:
-                from scara_opt.view import write_html
-
-                try:
-                    write_html(robot, traj, out / FILES["html"], title=f"{robot.name}: {res!r}")
-                except ModuleNotFoundError as exc:  # the view extra is not installed
-                    raise InputError(f"--html: {exc}; or drop --html") from None
+                write_animation(robot, traj, out / FILES["html"], f"{robot.name}: {res!r}")
         written = [str(out.final / FILES[k]) for k in asked]
     if args.json:
         print(json.dumps({"robot": robot.name, "up_mm": args.up, "across_mm": args.across,
@@ -114,8 +111,7 @@ def add_parser(sub: argparse._SubParsersAction) -> argparse.ArgumentParser:
                    help=f"save {FILES['plot']}: tool speed and joint profiles")
     p.add_argument("--html", action="store_true",
                    help=f"save {FILES['html']}: a 3-D animation (needs the view extra)")
-    p.add_argument("--force", action="store_true",
-                   help="overwrite files of an earlier run in --out (refused without it)")
+    p.add_argument("--force", action="store_true", help=FORCE_HELP)
     p.add_argument("--json", action="store_true", help="print JSON for scripts")
     p.set_defaults(func=cmd_cycle)
     return p

@@ -30,6 +30,8 @@ COMPARE_FILES = ("runs.csv", "summary.csv", "convergence.png", "time_vs_populati
                  "error_time_boxes.png")
 
 STAGING_PREFIX = ".scara-opt-partial-"
+#: the ``--force`` option's help, for every command that writes into ``--out``
+FORCE_HELP = "overwrite files of an earlier run in --out (refused without it)"
 
 
 def html_name(text: object, option: str = "--html") -> str:
@@ -209,3 +211,17 @@ def write_joint_path(jp: Any, robot: Any, path: Path) -> None:
                                                      strict=True)})
         rows.append(row)
     pd.DataFrame(rows).to_csv(path, index=False)
+
+
+def write_animation(robot: Any, motion: Any, path: Path, title: str) -> Path:
+    """``--html``: the 3-D animation of ``motion`` (:func:`scara_opt.view.write_html`).
+
+    Raises:
+        InputError: the view extra (meshcat) is not installed (the message says how to get it).
+    """
+    from scara_opt.view import write_html
+
+    try:
+        return write_html(robot, motion, path, title=title)
+    except ModuleNotFoundError as exc:  # meshcat is imported at the first page
+        raise InputError(f"--html: {exc}; or drop --html") from None
