@@ -7,7 +7,6 @@ redundant joints); this module wraps it in the solver interface.
 
 from __future__ import annotations
 
-import time
 from typing import Any
 
 import numpy as np
@@ -113,9 +112,7 @@ class AnalyticSolver(Solver):
         held = {robot.joint_names.index(name): float(values[robot.joint_names.index(name)])
                 for name in (fixed or {})}
         ipopt = IpoptSolver()
-        start = time.perf_counter()
-        ipopt.prepare(robot, target.kind)
-        setup = time.perf_counter() - start
+        setup = ipopt.timed_prepare(robot, target.kind)
         closest = ipopt._solve(robot, target, q_ref, rng, tol, held=held)
         names = ", ".join(f"{robot.joint_names[k]} = {v:.4g}" for k, v in held.items())
         infeasible_held = bool(held) and bool(solve_all(robot, target, q_ref))

@@ -19,7 +19,6 @@ targets out of reach.
 
 from __future__ import annotations
 
-import time
 from collections.abc import Iterator
 from itertools import chain
 from typing import Any, ClassVar
@@ -108,9 +107,7 @@ class AutoSolver(Solver):
                  rng: np.random.Generator, tol: float, found: Search) -> SolverOutput:
         """IPOPT's multi-start after the fast solver missed; the closer answer is kept."""
         ipopt = IpoptSolver(restarts=int(self.options["ipopt_restarts"]))
-        start = time.perf_counter()
-        ipopt.prepare(robot, target.kind)
-        setup = time.perf_counter() - start
+        setup = ipopt.timed_prepare(robot, target.kind)
         out = ipopt._solve(robot, target, q0, rng, tol)  # the template's hook: no re-judging
         fast = search_output(found)
         closer = out if _error(robot, target, out.q) <= _error(robot, target, found.q) else fast

@@ -207,15 +207,19 @@ class Solver(ABC):
         tol = check_tol(tol)
         check_seed(seed)
         rng = cast(np.random.Generator, LazyGenerator(seed))
-        start = time.perf_counter()
-        self.prepare(robot, target.kind)
-        setup = time.perf_counter() - start
+        setup = self.timed_prepare(robot, target.kind)
         start = time.perf_counter()
         out = self._solve(robot, target, q0a, rng, tol)
         elapsed = time.perf_counter() - start - out.setup_s
         return judge(robot, target, out, tol=tol, method=self.name, seed=seed, time_s=elapsed,
                      setup_s=setup + out.setup_s,
                      search=lambda: self.witness(robot, target, q0a, seed, tol))
+
+    def timed_prepare(self, robot: Robot, kind: str) -> float:
+        """:meth:`prepare`, and the time it took [s]: the setup, apart from the search."""
+        start = time.perf_counter()
+        self.prepare(robot, kind)
+        return time.perf_counter() - start
 
     def prepare(self, robot: Robot, kind: str) -> None:
         """Build what the solver builds once per robot and task kind (cached on the robot).

@@ -88,7 +88,8 @@ def run(out: Path, quick: bool = False) -> PaperReport:
                                   f"-0.07) m, 200 iterations, {len(seeds)} seeds")
     _table2_findings(summary, methods, rep)
     _circle(robot, rep, out, methods, seeds)
-    circle = so.ik_path(robot, circle_targets(0.30, -0.07) + circle_targets(0.30, -0.07)[:1])
+    points = circle_targets(0.30, -0.07)
+    circle = so.ik_path(robot, points + points[:1])  # closed: back to the first point
     rep.animation = (robot, circle, "zavar2024: the reachable circle r = 0.30 m, z = -0.07 m "
                                     "(IK along the path)")
     add_cycle_finding(robot, rep)
