@@ -35,6 +35,22 @@ def test_every_guide_code_block_runs(page, monkeypatch):
         exec(compile(code, f"docs/{page} block {k + 1}", "exec"), scope)  # noqa: S102
 
 
+def test_readme_quickstart_runs_without_a_flip(monkeypatch):
+    """The README's quickstart runs as printed; its timed path has no jump (no elbow flip)
+    and is not waved through with allow_jumps (issue: the demo flipped the elbow).
+
+    Mutation: ``arc = circle`` in the README -> time_parameterize refuses the jump, fails.
+    """
+    monkeypatch.chdir(ROOT)
+    blocks = re.findall(r"```python\n(.*?)```", (ROOT / "README.md").read_text(), re.S)
+    code = next(b for b in blocks if "time_parameterize" in b and "ik_path" in b)
+    assert "allow_jumps" not in code
+    scope: dict = {}
+    exec(compile(code, "README quickstart", "exec"), scope)  # noqa: S102
+    assert scope["path"].ok and scope["path"].jumps == ()
+    assert max(r.max() for r in scope["traj"].check_limits().values()) <= 1.0
+
+
 def test_readme_full_pose_block_runs(monkeypatch):
     """The README's full-pose snippet (fk_se3 -> Target -> solve_ik) solves."""
     monkeypatch.chdir(ROOT)

@@ -167,6 +167,20 @@ def test_bad_moves_name_the_move_and_the_fix(robot, moves, match):
         plan(robot, moves, start=Q0)
 
 
+def test_held_yaw_out_of_the_wrist_range_is_not_called_unreachable(robot):
+    """A CIRC over 210° of zavar2024's reachable circle (ROBOTS.md) with the tool yaw held:
+    every point is reachable, but the wrist (±120°) cannot hold the yaw. The error says so
+    and names the fix, not "unreachable ... leaves the workspace".
+
+    Mutation: the yaw branch in ``branch._ik_path_joints`` removed -> "unreachable", fails.
+    """
+    arc = so.paths.zavar2024_circle(reachable=True)[:8]
+    assert all(so.ik_all(robot, t) for t in arc)
+    with pytest.raises(MoveError, match=r"move 1: CIRC point \d+ of \d+ at .* is reachable, "
+                                        r"but not with the tool yaw .* give the goal a yaw"):
+        plan(robot, [PTP(arc[0]), CIRC(arc[3], arc[7])])
+
+
 @pytest.mark.parametrize("kw", [{"speed": 0.0}, {"acceleration": -2.0},
                                 {"yaw_rate": float("nan")}, {"speed": math.inf}])
 def test_zero_negative_or_nonfinite_tool_limits_are_refused(kw):

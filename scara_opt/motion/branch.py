@@ -205,6 +205,13 @@ def _ik_path_joints(index: int, kind: str, robot: Robot, P: Array, yaws: Array |
                                       "move there with a PTP that flips the elbow "
                                       "(plan(..., allow_flip=True) does it), or keep the path "
                                       "where this branch reaches", i, side)
+        if yaws is not None and ik_all(robot, Target(P[i])):
+            raise MoveError(who(i), f"{kind} {where} is reachable, but not with the tool yaw "
+                                    f"{yaws[i]:.4g} rad the move gives it there (interpolated "
+                                    "from the start's yaw to the goal's; held when the goal has "
+                                    "none): the joint limits (the wrist's) exclude that yaw; "
+                                    "give the goal a yaw, Target(position, yaw=), that turns "
+                                    "the tool with the arm, or split the move")
         raise MoveError(who(i), f"{kind} {where} is unreachable (residual "
                                 f"{jp.error[i]:.3g}); the path leaves the workspace (or passes "
                                 "the base hole): move the goal, or go around with several "
