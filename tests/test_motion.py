@@ -311,10 +311,49 @@ def test_blended_corners_are_cut_within_the_radius_without_stopping(robot):
     assert max(v.max() for v in blended.check_limits().values()) <= 1.0
 
 
-def test_blend_into_a_ptp_is_refused(robot):
-    """A blend into or out of a PTP is refused with the move index (not silently dropped)."""
-    with pytest.raises(MoveError, match="move 0: blending into or out of a PTP"):
-        plan(robot, [LIN(P0 + [0, 0.05, 0], blend=0.01), PTP(Q0)], start=Q0)
+def _up_across_down(robot, r):
+    """The pick-and-place pattern: LIN 25 mm up, PTP 0.2 m across, LIN 25 mm down."""
+    q0 = np.array([-1.0, 1.15, 0.035, 0.0])
+    up = robot.position(q0) + [0.0, 0.0, 0.025]
+    moves = [LIN(up, blend=r), PTP(so.Target(up + [0.0, 0.2, 0.0]), blend=r),
+             LIN(up + [0.0, 0.2, -0.025])]
+    return plan(robot, moves, ToolLimits(speed=0.5, acceleration=3.0), start=q0)
+
+
+def test_blends_with_a_ptp_stay_in_the_sphere_and_on_the_moves_outside_it(robot):
+    """LIN -> PTP -> LIN with blend 10 mm: each corner is passed moving, within r, and
+    away from the corners' spheres the tip is on the unblended path (1 kHz FK, nearest
+    sample of the stopped plan at 10 kHz within 0.2 mm; measured 0.05 mm); ends at the
+    goal; all ratios <= 1; faster.
+
+    Mutations (blend_joint.py): the Bézier's control point ``Q[-1]`` -> ``2 * Q[-1] - A``
+    -> the corner leaves its sphere, refused, fails; the cuts 3 samples outside the sphere
+    (``a, b = int(out[-1]) - 3, int(out_next[0]) + 3``) -> the tip leaves the path outside
+    the sphere, fails.
+    """
+    r = 0.01
+    blended, stopped = _up_across_down(robot, r), _up_across_down(robot, 0.0)
+    dev = blended.blend_deviations()
+    assert len(dev) == 2 and (dev > 0).all() and (dev <= r).all()
+    t = blended.times(1e-3)
+    P = robot.positions(blended.evaluate(t))
+    corners = np.array([c for c, _, _ in blended.corners])
+    for c in corners:  # moving where it passes the corner
+        i = int(np.argmin(np.linalg.norm(P - c, axis=1)))
+        assert np.linalg.norm(blended.evaluate(t[i], 1)) > 0.05
+    ref = robot.positions(stopped.evaluate(stopped.times(1e-4)))
+    away = (np.linalg.norm(P[:, None, :] - corners[None], axis=2) > r).all(axis=1)
+    gap = np.array([np.linalg.norm(ref - p, axis=1).min() for p in P[away]])
+    assert away.sum() > 100 and gap.max() < 2e-4
+    assert np.allclose(blended.waypoints[-1], stopped.waypoints[-1], atol=1e-12)
+    assert blended.duration < stopped.duration
+    assert max(v.max() for v in blended.check_limits().values()) <= 1.0
+
+
+def test_blend_with_a_ptp_too_large_names_the_move_and_the_largest(robot):
+    """A radius above half of the 25 mm LIN is refused with the move and 0.0125 m."""
+    with pytest.raises(MoveError, match=r"move 0: blend radius 0.02 m .* blend <= 0.0125"):
+        _up_across_down(robot, 0.02)
 
 
 def test_wrist_takes_the_nearest_turn_and_fast_ik_matches_ik_path():

@@ -6,7 +6,7 @@ A → (C) → B replaces the corner. The Bézier lies in the triangle (A, C, B),
 it is within ``r`` of C and it misses C by :math:`|A + B - 2C| / 4 \le r / 2`. The yaw goes
 linearly from A's to B's. The whole blended run is one joint path (IK on one branch) timed
 in one go, each stretch under its own move's tool limits (a corner under the move it leaves,
-the smaller of both where they meet). PTP moves do not blend (yet).
+the smaller of both where they meet). Runs with a PTP: :mod:`scara_opt.motion.blend_joint`.
 """
 
 from __future__ import annotations

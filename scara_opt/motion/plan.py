@@ -5,8 +5,10 @@ elbow branch for a Target), a LIN or CIRC the IK of its Cartesian points every `
 metres, on the branch it starts on (:mod:`scara_opt.motion.branch`). Each path is timed
 time-optimally under the joint limits and the move's tool limits
 (:mod:`scara_opt.motion.timing`); without blends the robot stops exactly at every goal.
-LIN/CIRC moves with a ``blend`` radius run on into the next move through a rounded corner
-(:mod:`scara_opt.motion.blend`), the whole run timed at once.
+Moves with a ``blend`` radius run on into the next move through a rounded corner, the
+whole run timed at once: a Bézier of the tool path between LIN/CIRC moves
+(:mod:`scara_opt.motion.blend`), a Bézier in joint space in a run with a PTP
+(:mod:`scara_opt.motion.blend_joint`).
 """
 
 from __future__ import annotations
@@ -23,6 +25,7 @@ from scara_opt.errors import BranchError, InputError, MoveError
 from scara_opt.model.robot import Robot, check_robot
 from scara_opt.motion import branch, geometry
 from scara_opt.motion.blend import blended_joints
+from scara_opt.motion.blend_joint import joint_blended
 from scara_opt.motion.jerk import jerk_limited_section
 from scara_opt.motion.moves import CIRC, LIN, PTP, Move, as_moves, goal_point
 from scara_opt.motion.result import MotionTrajectory
@@ -116,7 +119,7 @@ def _sections(program: list[Move], offset: int) -> list[list[tuple[int, Move]]]:
     """The program cut into stop-to-stop runs: a move with a blend joins the next one.
 
     Raises:
-        MoveError: a blend on the last move, on a PTP or into a PTP.
+        MoveError: a blend on the last move.
     """
     last = len(program) - 1
     if program[last].blend:
@@ -124,9 +127,6 @@ def _sections(program: list[Move], offset: int) -> list[list[tuple[int, Move]]]:
                                        "into; pass blend=0")
     runs, run = [], []
     for k, m in enumerate(program):
-        if m.blend and (isinstance(m, PTP) or isinstance(program[k + 1], PTP)):
-            raise MoveError(k + offset, "blending into or out of a PTP is not available yet; "
-                                        "pass blend=0 there, or use LIN moves")
         run.append((k + offset, m))
         if not m.blend:
             runs.append(run)
@@ -254,7 +254,9 @@ def plan(robot: Robot, moves: object, limits: ToolLimits | None = None, *,
                 continue
             owner = [index] * len(Q)
         else:
-            Q, found, owner = blended_joints(run, robot, q, step, move_curve)
+            Q, found, owner = (joint_blended(run, robot, q, step, move_joints)
+                               if any(isinstance(m, PTP) for _, m in run)
+                               else blended_joints(run, robot, q, step, move_curve))
             corners += [(c, r, len(pieces)) for c, r in found]
         by_index = {i: (ToolLimits(m.speed, m.acceleration) if isinstance(m, PTP)
                         else tool.merged(m.speed, m.acceleration)) for i, m in run}
