@@ -208,6 +208,63 @@ def test_fa_all_pairs_sweep_matches_a_hand_computation():
     assert np.linalg.norm(got[0] - near[0]) > 0.1          # the two sweeps put C apart
 
 
+def test_fa_compiled_sweep_equals_the_numpy_form(monkeypatch):
+    """The all-pairs sweep in C (fa_sweep.c) gives the numpy loop's positions (to round-off
+    of exp) and takes the same number of draws, on 200 fireflies with tied costs (several
+    draw blocks; skipped without a C compiler).
+
+    Mutations: u and v swapped in fa_sweep.c -> fails; the block loop stepping ``k_lo`` one
+    too far (``k_hi = k_lo - 2``) -> an attractor skipped, fails.
+    """
+    from scara_opt.metaheuristics import fa
+
+    if fa._kernel() is None:
+        pytest.skip("no C compiler: the numpy form runs")
+    gen = np.random.default_rng(11)
+    span = np.array([4.2, 4.2, 0.048, 4.2])
+    X = gen.random((200, 4)) * span
+    f = np.round(gen.random(200), 1)                      # ties: equal brightness, no move
+    step = 0.05 * span
+    rng_c, rng_py = np.random.default_rng(5), np.random.default_rng(5)
+    got = fa.sweep_all(X, f, span, 1.0, 1.0, step, rng_c)
+    assert 2 * 4 * 200 * 199 / 2 > 2 * fa.BLOCK            # at least three blocks
+    monkeypatch.setattr(fa, "_kernel", lambda: None)
+    ref = fa.sweep_all(X, f, span, 1.0, 1.0, step, rng_py)
+    np.testing.assert_allclose(got, ref, rtol=1e-12, atol=1e-15)
+    assert rng_c.random() == rng_py.random()              # the same number of draws
+
+
+def test_c_library_compiles_once_and_is_off_on_request(tmp_path, monkeypatch):
+    """``c_library`` compiles a C file into the cache folder and loads it; with
+    SCARA_OPT_NO_COMPILE=1 it returns None (the caller's numpy form), compiling nothing.
+
+    Mutation: the NO_COMPILE check dropped -> a library is returned, fails.
+    """
+    import shutil
+
+    from scara_opt.model import compiled
+
+    if compiled._compiler() is None:
+        pytest.skip("no C compiler")
+    src = tmp_path / "twice.c"
+    src.write_text("double twice(double x) { return 2.0 * x; }\n")
+    monkeypatch.setenv(compiled.CACHE_ENV, str(tmp_path / "cache"))
+    monkeypatch.setenv(compiled.NO_COMPILE_ENV, "1")
+    assert compiled.c_library(src) is None
+    assert not (tmp_path / "cache").exists()
+    compiled._LIBRARIES.clear()
+    monkeypatch.delenv(compiled.NO_COMPILE_ENV)
+    import ctypes
+
+    lib = compiled.c_library(src)
+    lib.twice.restype, lib.twice.argtypes = ctypes.c_double, [ctypes.c_double]
+    assert lib.twice(1.25) == 2.5
+    assert len(list((tmp_path / "cache").glob("twice_*.so"))) == 1
+    shutil.rmtree(tmp_path / "cache")
+    assert compiled.c_library(src) is lib                 # loaded once per process
+    compiled._LIBRARIES.clear()
+
+
 def test_fa_sweeps_all_pairs_by_default_and_costs_once_per_generation(zavar):
     """fa's default sweep is "all" (the paper's and Yang's), distinct from "nearest"; either
     way the moved fireflies are costed once per generation (population * (generations + 1)).

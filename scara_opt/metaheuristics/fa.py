@@ -2,6 +2,10 @@
 
 from __future__ import annotations
 
+import ctypes
+import functools
+from collections.abc import Callable
+from pathlib import Path
 from typing import Any, ClassVar, Protocol
 
 import numpy as np
@@ -16,15 +20,19 @@ from scara_opt.metaheuristics.base import (
     check_number,
     greedy,
 )
+from scara_opt.model.compiled import c_library
 
 #: the values of the ``sweep`` option: every brighter firefly in turn, or the nearest one
 SWEEPS = ("all", "nearest")
+
+#: most random numbers the compiled all-pairs sweep draws at once (512 KiB)
+BLOCK = 65536
 
 
 class UniformSource(Protocol):
     """What the sweeps draw from: ``random(shape)``, uniform on [0, 1) (a numpy Generator)."""
 
-    def random(self, size: tuple[int, int]) -> Array:
+    def random(self, size: tuple[int, ...]) -> Array:
         """Uniform draws of shape ``size``."""
         ...
 
@@ -160,19 +168,60 @@ def sweep_all(X: Array, f: Array, span: Array, beta0: float, gamma: float, step:
     new = Xs.copy()
     first_dimmer = np.searchsorted(fs, fs, side="right")  # rows >= this are dimmer than row k
     w = span**-2.0                                        # r² in joint ranges
-    for k in range(n - 1, -1, -1):                        # attractor: dimmest to brightest
-        s = first_dimmer[k]
-        if s == n:
-            continue
-        D = Xs[k] - new[s:]                               # (m, nq), m = fireflies dimmer than k
-        beta = beta0 * np.exp(-gamma * np.einsum("ij,ij,j->i", D, D, w))
-        u, v = rng.random((2, n - s, nq))
-        new[s:] += beta[:, None] * u * D + (v - 0.5) * step
+    kernel = _kernel()
+    if kernel is not None:
+        _sweep_compiled(kernel, Xs, new, first_dimmer, w, beta0, gamma, step, rng)
+    else:
+        for k in range(n - 1, -1, -1):                    # attractor: dimmest to brightest
+            s = first_dimmer[k]
+            if s == n:
+                continue
+            D = Xs[k] - new[s:]                           # (m, nq), m = fireflies dimmer than k
+            beta = beta0 * np.exp(-gamma * np.einsum("ij,ij,j->i", D, D, w))
+            u, v = rng.random((2, n - s, nq))
+            new[s:] += beta[:, None] * u * D + (v - 0.5) * step
     top = first_dimmer[0]                                 # the brightest: a random step only
     new[:top] += (rng.random((top, nq)) - 0.5) * step
     out = np.empty_like(new)
     out[order] = new
     return out
+
+
+def _sweep_compiled(kernel: Callable[..., None], Xs: Array, new: Array, first_dimmer: Array,
+                    w: Array, beta0: float, gamma: float, step: Array,
+                    rng: UniformSource) -> None:
+    """The attractor loop of :func:`sweep_all` in C (fa_sweep.c), ``new`` moved in place.
+
+    The draws are taken in blocks of attractors of at most :data:`BLOCK` numbers each, in
+    the numpy loop's order (one ``random`` call per block instead of one per attractor).
+    """
+    n, nq = Xs.shape
+    first = np.ascontiguousarray(first_dimmer, dtype=np.int64)
+    need = 2 * nq * (n - first)                           # draws of attractor k
+    Xs, w, step = (np.ascontiguousarray(a, dtype=float) for a in (Xs, w, step))
+    k_hi = n - 1
+    while k_hi >= 0:
+        k_lo, total = k_hi, int(need[k_hi])
+        while k_lo > 0 and total + need[k_lo - 1] <= BLOCK:
+            k_lo -= 1
+            total += int(need[k_lo])
+        draws = np.ascontiguousarray(rng.random((total,)), dtype=float)
+        kernel(n, nq, k_hi, k_lo, Xs.ctypes.data, new.ctypes.data, first.ctypes.data,
+               w.ctypes.data, beta0, gamma, step.ctypes.data, draws.ctypes.data)
+        k_hi = k_lo - 1
+
+
+@functools.cache
+def _kernel() -> Callable[..., None] | None:
+    """``fa_sweep`` of fa_sweep.c compiled once per machine, or ``None`` (numpy form)."""
+    lib = c_library(Path(__file__).with_name("fa_sweep.c"))
+    if lib is None:
+        return None
+    fn = lib.fa_sweep
+    ptr, i64, dbl = ctypes.c_void_p, ctypes.c_int64, ctypes.c_double
+    fn.argtypes = [i64, i64, i64, i64, ptr, ptr, ptr, ptr, dbl, dbl, ptr, ptr]
+    fn.restype = None
+    return fn
 
 
 def sweep_nearest(X: Array, f: Array, span: Array, beta0: float, gamma: float, step: Array,

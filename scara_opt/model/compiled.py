@@ -1,4 +1,4 @@
-"""casadi Functions compiled to C once per machine and kept in a cache folder.
+"""casadi Functions (and small C kernels) compiled once per machine, kept in a cache folder.
 
 :func:`compiled` returns a casadi Function from a shared library in the cache folder when
 one exists for its key (loading it costs well under a millisecond: no symbolic build, no
@@ -7,6 +7,10 @@ compilation); otherwise it builds the Function, generates its C code (casadi
 every later process. Where no compiler works (or ``SCARA_OPT_NO_COMPILE=1``), the built
 Function is returned as it is, evaluated by casadi's virtual machine: the same numbers,
 slower.
+
+:func:`c_library` does the same for a hand-written C source shipped with the package (a
+metaheuristic's inner loop): the loaded ``ctypes`` library, or ``None`` where nothing
+compiles, so the caller runs its numpy form instead.
 
 The key is a hash of what the Function depends on, given by the caller (e.g. the robot's
 kinematic parameters and the source of the module that builds it), together with the
@@ -19,6 +23,7 @@ concurrent processes never load a half-written file.
 
 from __future__ import annotations
 
+import ctypes
 import hashlib
 import logging
 import os
@@ -42,6 +47,7 @@ CACHE_ENV = "SCARA_OPT_CACHE"
 
 _LOCK = threading.Lock()
 _LOADED: dict[str, ca.Function] = {}
+_LIBRARIES: dict[str, ctypes.CDLL | None] = {}
 _WARNED: set[str] = set()
 
 
@@ -116,3 +122,37 @@ def _compile(f: ca.Function, name: str, cc: str, path: Path) -> None:
         subprocess.run([cc, *FLAGS, "-o", str(partial), source], check=True,
                        capture_output=True, timeout=600)
         os.replace(partial, path)
+
+
+def c_library(source: str | Path) -> ctypes.CDLL | None:
+    """The C file ``source`` compiled into a shared library in the cache folder, loaded.
+
+    Compiled once per machine (keyed by the source's contents and the flags), loaded once
+    per process. ``None`` where compiling is off (``SCARA_OPT_NO_COMPILE=1``) or no compiler
+    works (logged once): the caller falls back to its numpy form.
+    """
+    source = Path(source)
+    digest = hashlib.sha256(repr((source_hash(source), FLAGS)).encode()).hexdigest()[:24]
+    path = cache_dir() / f"{source.stem}_{digest}.so"
+    with _LOCK:
+        if str(path) in _LIBRARIES:
+            return _LIBRARIES[str(path)]
+    lib = None
+    if os.environ.get(NO_COMPILE_ENV) != "1" and (cc := _compiler()) is not None:
+        try:
+            if not path.is_file():
+                path.parent.mkdir(parents=True, exist_ok=True)
+                with tempfile.TemporaryDirectory(dir=path.parent) as tmp:
+                    partial = Path(tmp) / path.name
+                    subprocess.run([cc, *FLAGS, "-o", str(partial), str(source), "-lm"],
+                                   check=True, capture_output=True, timeout=600)
+                    os.replace(partial, path)
+            lib = ctypes.CDLL(str(path))
+        except (OSError, subprocess.SubprocessError) as exc:
+            if source.stem not in _WARNED:
+                _WARNED.add(source.stem)
+                log.warning("could not compile %s (%s); its numpy form runs instead (same "
+                            "rule, slower)", source.name, exc)
+    with _LOCK:
+        _LIBRARIES[str(path)] = lib
+    return lib
