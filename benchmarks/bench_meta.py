@@ -213,6 +213,8 @@ def table(robot: so.Robot, target: np.ndarray, seeds: range, mealpy_seeds: range
             line += "no mealpy counterpart"
         elif not mealpy_ok:
             line += "skipped (no mealpy)"
+        elif not mealpy_seeds:
+            line += "skipped (--mealpy-seeds 0)"
         elif method.startswith("fa") and not slow:
             line += "skipped (~3 min a solve; --slow runs it)"
         else:

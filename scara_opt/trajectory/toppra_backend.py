@@ -44,7 +44,7 @@ from scara_opt.errors import TrajectoryError
 from scara_opt.trajectory.dynamics import RobotDynamics
 from scara_opt.trajectory.limits import Limits
 from scara_opt.trajectory.methods import TimingMethod, check_option
-from scara_opt.trajectory.trajectory import Trajectory, stretch
+from scara_opt.trajectory.trajectory import Trajectory, cubic_range, stretch
 
 log = logging.getLogger(__name__)
 
@@ -161,7 +161,7 @@ def toppra_trajectory(Q: Array, limits: Limits, duration: float | None = None, *
         per_segment *= 2
         log.debug("toppra: overshoot x %.4f beyond the margin; grid refined to %d per segment",
                   factor, per_segment)
-    _check_positions(Trajectory(pieces, limits, "toppra", Q, times))
+    _check_positions(Trajectory(pieces, limits, "toppra", Q, times), cubic_range(path.cspl))
     note = f"toppra, limits x (1 - {margin:g}), {per_segment} grid intervals per segment"
     if dynamics is not None:
         note += " (torque-limited" + (f", payload {dynamics.payload.mass:g} kg)"
@@ -242,14 +242,18 @@ def solve_on_grid(path: Any, s: Array, per_segment: int, cons: list, failed: str
     return pieces, grid, t[::per_segment].copy()
 
 
-def _check_positions(traj: Trajectory) -> None:
+def _check_positions(traj: Trajectory, span: tuple[Array, Array]) -> None:
     """Refuse a spline that leaves the joint position limits between the waypoints.
+
+    ``span``: the smallest and largest value of each joint along the path (nq,) each: those
+    of the path's cubic spline in ``s`` (:func:`~scara_opt.trajectory.trajectory.cubic_range`),
+    which the timing traverses whole (the path speed is never negative).
 
     Raises:
         TrajectoryError: naming the joint, how far and between which waypoints.
     """
     lim = traj.limits
-    lo, hi = traj.position_range()
+    lo, hi = span
     excess = np.maximum(lim.lower - lo, hi - lim.upper)
     if (excess > POSITION_SLACK).any():
         k = int(np.argmax(excess))

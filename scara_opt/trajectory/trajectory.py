@@ -9,6 +9,7 @@ or where the next derivative vanishes, and those points are all evaluated.
 
 from __future__ import annotations
 
+import functools
 import math
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -41,18 +42,64 @@ def _end_values(pp: PPoly) -> Array:
     return np.concatenate([pp.c[-1], right])
 
 
+@functools.cache
+def _to_bernstein(degree: int) -> Array:
+    """Matrix M (d+1, d+1): Bernstein coefficients ``M @ α`` of ``Σ α_k u^k`` on [0, 1]."""
+    d = degree
+    return np.array([[math.comb(j, k) / math.comb(d, k) if k <= j else 0.0
+                      for k in range(d + 1)] for j in range(d + 1)])
+
+
+def _may_leave(pp: PPoly, lo: float, hi: float) -> Array:
+    """Pieces (indices) whose values may leave [lo, hi]: the others provably do not.
+
+    A polynomial on a piece lies within the range of its Bernstein coefficients (convex
+    hull property), so a piece whose coefficients all lie in [lo, hi] stays inside.
+    """
+    d = pp.c.shape[0] - 1
+    h = np.diff(pp.x)
+    alpha = pp.c[::-1] * h ** np.arange(d + 1.0)[:, None]  # α_k = a_k h^k, lowest first
+    b = _to_bernstein(d) @ alpha
+    return np.flatnonzero((b.max(axis=0) > hi) | (b.min(axis=0) < lo))
+
+
 def extrema(pp: PPoly) -> tuple[float, float]:
     """Smallest and largest value of a 1-D piecewise polynomial over its domain (exact).
 
-    Candidates are the ends of every piece and the real roots of ``f'`` inside the pieces.
+    Candidates are the ends of every piece and the real roots of ``f'`` inside the pieces
+    that may reach beyond the ends' range (:func:`_may_leave`); the other pieces cannot.
     """
     vals = _end_values(pp)
     if pp.c.shape[0] > 2:
-        roots = pp.derivative().roots(discontinuity=False, extrapolate=False)
-        roots = roots[np.isfinite(roots)]
-        if roots.size:
-            vals = np.concatenate([vals, pp(roots)])
+        idx = _may_leave(pp, float(vals.min()), float(vals.max()))
+        if idx.size:  # those pieces laid end to end: same local polynomials, same values
+            h = np.diff(pp.x)[idx]
+            sub = PPoly(pp.c[:, idx], np.concatenate([[0.0], np.cumsum(h)]), extrapolate=False)
+            roots = sub.derivative().roots(discontinuity=False, extrapolate=False)
+            roots = roots[np.isfinite(roots)]
+            if roots.size:
+                vals = np.concatenate([vals, sub(roots)])
     return float(vals.min()), float(vals.max())
+
+
+def cubic_range(pp: PPoly) -> tuple[Array, Array]:
+    """Smallest and largest value (nq,) each of a piecewise cubic with values in (nq,), exact.
+
+    ``pp.c`` is (4, N, nq) (a spline through joint waypoints). Candidates are the ends of
+    every piece and the roots of its quadratic derivative inside the piece, all at once
+    (the numerically stable quadratic formula, which also gives the root of a linear one).
+    """
+    c, h = pp.c, np.diff(pp.x)[:, None]
+    a, b, d = 3.0 * c[0], 2.0 * c[1], c[2]                # q'(t) = a t² + b t + d
+    with np.errstate(divide="ignore", invalid="ignore"):
+        disc = b * b - 4.0 * a * d
+        q = -0.5 * (b + np.copysign(np.sqrt(np.where(disc >= 0, disc, np.nan)), b))
+        roots = np.stack([q / a, d / q])                  # (2, N, nq); NaN or inf when none
+    roots = np.where((roots > 0) & (roots < h), roots, np.nan)
+    inner = ((c[0] * roots + c[1]) * roots + c[2]) * roots + c[3]
+    right = ((c[0] * h + c[1]) * h + c[2]) * h + c[3]
+    values = np.concatenate([inner.reshape(-1, c.shape[2]), c[3], right])
+    return np.nanmin(values, axis=0), np.nanmax(values, axis=0)
 
 
 def sup_abs(pp: PPoly) -> float:
