@@ -35,11 +35,12 @@ Array = NDArray[np.float64]
 _MIN_PHASE = 1e-14
 
 
-def _profile_pieces(profile: Any, duration: float) -> PPoly:
-    """The constant-jerk phases of one joint's Ruckig profile as a PPoly on [0, duration]."""
-    t, j = np.array(profile.t, dtype=float), np.array(profile.j, dtype=float)
-    a, v = np.array(profile.a, dtype=float), np.array(profile.v, dtype=float)
-    p = np.array(profile.p, dtype=float)
+def _profile_pieces(t: Array, j: Array, a: Array, v: Array, p: Array, duration: float) -> PPoly:
+    """One joint's constant-jerk phases as a PPoly on [0, duration].
+
+    ``t``, ``j`` (7,): phase durations [s] and jerks; ``a``, ``v``, ``p`` (8,): acceleration,
+    velocity and position at the phase boundaries (Ruckig's ``Profile`` fields).
+    """
     keep = t > _MIN_PHASE
     breaks = np.concatenate([[0.0], np.cumsum(t[keep])])
     coeffs = np.array([j[keep] / 6, a[:-1][keep] / 2, v[:-1][keep], p[:-1][keep]])
@@ -51,7 +52,8 @@ def _profile_pieces(profile: Any, duration: float) -> PPoly:
         breaks = np.append(breaks, duration)
     else:
         breaks[-1] = duration
-    return PPoly(coeffs, breaks, extrapolate=False)
+    # built from checked parts (increasing breaks, finite coefficients): skip PPoly's checks
+    return PPoly.construct_fast(coeffs, breaks, extrapolate=False)
 
 
 def ruckig_segment(qa: Array, qb: Array, limits: Limits) -> tuple[list[PPoly], float]:
@@ -88,7 +90,9 @@ def ruckig_segment(qa: Array, qb: Array, limits: Limits) -> tuple[list[PPoly], f
     if any(prof.brake.duration > 0 for prof in profiles):
         raise TrajectoryError("ruckig needed a brake pre-trajectory on a rest-to-rest move; "
                               "this should not happen, please report it")
-    return [_profile_pieces(prof, T) for prof in profiles], T
+    fields = [np.array([getattr(prof, name) for prof in profiles], dtype=float)
+              for name in ("t", "j", "a", "v", "p")]     # (nq, 7) or (nq, 8) each
+    return [_profile_pieces(*(f[k] for f in fields), T) for k in range(nq)], T
 
 
 def ruckig_trajectory(Q: Array, limits: Limits, duration: float | None = None) -> Trajectory:
