@@ -32,7 +32,8 @@ def cmd_cycle(args: argparse.Namespace) -> int:
     limits = None
     if args.speed is not None or args.acceleration is not None:
         limits = so.ToolLimits(speed=args.speed, acceleration=args.acceleration)
-    res = cycle_time(robot, args.up / 1e3, args.across / 1e3, args.down / 1e3, limits)
+    res = cycle_time(robot, args.up / 1e3, args.across / 1e3, args.down / 1e3, limits,
+                     args.blend / 1e3)
     traj = res.trajectory
     loaded = (None if args.payload is None
               else cycle_with_payload(robot, res, args.payload, limits))
@@ -50,23 +51,26 @@ def cmd_cycle(args: argparse.Namespace) -> int:
         written = [str(out.final / FILES[k]) for k in asked]
     if args.json:
         print(json.dumps({"robot": robot.name, "up_mm": args.up, "across_mm": args.across,
-                          "down_mm": args.down, "pick_m": res.pick.tolist(),
+                          "down_mm": args.down, "blend_mm": args.blend,
+                          "pick_m": res.pick.tolist(),
                           "place_m": res.place.tolist(), "cycle_s": res.durations,
                           "payload_kg": args.payload,
                           "payload_toppra_s": None if loaded is None else loaded.duration,
                           "files": written}))
         return 0
-    print(f"{robot.name}: pick-and-place cycle {args.up:g}/{args.across:g}/{args.down:g} mm, "
-          f"pick at {[round(float(v), 4) for v in res.pick]} m, place at "
+    blend = f", toppra_blended: upper corners within {args.blend:g} mm" if args.blend else ""
+    print(f"{robot.name}: pick-and-place cycle {args.up:g}/{args.across:g}/{args.down:g} mm"
+          f"{blend}, pick at {[round(float(v), 4) for v in res.pick]} m, place at "
           f"{[round(float(v), 4) for v in res.place]} m")
     for method, seconds in res.durations.items():
-        print(f"  {method:8s} {seconds:8.4f} s")
+        print(f"  {method:14s} {seconds:8.4f} s")
     ratios = traj.check_limits()
-    print(f"  worst limit ratio (toppra, joints exact, tool at 1 kHz): "
+    which = "toppra_blended" if args.blend else "toppra"
+    print(f"  worst limit ratio ({which}, joints exact, tool at 1 kHz): "
           f"{max(float(v.max()) for v in ratios.values()):.4f}")
     if loaded is not None:
         torque = float(loaded.check_limits()["torque"].max())
-        print(f"  toppra with {args.payload:g} kg at the tool, torque-limited: "
+        print(f"  {which} with {args.payload:g} kg at the tool, torque-limited: "
               f"{loaded.duration:8.4f} s (worst torque ratio {torque:.3f})")
     if written:
         print("wrote " + ", ".join(written))
@@ -95,6 +99,9 @@ def add_parser(sub: argparse._SubParsersAction) -> argparse.ArgumentParser:
     p.add_argument("--across", type=_positive, default=305.0,
                    help="horizontal stroke [mm] (305; shorter for small robots)")
     p.add_argument("--down", type=_positive, default=25.0, help="descent at the place [mm] (25)")
+    p.add_argument("--blend", type=_nonnegative, default=0.0, metavar="MM",
+                   help="also time toppra rounding the upper corners within this radius [mm] "
+                        "instead of stopping there (at most half a vertical stroke; 0: no)")
     p.add_argument("--speed", type=_positive, help="tool speed limit on the LIN strokes [m/s]")
     p.add_argument("--acceleration", type=_positive,
                    help="tool acceleration limit on the LIN strokes [m/s²]")

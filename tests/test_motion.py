@@ -248,6 +248,31 @@ def test_cycle_time_places_the_standard_cycle_and_beats_the_quintic(robot):
     assert max(v.max() for v in res.trajectory.check_limits().values()) <= 1.0
 
 
+def test_blended_cycle_runs_through_the_upper_corners_within_the_radius(robot, capsys):
+    """``cycle_time(blend=0.01)`` adds ``toppra_blended``: faster than stopping, moving at
+    the four upper corners, each within 10 mm, at rest at pick and place, limits <= 1; the
+    stopping times are those without a blend. ``cycle --blend 10`` prints it; a radius
+    above half the 25 mm stroke names 0.0125 m.
+
+    Mutation: the blended plan built with ``program(0.0)`` -> as slow as stopping, fails.
+    """
+    from scara_opt.cli import main
+    from scara_opt.motion.cycle import cycle_time
+
+    plain, res = cycle_time(robot), cycle_time(robot, blend=0.01)
+    assert {k: res.durations[k] for k in plain.durations} == plain.durations
+    assert res.durations["toppra_blended"] < 0.95 * plain.durations["toppra"]
+    dev = res.trajectory.blend_deviations()
+    assert len(dev) == 4 and (dev > 0).all() and (dev <= 0.01).all()
+    P = robot.positions(res.trajectory.waypoints)
+    assert np.allclose(P, robot.positions(res.corners[[0, 3, 6]]), atol=1e-9)
+    assert max(v.max() for v in res.trajectory.check_limits().values()) <= 1.0
+    assert main(["cycle", "zavar2024", "--blend", "10"]) == 0
+    assert "toppra_blended" in capsys.readouterr().out
+    with pytest.raises(MoveError, match="blend <= 0.0125"):
+        cycle_time(robot, blend=0.02)
+
+
 def test_cycle_too_long_for_the_robot_says_what_to_shrink(robot):
     """An across stroke beyond the reach raises InputError asking for a shorter across=."""
     from scara_opt.motion.cycle import cycle_time
