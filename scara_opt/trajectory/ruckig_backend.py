@@ -18,8 +18,6 @@ acceleration limit is reached in 0.1 s).
 
 from __future__ import annotations
 
-from typing import Any
-
 import numpy as np
 from numpy.typing import NDArray
 from scipy.interpolate import PPoly
