@@ -104,9 +104,10 @@ def config_errors(robot: Robot, target: Target, q: Array) -> tuple[Array, float 
     """Position error (3,) and angle error of one configuration (one Pinocchio FK).
 
     The same numbers as :func:`errors_from_poses`, with scalar arithmetic: this runs once
-    per solve, where numpy's per-call cost on 3×3 blocks would dominate.
+    per solve, where numpy's per-call cost on 3×3 blocks would dominate. ``q`` must be a
+    finite float (nq,) array (the callers' solutions, checked or clipped already).
     """
-    T = robot.fk(q)
+    T = robot.fk_checked(q)
     dp = T[:3, 3] - target.position
     if target.kind == "position":
         return dp, None

@@ -291,7 +291,14 @@ class Robot(JointChecks, ToolAngle, InertialData):
     # ------------------------------------------------------------------ kinematics
     def fk(self, q: object) -> Array:
         """Tip pose (4×4 homogeneous matrix, world frame, [m]) at ``q`` (nq,), by Pinocchio."""
-        qa = self.check_q(q)
+        return self.fk_checked(self.check_q(q))
+
+    def fk_checked(self, qa: Array) -> Array:
+        """:meth:`fk` of a ``q`` already checked (float (nq,), finite): no check again.
+
+        For the toolkit's own hot paths (the verdict's residual of every solve); a wrong
+        shape here is Pinocchio's error, not an :class:`InputError`.
+        """
         data = self.data
         pin.forwardKinematics(self.model, data, qa)
         return pin.updateFramePlacement(self.model, data, self.tip_id).homogeneous.copy()
