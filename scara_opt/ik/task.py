@@ -115,5 +115,6 @@ def config_errors(robot: Robot, target: Target, q: Array) -> tuple[Array, float 
         e1, e2 = robot.yaw_basis()
         x = T[:3, 0]
         return dp, float(wrap_angle(math.atan2(float(x @ e2), float(x @ e1)) - target.yaw))
-    frob = math.sqrt(float(np.sum((T[:3, :3] - target.rotation) ** 2)))
+    d = (T[:3, :3] - target.rotation).ravel()
+    frob = math.sqrt(float(d @ d))
     return dp, 2.0 * math.asin(min(frob / (2.0 * math.sqrt(2.0)), 1.0))
