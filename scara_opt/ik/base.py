@@ -55,7 +55,7 @@ def check_q0(robot: Robot, q0: object | None) -> Array | None:
         return None
     q = robot.check_q(q0, "q0")
     lower, upper = robot.lower, robot.upper
-    if np.all(q >= lower) and np.all(q <= upper):
+    if ((q >= lower) & (q <= upper)).all():  # the array method: np.all costs ~2 µs a call
         return q
     for name, kind, v, lo, hi in zip(robot.joint_names, robot.joint_types, q, lower, upper,
                                      strict=True):

@@ -360,26 +360,32 @@ class _Run:
     def descend(self, q: Array) -> tuple[Array, float, bool]:
         """Phase 1 (and 3) from ``q``: (q, ‖r‖², converged); sets :attr:`slide_needed`."""
         f = self.f.lm
-        q_in, lam_in = f.arg["q"], f.arg["lam"]
-        q_out, lam_out, e_out, step_out = (f.res[k] for k in ("q_next", "lam_next", "e_next",
-                                                             "step"))
-        q_in[0] = q
-        lam_in[0, 0] = LAMBDA0
+        q_in, lam_in = f.arg["q"][0], f.arg["lam"][0]
+        q_out = f.res["q_next"][0]
+        lam_out, e_out, step_out = (f.res[k].reshape(-1) for k in ("lam_next", "e_next", "step"))
+        q_in[:] = q
+        lam_in[0] = LAMBDA0
         prev, stall, e = math.inf, 0, math.inf
-        while self.budget > 0:
-            f()
-            e, step, lam = e_out[0, 0], step_out[0, 0], lam_out[0, 0]
-            q_in[0] = q_out[0]
-            lam_in[0, 0] = lam
-            self._count("lm", e)
-            if e <= self.e_tol and step <= STEP_TOL:
+        evaluate, e_tol, history = f.__call__, self.e_tol, self.history
+        while self.budget > 0:  # one call: UNROLL iterations (the counting of _count, inline)
+            evaluate()
+            e, step, lam = float(e_out[0]), float(step_out[0]), float(lam_out[0])
+            q_in[:] = q_out
+            lam_in[0] = lam
+            self.iterations += UNROLL
+            self.budget -= UNROLL
+            self.evaluations += EVALS["lm"]
+            if e < self.best:
+                self.best = e
+            history.append(math.sqrt(self.best))
+            if e <= e_tol and step <= STEP_TOL:
                 self.slide_needed = f.res["slide"][0, 0] > SLIDE_TOL
-                return q_in[0].copy(), float(e), True
+                return q_in.copy(), e, True
             stall = stall + 1 if e >= (1 - 1e-6) * prev else 0
             prev = min(prev, e)
             if stall >= STALL_CALLS or lam >= LAMBDA_MAX:
                 break
-        return q_in[0].copy(), float(e), bool(e <= self.e_tol)
+        return q_in.copy(), e, e <= e_tol
 
     def slide_toward(self, q: Array) -> tuple[Array, bool]:
         """Phase 2 from a solution ``q``: (q, whether it moved)."""

@@ -35,8 +35,8 @@ class JointChecks:
                 f"{name} must have shape ({self.nq},), one value per joint {self.joint_names} "
                 f"[rad or m]; got shape {arr.shape}"
             )
-        bad = ~np.isfinite(arr)
-        if bad.any():
+        if not np.isfinite(arr).all():
+            bad = ~np.isfinite(arr)
             names = [self.joint_names[i] for i in np.flatnonzero(bad)]
             raise InputError(f"{name} has non-finite values (NaN or inf) at joints {names}; "
                              "pass finite joint values")
