@@ -12,9 +12,11 @@ at P, lifts it, carries it on an arc over a fixture to Q and sets it down:
 * ``PTP`` to 20 mm above P (the righty arm), ``LIN`` down at 0.1 m/s, ``LIN`` up,
   ``CIRC`` through a via point over the fixture to 20 mm above Q at 0.4 m/s, ``LIN`` down
   turning the part by 90° (yaw), ``LIN`` up, ``PTP`` home; the lift, the arc and the
-  descent are blended (10 mm radii: no stop above P or Q);
+  descent are blended (10 mm radii: no stop above P or Q), and so is the lift into the
+  joint move home (a blend next to a PTP is rounded in joint space);
 * program-wide tool limits: 0.5 m/s, 3 m/s², 3 rad/s yaw rate;
-* the standard 25/305/25 mm cycle of the same robot, timed three ways.
+* the standard 25/305/25 mm cycle of the same robot, timed three ways, and by toppra with
+  its upper corners blended (10 mm).
 
 Prints each stop-to-stop run's time and its worst tool-limit ratios (1 kHz FK), how far
 the blends pass from their corners, writes the CSV a
@@ -47,7 +49,7 @@ def main() -> None:
         so.LIN(so.Target([*P, z_up], yaw=0.0), blend=0.01),
         so.CIRC([0.34, 0.05, z_up], so.Target([*Q, z_up], yaw=0.0), speed=0.4, blend=0.01),
         so.LIN(so.Target([*Q, z_down], yaw=np.pi / 2), speed=0.1),
-        so.LIN(so.Target([*Q, z_up], yaw=np.pi / 2)),
+        so.LIN(so.Target([*Q, z_up], yaw=np.pi / 2), blend=0.01),
         so.PTP(home),
     ]
     limits = so.ToolLimits(speed=0.5, acceleration=3.0, yaw_rate=3.0)
@@ -69,7 +71,7 @@ def main() -> None:
     csv = traj.to_csv(OUT / "pick_and_place_cell.csv", dt=0.001)
     ros = traj.to_ros_yaml(OUT / "pick_and_place_cell.yaml", dt=0.01)
     print(f"CSV for the controller: {csv} ({len(traj.times(0.001))} rows at 1 ms); ROS: {ros}")
-    res = so.cycle_time(robot)
+    res = so.cycle_time(robot, blend=0.01)
     print("standard cycle 25/305/25 mm: " + ", ".join(
         f"{k} {v:.4f} s" for k, v in res.durations.items()))
     png = plot_motion(robot, traj, OUT / "pick_and_place_cell.png",
