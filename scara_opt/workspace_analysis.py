@@ -726,7 +726,8 @@ def workspace(robot: Robot, n: int = 60_000, seed: int | np.random.Generator | N
     cell = _auto_cell(uv) if grid is None else float(grid)
     occupancy = OccupancyGrid.from_points(uv, cell)
     flat = float(np.ptp(uv, axis=0).min()) <= 1e-12  # a point or a segment: no area
-    h, r = plane.height(P), plane.radius(P)
+    o = plane.coords(plane.origin)  # the radius from the plane coordinates already made
+    h, r = plane.height(P), np.hypot(uv[:, 0] - o[0], uv[:, 1] - o[1])
     return Workspace(
         robot=robot, points=P, q=Q, n_samples=int(n), seed=seed, plane=plane, footprint=zone,
         grid=occupancy, bounds=_column_extremes(P),
