@@ -60,7 +60,7 @@ from scara_opt.ik.base import (
     check_number,
     default_q0,
 )
-from scara_opt.ik.problem import ANGLE_SIZE, n_params, nlp_params, task_residual
+from scara_opt.ik.problem import ANGLE_SIZE, fill_params, n_params, task_residual
 from scara_opt.ik.registry import register_solver
 from scara_opt.model import symbolic
 from scara_opt.model.batch_fk import kinematic_key
@@ -456,7 +456,7 @@ def lm_search(robot: Robot, target: Target, q_ref: Array, starts: Iterable[Array
         Search: the best configuration over the starts tried.
     """
     f = phase_arrays(robot, target.kind, 1, jit)
-    f.par[0] = nlp_params(target, q_ref, 0.0)
+    fill_params(f.par[0], target, q_ref, 0.0)
     f.box[0] = limits(robot)[0] if box is None else box
     run = _Run(f, residual_tol(target.weights, tol))
     best_q, best_e, n = q_ref, math.inf, 0

@@ -112,10 +112,20 @@ def task_residual(robot: Robot, kind: str, q: ca.SX, par: ca.SX) -> ca.SX:
 
 def nlp_params(target: Target, q0: Array, lam: float) -> np.ndarray:
     """The parameter vector of one target (order of :func:`split_params`)."""
-    if target.kind == "yaw":
-        ang = [math.cos(target.yaw), math.sin(target.yaw)]
-    elif target.kind == "rotation":
-        ang = np.asarray(target.rotation).reshape(-1, order="F").tolist()  # casadi: column-major
-    else:
-        ang = []
-    return np.concatenate([target.position, ang, q0, target.weights, [lam]])
+    out = np.empty(3 + ANGLE_SIZE[target.kind] + len(q0) + 3)
+    fill_params(out, target, q0, lam)
+    return out
+
+
+def fill_params(out: np.ndarray, target: Target, q0: Array, lam: float) -> None:
+    """:func:`nlp_params` written into ``out`` (its length), without a new array per solve."""
+    kind = target.kind
+    out[:3] = target.position
+    k = 3 + ANGLE_SIZE[kind]
+    if kind == "yaw":
+        out[3], out[4] = math.cos(target.yaw), math.sin(target.yaw)
+    elif kind == "rotation":
+        out[3:k] = np.asarray(target.rotation).ravel(order="F")  # casadi: column-major
+    out[k:-3] = q0
+    out[-3], out[-2] = target.weights
+    out[-1] = lam
