@@ -375,6 +375,26 @@ def test_blends_with_a_ptp_stay_in_the_sphere_and_on_the_moves_outside_it(robot)
     assert max(v.max() for v in blended.check_limits().values()) <= 1.0
 
 
+@pytest.mark.parametrize("hair", [-1e-12, 0.0, 1e-12])
+def test_blend_radius_through_a_sample_of_the_lin_still_plans(robot, hair):
+    """A radius at a LIN sample's distance from the corner (the 25 mm strokes, sampled
+    every ``STEP``; that distance times 1 - 1e-12, 1, 1 + 1e-12) puts a sample on the
+    sphere, next to the cut: it is dropped, not kept as a near-duplicate waypoint that
+    toppra's spline cannot follow.
+
+    Mutations: either quarter-step guard removed (``end = a + 1``, ``start = b`` always)
+    -> TrajectoryError, fails.
+    """
+    from scara_opt.motion import geometry
+    from scara_opt.motion.plan import STEP
+
+    intervals = geometry.count(0.025, STEP) - 1
+    r = 0.025 * (intervals // 2) / intervals * (1 + hair)   # at a sample's distance
+    traj = _up_across_down(robot, r)
+    assert (traj.blend_deviations() <= r).all()
+    assert max(v.max() for v in traj.check_limits().values()) <= 1.0
+
+
 def test_blend_with_a_ptp_too_large_names_the_move_and_the_largest(robot):
     """A radius above half of the 25 mm LIN is refused with the move and 0.0125 m."""
     with pytest.raises(MoveError, match=r"move 0: blend radius 0.02 m .* blend <= 0.0125"):

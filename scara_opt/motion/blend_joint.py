@@ -107,8 +107,11 @@ def joint_blended(section: list[tuple[int, Move]], robot: Robot, q_prev: Array, 
             raise MoveError(index, f"the joint-space corner of blend radius {r:g} m leaves its "
                                    f"sphere ({dist.max():.6g} m from the goal): a sharp turn "
                                    "of the joints there; pass a smaller blend")
-        rows += [Q[start:a + 1], corner]
-        owner += [index] * (a + 1 - start + len(corner))
+        # a sample within a quarter step of A or B is dropped: near-duplicate waypoints
+        # would make the spline degenerate (a sample lying on the sphere, e.g.)
+        end = a if np.linalg.norm(P[a] - c) - r < step / 4 else a + 1
+        rows += [Q[start:max(end, start)], corner]
+        owner += [index] * (max(end, start) - start + len(corner))
         corners.append((c, r))
-        start = b
+        start = b + 1 if np.linalg.norm(Pn[b] - c) - r < step / 4 and b + 1 < len(Qn) else b
     return np.vstack(rows), corners, owner
