@@ -14,7 +14,8 @@ import pytest
 
 from tests.conftest import ROOT
 
-GUIDES = ["index.md", "getting-started.md", "own-robot.md", "ik-methods.md", "time-optimal.md"]
+GUIDES = ["index.md", "getting-started.md", "own-robot.md", "ik-methods.md", "time-optimal.md",
+          "motion.md"]
 
 
 def _roles():
