@@ -3,7 +3,9 @@
 Runs the CLI in a fresh process into a temporary folder and prints its wall time, each
 paper's own time (from the CLI's per-paper lines) and, as the baseline measured in the same
 run, a fresh process that only imports scara_opt (what every command pays before working).
-``--full`` also times ``reproduce all`` without ``--quick`` (long: minutes).
+Each run twice: with the CLI's default ``--jobs`` (the papers in two processes on two cores
+or more; a paper's time is then its worker's) and with ``--jobs 1`` (one after the other).
+``--full`` also times ``reproduce all`` without ``--quick``.
 
 Usage: python benchmarks/bench_reproduce.py [--full]
 """
@@ -30,10 +32,10 @@ def timed(cmd: list[str]) -> tuple[float, str]:
     return time.perf_counter() - start, proc.stdout
 
 
-def reproduce(quick: bool) -> tuple[float, dict[str, float]]:
-    """Wall time [s] of ``reproduce all`` and each paper's own time [s]."""
+def reproduce(quick: bool, jobs: list[str]) -> tuple[float, dict[str, float]]:
+    """Wall time [s] of ``reproduce all`` (``jobs``: extra CLI arguments) and each paper's [s]."""
     with tempfile.TemporaryDirectory(prefix="scara_opt_reproduce_") as out:
-        cmd = [sys.executable, "-m", "scara_opt.cli", "reproduce", "all", "--out", out]
+        cmd = [sys.executable, "-m", "scara_opt.cli", "reproduce", "all", "--out", out, *jobs]
         wall, stdout = timed(cmd + (["--quick"] if quick else []))
     papers = {m[1]: float(m[2]) for line in stdout.splitlines()
               if (m := PAPER_LINE.match(line.strip()))}
@@ -47,12 +49,12 @@ def main() -> None:
     base = min(timed([sys.executable, "-c", "import scara_opt"])[0] for _ in range(3))
     print(f"baseline: a fresh process importing scara_opt: {base:.2f} s")
     runs = [("--quick", True)] + ([("full", False)] if args.full else [])
-    for label, quick in runs:
-        wall, papers = reproduce(quick)
+    for (label, quick), jobs in ((run, jobs) for run in runs for jobs in ([], ["--jobs", "1"])):
+        wall, papers = reproduce(quick, jobs)
         goal = (f"  goal <= {GOAL_QUICK_S:g} s: {'met' if wall <= GOAL_QUICK_S else 'NOT met'}"
                 if quick else "")
-        print(f"reproduce all {label}: {wall:.1f} s wall ({wall / base:.0f}x the import)"
-              f"{goal}")
+        print(f"reproduce all {label} {' '.join(jobs) or '(default --jobs)'}: {wall:.1f} s wall "
+              f"({wall / base:.0f}x the import){goal}")
         for paper, seconds in papers.items():
             print(f"  {paper:<10} {seconds:8.1f} s")
 

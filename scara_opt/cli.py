@@ -14,6 +14,7 @@ from __future__ import annotations
 import argparse
 import json
 import math
+import os
 import sys
 from collections.abc import Sequence
 from typing import Any
@@ -322,6 +323,16 @@ def cmd_path(args: argparse.Namespace) -> int:
     return 0
 
 
+def _jobs(text: str) -> int:
+    try:
+        value = int(text)
+    except ValueError:
+        value = 0
+    if value < 1:
+        raise argparse.ArgumentTypeError(f"must be a whole number >= 1; got {text}")
+    return value
+
+
 def cmd_reproduce(args: argparse.Namespace) -> int:
     """Reproduce one paper or all: tables, figures and summary.md."""
     from scara_opt.reports import PAPERS, reproduce
@@ -330,7 +341,7 @@ def cmd_reproduce(args: argparse.Namespace) -> int:
     writes = ["summary.md", *(f"{p}_*" for p in papers)]
     with OutputDir(args.out, writes, args.force, last=["summary.md"]) as out:
         assert out.staging is not None
-        reports = reproduce(args.paper, out.staging, quick=args.quick)
+        reports = reproduce(args.paper, out.staging, quick=args.quick, jobs=args.jobs)
     for rep in reports:
         verdicts = [f.verdict for f in rep.findings]
         counts = ", ".join(f"{verdicts.count(v)} {v}" for v in dict.fromkeys(verdicts))
@@ -467,6 +478,9 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--out", required=True, help="output folder (summary.md, CSV, PNG)")
     p.add_argument("--force", action="store_true", help=FORCE_HELP)
     p.add_argument("--quick", action="store_true", help="reduced sweeps for a first look")
+    p.add_argument("--jobs", type=_jobs, default=min(2, os.cpu_count() or 1), metavar="N",
+                   help="papers run in N processes at once (default: 2, or 1 on a single "
+                        "core; the files are those of a serial run)")
     p.set_defaults(func=cmd_reproduce)
     return parser
 

@@ -195,11 +195,13 @@ def test_sigint_during_ipopt_solves_is_raised_again():
 
 
 def test_ctrl_c_in_a_real_process_is_one_line_and_exit_130(tmp_path):
-    """SIGINT to `reproduce all --quick` (a real process): exit 130, one stderr line, and
-    --out as before (no partial file, no staging folder).
+    """SIGINT to `reproduce all --quick` (a real process): exit 130, one stderr line,
+    --out as before (no partial file, no staging folder), no paper worker left running.
 
     The signal is sent 2.5 s after the run's staging folder appeared (imports done).
-    Mutation: main()'s ``except KeyboardInterrupt`` removed: a traceback, test failed.
+    Mutation: main()'s ``except KeyboardInterrupt`` removed: a traceback, test failed;
+    the workers not killed in ``reports._in_processes`` (its ``finally`` emptied): they
+    run on, test failed.
     (Without ``quiet_casadi_warning`` casadi's warning line comes first when the signal
     lands inside an IPOPT solve, 1 of 4 manual runs: test_casadi_warning_is_dropped.)
     """
@@ -218,6 +220,19 @@ def test_ctrl_c_in_a_real_process_is_one_line_and_exit_130(tmp_path):
     assert proc.returncode == 130, err
     assert err.strip().splitlines() == ["scara-opt: interrupted"], err
     assert [p.name for p in tmp_path.iterdir()] == ["notes.txt"]
+    assert _processes_naming(tmp_path) == []  # the paper workers (--jobs) were stopped too
+
+
+def _processes_naming(path: Path) -> list[int]:
+    """Ids of the processes whose command line contains ``path`` (Linux /proc; else [])."""
+    found = []
+    for cmdline in Path("/proc").glob("[0-9]*/cmdline"):
+        try:
+            if str(path).encode() in cmdline.read_bytes():
+                found.append(int(cmdline.parent.name))
+        except OSError:  # the process ended meanwhile
+            continue
+    return found
 
 
 def test_ik_all_refuses_method_and_seed(capsys):
@@ -350,7 +365,9 @@ def test_ctrl_c_to_the_process_group_with_workers(tmp_path):
     with exit 130, `scara-opt: interrupted` as the last stderr line (above it only the
     progress bar) and no traceback from the main process or the workers.
 
-    Mutation: main()'s ``except KeyboardInterrupt`` removed: a traceback, test failed.
+    Mutation: main()'s ``except KeyboardInterrupt`` removed: a traceback, test failed;
+    the workers not killed in ``reports._in_processes`` (its ``finally`` emptied): they
+    run on, test failed.
     (Workers ignore SIGINT (_ignore_sigint); removing that showed no difference in two
     manual runs: busy workers return the interrupt as their job's result.)
     """

@@ -115,3 +115,52 @@ def test_a_finding_refuses_an_unknown_verdict():
     """Verdicts are a closed set: a typo is an error, not a new category."""
     with pytest.raises(ValueError, match="unknown verdict"):
         Finding("x", "y", "z", "matched!")
+
+
+def test_papers_in_processes_write_what_a_serial_run_writes(tmp_path):
+    """``reproduce(jobs=2)`` (a worker process per lane of papers) writes the files of a
+    serial run, with the same numbers in every table but the time columns, and returns the
+    reports in the order asked.
+
+    Mutations: the reports returned in lane order (``for lane in lanes for name in lane``)
+    -> order differs, fails; the quick flag not passed on (``"0"`` always) -> peng2025's
+    quick tables differ, fails.
+    """
+    import pandas as pd
+
+    from scara_opt.reports import reproduce
+
+    names = ["inverted5", "peng2025"]
+    serial = reproduce(names, tmp_path / "serial", quick=True, jobs=1)
+    parallel = reproduce(names, tmp_path / "parallel", quick=True, jobs=2)
+    assert [r.paper for r in parallel] == names == [r.paper for r in serial]
+    files = sorted(p.name for p in (tmp_path / "serial").iterdir())
+    assert files == sorted(p.name for p in (tmp_path / "parallel").iterdir())
+    for name in (f for f in files if f.endswith(".csv")):
+        a, b = (pd.read_csv(tmp_path / d / name) for d in ("serial", "parallel"))
+        keep = [c for c in a.columns if not c.endswith("_s") and "speedup" not in c]
+        pd.testing.assert_frame_equal(a[keep], b[keep])
+    for a, b in zip(serial, parallel, strict=True):
+        assert [(f.item, f.verdict) for f in a.findings] == [
+            (f.item, f.verdict) for f in b.findings]
+
+
+def test_a_failing_paper_worker_is_an_error_with_its_stderr(tmp_path):
+    """A worker that fails (here: a paper name the worker refuses) raises RuntimeError
+    carrying the end of its stderr, not a missing-file error later.
+
+    Mutation: the return code not checked -> FileNotFoundError on the missing report, fails.
+    """
+    from scara_opt.reports import _in_processes
+
+    with pytest.raises(RuntimeError, match="unknown paper 'nobody2020'"):
+        _in_processes(["inverted5", "nobody2020"], tmp_path, True, 2)
+
+
+def test_reproduce_jobs_must_be_a_whole_number():
+    """jobs=0, 1.5 or True: InputError naming jobs (nothing run)."""
+    from scara_opt.reports import reproduce
+
+    for jobs in (0, 1.5, True):
+        with pytest.raises(so.InputError, match="jobs"):
+            reproduce(["inverted5"], "unused", jobs=jobs)

@@ -135,15 +135,85 @@ def _write_animation(report: PaperReport, out: Path) -> None:
 
 
 def reproduce(papers: str | Sequence[str] = "all", out: str | Path = "results",
-              quick: bool = False) -> list[PaperReport]:
-    """Reproduce papers (``"all"`` or names) into ``out`` and write ``out/summary.md``."""
+              quick: bool = False, jobs: int = 1) -> list[PaperReport]:
+    """Reproduce papers (``"all"`` or names) into ``out`` and write ``out/summary.md``.
+
+    ``jobs`` > 1 runs the papers in that many processes (each paper's numbers are seeded,
+    so the files are those of a serial run; only the times differ).
+
+    Raises:
+        InputError: unknown paper, or ``jobs`` not a whole number >= 1.
+    """
     names = list(PAPERS) if papers == "all" else [papers] if isinstance(papers, str) else papers
+    if isinstance(jobs, bool) or not isinstance(jobs, int) or jobs < 1:
+        raise InputError(f"jobs must be a whole number >= 1 (processes); got {jobs!r}")
+    for name in names:
+        if name not in PAPERS:
+            raise InputError(f"unknown paper {name!r}; papers: {', '.join(PAPERS)}, or 'all'")
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
-    reports = [run_paper(name, out, quick) for name in names]
+    if jobs > 1 and len(names) > 1:
+        reports = _in_processes(names, out, quick, min(jobs, len(names)))
+    else:
+        reports = [run_paper(name, out, quick) for name in names]
     header = ["# scara_opt: reproduction of the papers", "",
               f"Mode: {'quick (reduced sweeps)' if quick else 'full'}. Each section lists what "
               "was checked against the paper, what matched, what did not, and why.", ""]
     # written last and atomically: a summary.md means every table and figure is there
     write_text_atomic(out / "summary.md", "\n".join(header + [r.to_markdown() for r in reports]))
     return reports
+
+
+#: rough relative run times of the papers, only to share them out among processes
+COST = {"zavar2024": 7.0, "nguyen": 3.0, "fang": 1.7, "peng2025": 1.0, "inverted5": 0.4}
+
+
+def _lanes(names: list[str], jobs: int) -> list[list[str]]:
+    """The papers shared out among ``jobs`` processes, the longest first to the least loaded."""
+    lanes: list[list[str]] = [[] for _ in range(jobs)]
+    load = [0.0] * jobs
+    for name in sorted(names, key=lambda n: -COST.get(n, 1.0)):
+        k = load.index(min(load))
+        lanes[k].append(name)
+        load[k] += COST.get(name, 1.0)
+    return [lane for lane in lanes if lane]
+
+
+def _in_processes(names: list[str], out: Path, quick: bool, jobs: int) -> list[PaperReport]:
+    """:func:`run_paper` of the papers in ``jobs`` fresh processes (:func:`_lanes`).
+
+    Each worker (``python -m scara_opt.reports.worker``) runs in its own session, so a
+    Ctrl-C reaches this process only; on any error or interrupt here the workers still
+    running are killed before the caller cleans up its output. A worker that fails raises
+    ``RuntimeError`` with the end of its stderr.
+    """
+    import pickle
+    import subprocess
+    import sys
+    import tempfile
+
+    with tempfile.TemporaryDirectory(prefix="scara_opt_reproduce_") as tmp:
+        running = []
+        try:
+            for k, lane in enumerate(_lanes(names, jobs)):
+                log = Path(tmp) / f"worker{k}.err"
+                with log.open("w") as err:
+                    running.append((subprocess.Popen(
+                        [sys.executable, "-m", "scara_opt.reports.worker", str(out),
+                         "1" if quick else "0", tmp, *lane],
+                        stdout=subprocess.DEVNULL, stderr=err, start_new_session=True), log))
+            while running:
+                for proc, log in list(running):
+                    if proc.poll() is None:
+                        continue
+                    running.remove((proc, log))
+                    if proc.returncode != 0:
+                        tail = log.read_text()[-2000:].strip()
+                        raise RuntimeError(f"reproduce: a worker process failed (exit "
+                                           f"{proc.returncode}): {tail}")
+                time.sleep(0.02)
+        finally:
+            for proc, _ in running:
+                proc.kill()
+                proc.wait()
+        return [pickle.loads((Path(tmp) / f"{name}.pkl").read_bytes()) for name in names]
