@@ -185,7 +185,8 @@ def _in_processes(names: list[str], out: Path, quick: bool, jobs: int) -> list[P
     Each worker (``python -m scara_opt.reports.worker``) runs in its own session, so a
     Ctrl-C reaches this process only; on any error or interrupt here the workers still
     running are killed before the caller cleans up its output. A worker that fails raises
-    ``RuntimeError`` with the end of its stderr.
+    ``RuntimeError`` with the end of its stderr; after a success their stderr (warnings)
+    is passed on.
     """
     import pickle
     import subprocess
@@ -216,4 +217,6 @@ def _in_processes(names: list[str], out: Path, quick: bool, jobs: int) -> list[P
             for proc, _ in running:
                 proc.kill()
                 proc.wait()
+        for log in sorted(Path(tmp).glob("worker*.err")):  # warnings, as a serial run shows
+            sys.stderr.write(log.read_text())
         return [pickle.loads((Path(tmp) / f"{name}.pkl").read_bytes()) for name in names]
