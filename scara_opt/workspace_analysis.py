@@ -278,13 +278,11 @@ class Footprint:
             (n,) True where a segment between consecutive checked points enters the zone.
         """
         pts = chain_uv[:, first:]
-        A, B = pts[:, :-1].reshape(-1, 2), pts[:, 1:].reshape(-1, 2)
-        if A.shape[0] == 0:  # a single point: the tip alone
-            A = B = pts.reshape(-1, 2)
+        A, B = (pts, pts) if pts.shape[1] == 1 else (pts[:, :-1], pts[:, 1:])  # (n, m, 2)
         if self.shape == "circle":
             hit = _segment_distance(A, B, self.center) < self.radius
         else:
-            hit = _segments_hit_polygon(A, B, self.vertices)
+            hit = _segments_hit_polygon(A.reshape(-1, 2), B.reshape(-1, 2), self.vertices)
         return hit.reshape(chain_uv.shape[0], -1).any(axis=1)
 
     def outline(self) -> Array:
@@ -309,11 +307,17 @@ def _finite(value: object, shape: tuple[int | None, ...], what: str) -> Array:
 
 
 def _segment_distance(A: Array, B: Array, c: Array) -> Array:
-    """Distance (s,) from point ``c`` (2,) to each segment A[i]–B[i] (s, 2)."""
-    AB, AC = B - A, c - A
-    L2 = np.einsum("ij,ij->i", AB, AB)
-    t = np.clip(np.einsum("ij,ij->i", AC, AB) / np.where(L2 > 0, L2, 1.0), 0.0, 1.0)
-    return np.linalg.norm(A + t[:, None] * AB - c, axis=1)
+    """Distance (...) from point ``c`` (2,) to each segment A–B (..., 2).
+
+    Coordinate by coordinate: on the (2, ...) rows of :meth:`Plane.coords` each is a
+    contiguous array (issue 18: no (s, 2) copies, no per-row reductions).
+    """
+    ax, ay, bx, by = A[..., 0], A[..., 1], B[..., 0], B[..., 1]
+    dx, dy = bx - ax, by - ay
+    L2 = dx * dx + dy * dy
+    t = ((c[0] - ax) * dx + (c[1] - ay) * dy) / np.where(L2 > 0, L2, 1.0)
+    np.clip(t, 0.0, 1.0, out=t)
+    return np.hypot(ax + t * dx - c[0], ay + t * dy - c[1])
 
 
 def _cross(a: Array, b: Array) -> Array:
@@ -409,9 +413,11 @@ class OccupancyGrid:
 
 
 def _surrounded(occupied: NDArray[np.bool_]) -> NDArray[np.bool_]:
-    """(nu, nv) True where all four neighbours of a cell are occupied."""
-    pad = np.pad(occupied, 1)
-    return pad[:-2, 1:-1] & pad[2:, 1:-1] & pad[1:-1, :-2] & pad[1:-1, 2:]
+    """(nu, nv) True where all four neighbours of a cell are occupied (none on the border)."""
+    out = np.zeros_like(occupied)
+    o = occupied
+    out[1:-1, 1:-1] = o[:-2, 1:-1] & o[2:, 1:-1] & o[1:-1, :-2] & o[1:-1, 2:]
+    return out
 
 
 def _auto_cell(uv: Array) -> float:
@@ -709,15 +715,17 @@ def workspace(robot: Robot, n: int = 60_000, seed: int | np.random.Generator | N
         Q = rng.uniform(robot.sampling_lower, robot.sampling_upper, (int(n), robot.nq))
         if zone is None:
             P = robot.positions(Q)
+            uv = plane.coords(P)
         else:
             chain = robot.joint_origins(Q)
-            keep = ~zone.blocks(plane.coords(chain), zone.first_origin(robot))
+            chain_uv = plane.coords(chain)
+            keep = ~zone.blocks(chain_uv, zone.first_origin(robot))
             if not keep.any():
                 raise InputError(f"the footprint blocks all {n} samples of robot "
                                  f"{robot.name!r}; check its center/vertices, radius and "
                                  "links_from")
             Q, P = Q[keep], chain[keep, -1]
-    uv = plane.coords(P)
+            uv = plane.coords(P)  # not chain_uv[keep, -1]: (2, m) rows for the reductions
     span = float(np.ptp(uv, axis=0).max())
     if grid is not None and 0.0 < span < grid:
         raise InputError(f"grid cell {grid:g} m is larger than the workspace ({span:.3g} m "
