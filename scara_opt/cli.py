@@ -323,16 +323,6 @@ def cmd_path(args: argparse.Namespace) -> int:
     return 0
 
 
-def _jobs(text: str) -> int:
-    try:
-        value = int(text)
-    except ValueError:
-        value = 0
-    if value < 1:
-        raise argparse.ArgumentTypeError(f"must be a whole number >= 1; got {text}")
-    return value
-
-
 def cmd_reproduce(args: argparse.Namespace) -> int:
     """Reproduce one paper or all: tables, figures and summary.md."""
     from scara_opt.reports import PAPERS, reproduce
@@ -478,7 +468,8 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--out", required=True, help="output folder (summary.md, CSV, PNG)")
     p.add_argument("--force", action="store_true", help=FORCE_HELP)
     p.add_argument("--quick", action="store_true", help="reduced sweeps for a first look")
-    p.add_argument("--jobs", type=_jobs, default=min(2, os.cpu_count() or 1), metavar="N",
+    p.add_argument("--jobs", type=_int_at_least(1, MAX_WORKERS),
+                   default=min(2, os.cpu_count() or 1), metavar="N",
                    help="papers run in N processes at once (default: 2, or 1 on a single "
                         "core; the files are those of a serial run)")
     p.set_defaults(func=cmd_reproduce)

@@ -366,18 +366,13 @@ class _Run:
         q_in[:] = q
         lam_in[0] = LAMBDA0
         prev, stall, e = math.inf, 0, math.inf
-        evaluate, e_tol, history = f.__call__, self.e_tol, self.history
-        while self.budget > 0:  # one call: UNROLL iterations (the counting of _count, inline)
-            evaluate()
+        e_tol = self.e_tol
+        while self.budget > 0:  # one call: UNROLL iterations
+            f()
             e, step, lam = float(e_out[0]), float(step_out[0]), float(lam_out[0])
             q_in[:] = q_out
             lam_in[0] = lam
-            self.iterations += UNROLL
-            self.budget -= UNROLL
-            self.evaluations += EVALS["lm"]
-            if e < self.best:
-                self.best = e
-            history.append(math.sqrt(self.best))
+            self._count("lm", e)
             if e <= e_tol and step <= STEP_TOL:
                 self.slide_needed = f.res["slide"][0, 0] > SLIDE_TOL
                 return q_in.copy(), e, True

@@ -113,13 +113,24 @@ def compiled(name: str, key: str, build: Callable[[], ca.Function]) -> ca.Functi
 
 def _compile(f: ca.Function, name: str, cc: str, path: Path) -> None:
     """Generate ``f``'s C code and compile it into ``path`` (written atomically)."""
-    path.parent.mkdir(parents=True, exist_ok=True)
-    with tempfile.TemporaryDirectory(dir=path.parent) as tmp:
+    def generate(tmp: str) -> str:
         generator = ca.CodeGenerator(f"{name}.c")
         generator.add(f)
-        source = generator.generate(tmp + os.sep)
-        partial = Path(tmp) / f"{name}.so"
-        subprocess.run([cc, *FLAGS, "-o", str(partial), source], check=True,
+        return generator.generate(tmp + os.sep)
+
+    _build(cc, path, generate)
+
+
+def _build(cc: str, path: Path, source: Callable[[str], str], libs: tuple[str, ...] = ()) -> None:
+    """Compile the C file ``source(tmp)`` returns into the library ``path``, atomically.
+
+    ``tmp``: a scratch folder beside ``path`` (for generated sources); the library is written
+    there under a temporary name and renamed, so no process loads a half-written file.
+    """
+    path.parent.mkdir(parents=True, exist_ok=True)
+    with tempfile.TemporaryDirectory(dir=path.parent) as tmp:
+        partial = Path(tmp) / path.name
+        subprocess.run([cc, *FLAGS, "-o", str(partial), source(tmp), *libs], check=True,
                        capture_output=True, timeout=600)
         os.replace(partial, path)
 
@@ -141,12 +152,7 @@ def c_library(source: str | Path) -> ctypes.CDLL | None:
     if os.environ.get(NO_COMPILE_ENV) != "1" and (cc := _compiler()) is not None:
         try:
             if not path.is_file():
-                path.parent.mkdir(parents=True, exist_ok=True)
-                with tempfile.TemporaryDirectory(dir=path.parent) as tmp:
-                    partial = Path(tmp) / path.name
-                    subprocess.run([cc, *FLAGS, "-o", str(partial), str(source), "-lm"],
-                                   check=True, capture_output=True, timeout=600)
-                    os.replace(partial, path)
+                _build(cc, path, lambda _tmp: str(source), ("-lm",))
             lib = ctypes.CDLL(str(path))
         except (OSError, subprocess.SubprocessError) as exc:
             if source.stem not in _WARNED:

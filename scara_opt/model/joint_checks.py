@@ -35,9 +35,9 @@ class JointChecks:
                 f"{name} must have shape ({self.nq},), one value per joint {self.joint_names} "
                 f"[rad or m]; got shape {arr.shape}"
             )
-        if not np.isfinite(arr).all():
-            bad = ~np.isfinite(arr)
-            names = [self.joint_names[i] for i in np.flatnonzero(bad)]
+        finite = np.isfinite(arr)
+        if not finite.all():
+            names = [self.joint_names[i] for i in np.flatnonzero(~finite)]
             raise InputError(f"{name} has non-finite values (NaN or inf) at joints {names}; "
                              "pass finite joint values")
         return arr
@@ -54,8 +54,9 @@ class JointChecks:
                 f"{name} must have shape (n, {self.nq}), one row per configuration; "
                 f"got shape {arr.shape}"
             )
-        if not np.isfinite(arr).all():
-            rows = np.flatnonzero(~np.isfinite(arr).all(axis=1))
+        finite = np.isfinite(arr)
+        if not finite.all():
+            rows = np.flatnonzero(~finite.all(axis=1))
             raise InputError(f"{name} has non-finite values in rows {rows[:10].tolist()}; "
                              "pass finite joint values")
         return arr

@@ -36,7 +36,7 @@ def _ptp_line(robot: Robot, q0: Array, q1: Array, step: float) -> Array:
     """A PTP's joint line sampled so the tip moves at most about ``step`` [m] per sample."""
     f = np.linspace(0.0, 1.0, PROBE)[:, None]
     P = robot.positions(q0 + f * (q1 - q0))
-    n = geometry.count(float(np.linalg.norm(np.diff(P, axis=0), axis=1).sum()), step, least=2)
+    n = geometry.count(_tool_length(P), step, least=2)
     return q0 + np.linspace(0.0, 1.0, n)[:, None] * (q1 - q0)
 
 
@@ -53,6 +53,7 @@ def _crossing(robot: Robot, inside: Array, outside: Array, c: Array, r: float) -
 
 
 def _tool_length(P: Array) -> float:
+    """Length [m] of the polyline through the tip positions ``P`` (n, 3)."""
     return float(np.linalg.norm(np.diff(P, axis=0), axis=1).sum())
 
 

@@ -101,14 +101,19 @@ def reference_data(paper: str) -> dict:
     return tomllib.loads((Path(__file__).parent / "reference" / f"{paper}.toml").read_text())
 
 
+def _check_paper(paper: str) -> None:
+    """Raise InputError for a name not in :data:`PAPERS` (the message lists them)."""
+    if paper not in PAPERS:
+        raise InputError(f"unknown paper {paper!r}; papers: {', '.join(PAPERS)}, or 'all'")
+
+
 def run_paper(paper: str, out: str | Path, quick: bool = False) -> PaperReport:
     """Reproduce one paper into ``out``.
 
     Raises:
         InputError: unknown paper name (the message lists them).
     """
-    if paper not in PAPERS:
-        raise InputError(f"unknown paper {paper!r}; papers: {', '.join(PAPERS)}, or 'all'")
+    _check_paper(paper)
     module = importlib.import_module(f"scara_opt.reports.{paper}")
     start = time.perf_counter()
     report: PaperReport = module.run(Path(out), quick=quick)
@@ -148,8 +153,7 @@ def reproduce(papers: str | Sequence[str] = "all", out: str | Path = "results",
     if isinstance(jobs, bool) or not isinstance(jobs, int) or jobs < 1:
         raise InputError(f"jobs must be a whole number >= 1 (processes); got {jobs!r}")
     for name in names:
-        if name not in PAPERS:
-            raise InputError(f"unknown paper {name!r}; papers: {', '.join(PAPERS)}, or 'all'")
+        _check_paper(name)
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
     if jobs > 1 and len(names) > 1:
