@@ -25,11 +25,7 @@ class JointChecks:
 
     def check_q(self, q: object, name: str = "q") -> Array:
         """Return ``q`` as a float array of shape (nq,), or raise :class:`InputError`."""
-        try:
-            arr = float_array(q, name)
-        except InputError:
-            raise InputError(f"{name} must be numeric, one value per joint "
-                             f"{self.joint_names}; got {describe(q)}") from None
+        arr = _numeric(q, name, f"numeric, one value per joint {self.joint_names}")
         if arr.shape != (self.nq,):
             raise InputError(
                 f"{name} must have shape ({self.nq},), one value per joint {self.joint_names} "
@@ -44,11 +40,7 @@ class JointChecks:
 
     def check_q_batch(self, Q: object, name: str = "Q") -> Array:
         """Return ``Q`` as a float array of shape (n, nq), or raise :class:`InputError`."""
-        try:
-            arr = float_array(Q, name)
-        except InputError:
-            raise InputError(f"{name} must be a numeric array of shape (n, {self.nq}); got "
-                             f"{describe(Q)}") from None
+        arr = _numeric(Q, name, f"a numeric array of shape (n, {self.nq})")
         if arr.ndim != 2 or arr.shape[1] != self.nq:
             raise InputError(
                 f"{name} must have shape (n, {self.nq}), one row per configuration; "
@@ -72,3 +64,11 @@ class JointChecks:
         arr = self.check_q(arr) if arr.ndim == 1 else self.check_q_batch(arr)
         ok = np.all((arr >= self.lower - tol) & (arr <= self.upper + tol), axis=-1)
         return bool(ok) if arr.ndim == 1 else ok
+
+
+def _numeric(value: object, name: str, want: str) -> Array:
+    """``value`` as a float array, or InputError: "``name`` must be ``want``; got ..."."""
+    try:
+        return float_array(value, name)
+    except InputError:
+        raise InputError(f"{name} must be {want}; got {describe(value)}") from None
