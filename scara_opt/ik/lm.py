@@ -16,9 +16,12 @@ joint ranges), over the joints that a bound does not hold:
    the solutions are not isolated); a step is kept when it lowers the residual (then
    :math:`λ` shrinks tenfold), else refused (:math:`λ` grows tenfold). Joints at a bound
    whose gradient points outward are held; every candidate is clipped onto the box.
-2. **Slide** along the solution set toward ``q0``: the tangent step
-   :math:`(I - J^+ J)(u_0 - u)` (or a fraction of it, or as far as the first bound), then
-   two Gauss–Newton steps back onto the solution set (a retraction, so curved solution
+2. **Slide** along the solution set toward ``q0``: candidates are the Newton (SQP) step
+   of :math:`\min \tfrac12\|u - u_0\|^2` subject to :math:`r = 0` with the Lagrangian's
+   Hessian (quadratic convergence at the end: :func:`_newton`), and the tangent step
+   :math:`(I - J^+ J)(u_0 - u)` (or a fraction of it, or as far as the first bound: these
+   carry the slide where the Newton step is not yet good); each is followed by two
+   Gauss–Newton steps back onto the solution set (a retraction, so curved solution
    sets such as nguyen's rail + 2R are followed); the candidate nearest to ``q0`` among
    those nearer than the current point with a residual below 1e-6 is kept.
    Skipped in effect (one evaluation) where there is no redundancy.
@@ -93,7 +96,9 @@ STALL_CALLS = 2
 UNROLL = 3
 #: iterations and FK evaluations per Function call (residual and Jacobian, the candidates)
 ITERATIONS = {"lm": UNROLL, "slide": 1}
-EVALS = {"lm": 2 * UNROLL, "slide": 1 + (2 + RETRACTION_STEPS) * (len(SLIDES) + 1)}
+#: (the slide: the residual, Jacobian and Lagrangian Hessian at q, then per candidate the
+#: step, the retraction and the check)
+EVALS = {"lm": 2 * UNROLL, "slide": 2 + (2 + RETRACTION_STEPS) * (len(SLIDES) + 2)}
 
 
 
@@ -215,14 +220,41 @@ def _room(sym: _Symbols, q: ca.SX, direction: ca.SX) -> ca.SX:
     return ca.fmin(1.0, ca.mmin(ca.if_else(ca.fabs(direction) > 1e-300, room, ca.inf)))
 
 
+def _newton(sym: _Symbols, robot: Robot, kind: str, free: ca.SX, Js: ca.SX,
+            r: ca.SX) -> ca.SX:
+    r"""The scaled SQP (Newton–KKT) step toward the nearest point of the solution set.
+
+    Minimises :math:`\tfrac12\|u - u_0\|^2` subject to :math:`r = 0` in scaled coordinates:
+    :math:`\begin{bmatrix} H & J_s^T \\ J_s & -μI \end{bmatrix}
+    \begin{bmatrix} Δu \\ ν \end{bmatrix} = -\begin{bmatrix} g \\ r \end{bmatrix}`,
+    :math:`g = u - u_0` over the free joints, :math:`H = I + \sum_i λ_i ∇^2 r_i` with the
+    least-squares multipliers :math:`λ = -(J_s J_s^T)^{-1} J_s g` (μ: the floor of
+    :func:`_damped_pinv`). The tangent step alone takes :math:`H = I` and converges
+    linearly, at the rate the solution set's curvature sets (~0.3 a step on a 7-joint
+    arm far from ``q0``); with the curvature this step converges quadratically.
+    """
+    nq, m = robot.nq, Js.shape[0]
+    g = free * (sym.q - sym.q_ref) / sym.s
+    mu = MU_REL * ca.sumsqr(Js) + MU_FLOOR
+    lam = -ca.solve(Js @ Js.T + mu * ca.SX.eye(m), Js @ g)
+    x, lx = ca.SX.sym("x", nq), ca.SX.sym("l", m)
+    phi = ca.dot(lx, task_residual(robot, kind, x, sym.par))
+    hess = ca.Function("lagrangian_hessian", [x, lx, sym.par], [ca.hessian(phi, x)[0]])
+    D = ca.diag(sym.s * free)
+    H = ca.SX.eye(nq) + D @ hess(sym.q, lam, sym.par) @ D
+    kkt = ca.blockcat([[H, Js.T], [Js, -mu * ca.SX.eye(m)]])
+    return ca.solve(kkt, -ca.vertcat(g, r))[:nq]
+
+
 def build_slide_step(robot: Robot, kind: str) -> ca.Function:
     """Phase 2: one slide toward ``q0`` along the solution set, with a retraction.
 
     ``slide_step(q (nq), par, box (3 nq)) -> (q_next (nq), e_next (1), step (1))``, inputs
     as for :func:`build_lm_step`. Joints at a bound that ``q0`` lies beyond are held, and
-    so are joints the slide takes to a bound, during the retraction. Slide lengths
-    tried: the fractions ``SLIDES`` of the tangent step and the length that meets the
-    first bound; of those that end nearer to ``q0`` with a small residual, the nearest.
+    so are joints the slide takes to a bound, during the retraction. Steps tried: the
+    Newton step (:func:`_newton`), the fractions ``SLIDES`` of the tangent step and the
+    length that meets the first bound; of those that end nearer to ``q0`` with a small
+    residual, the nearest.
     """
     sym = _Symbols.make(robot, kind)
     q = sym.q
@@ -231,8 +263,9 @@ def build_slide_step(robot: Robot, kind: str) -> ca.Function:
     fix = -_damped_pinv(Js, 0.0) @ r
     e0 = ca.sumsqr(r)
     q_next, e_next, d_next = q, e0, sym.distance(q)
-    for alpha in (*SLIDES, _room(sym, q, tangent)):
-        c1 = sym.clip(q + sym.s * (fix + alpha * tangent))
+    steps = [fix + alpha * tangent for alpha in (*SLIDES, _room(sym, q, tangent))]
+    for step in [_newton(sym, robot, kind, free, Js, r), *steps]:
+        c1 = sym.clip(q + sym.s * step)
         inside = ca.logic_and(c1 > sym.lo, c1 < sym.hi)
         c2 = c1
         for _ in range(RETRACTION_STEPS):
