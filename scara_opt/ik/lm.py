@@ -23,7 +23,9 @@ joint ranges), over the joints that a bound does not hold:
    carry the slide where the Newton step is not yet good); each is followed by two
    Gauss–Newton steps back onto the solution set (a retraction, so curved solution
    sets such as nguyen's rail + 2R are followed); the candidate nearest to ``q0`` among
-   those nearer than the current point with a residual below 1e-6 is kept.
+   those nearer than the current point with a residual below 1e-6 is kept. One target's
+   slide tries the Newton candidate alone first (a third of the instructions) and the
+   full set only where it was refused (:func:`solve_many` likewise).
    Skipped in effect (one evaluation) where there is no redundancy.
 3. **Polish**: phase 1 again, to round-off, if the slide moved.
 
@@ -95,10 +97,11 @@ STALL_CALLS = 2
 #: Levenberg–Marquardt iterations per Function call
 UNROLL = 3
 #: iterations and FK evaluations per Function call (residual and Jacobian, the candidates)
-ITERATIONS = {"lm": UNROLL, "slide": 1}
+ITERATIONS = {"lm": UNROLL, "slide": 1, "newton": 1}
 #: (the slide: the residual, Jacobian and Lagrangian Hessian at q, then per candidate the
 #: step, the retraction and the check)
-EVALS = {"lm": 2 * UNROLL, "slide": 2 + (2 + RETRACTION_STEPS) * (len(SLIDES) + 2)}
+EVALS = {"lm": 2 * UNROLL, "slide": 2 + (2 + RETRACTION_STEPS) * (len(SLIDES) + 2),
+         "newton": 2 + 2 + RETRACTION_STEPS}
 
 
 
@@ -246,15 +249,17 @@ def _newton(sym: _Symbols, robot: Robot, kind: str, free: ca.SX, Js: ca.SX,
     return ca.solve(kkt, -ca.vertcat(g, r))[:nq]
 
 
-def build_slide_step(robot: Robot, kind: str) -> ca.Function:
+def build_slide_step(robot: Robot, kind: str, newton_only: bool = False) -> ca.Function:
     """Phase 2: one slide toward ``q0`` along the solution set, with a retraction.
 
-    ``slide_step(q (nq), par, box (3 nq)) -> (q_next (nq), e_next (1), step (1))``, inputs
-    as for :func:`build_lm_step`. Joints at a bound that ``q0`` lies beyond are held, and
-    so are joints the slide takes to a bound, during the retraction. Steps tried: the
-    Newton step (:func:`_newton`), the fractions ``SLIDES`` of the tangent step and the
-    length that meets the first bound; of those that end nearer to ``q0`` with a small
-    residual, the nearest.
+    ``slide_step(q (nq), par, box (3 nq)) -> (q_next (nq), e_next (1), step (1),
+    pull (1))``, inputs as for :func:`build_lm_step`; ``pull`` is the largest entry of the
+    slide direction at ``q`` (below ``SLIDE_TOL``: ``q`` is the nearest point, locally).
+    Joints at a bound that ``q0`` lies beyond are held, and so are joints the slide takes
+    to a bound, during the retraction. Steps tried: the Newton step (:func:`_newton`), and
+    unless ``newton_only`` the fractions ``SLIDES`` of the tangent step and the length that
+    meets the first bound; of those that end nearer to ``q0`` with a small residual, the
+    nearest.
     """
     sym = _Symbols.make(robot, kind)
     q = sym.q
@@ -263,7 +268,8 @@ def build_slide_step(robot: Robot, kind: str) -> ca.Function:
     fix = -_damped_pinv(Js, 0.0) @ r
     e0 = ca.sumsqr(r)
     q_next, e_next, d_next = q, e0, sym.distance(q)
-    steps = [fix + alpha * tangent for alpha in (*SLIDES, _room(sym, q, tangent))]
+    steps = [] if newton_only else [fix + alpha * tangent
+                                    for alpha in (*SLIDES, _room(sym, q, tangent))]
     for step in [_newton(sym, robot, kind, free, Js, r), *steps]:
         c1 = sym.clip(q + sym.s * step)
         inside = ca.logic_and(c1 > sym.lo, c1 < sym.hi)
@@ -276,11 +282,21 @@ def build_slide_step(robot: Robot, kind: str) -> ca.Function:
         q_next, e_next = ca.if_else(ok, c2, q_next), ca.if_else(ok, e2, e_next)
         d_next = ca.if_else(ok, d2, d_next)
     return ca.Function(f"slide_step_{robot.name}_{kind}", [q, sym.par, sym.box],
-                       [q_next, e_next, ca.mmax(ca.fabs(q_next - q) / sym.s)],
-                       ["q", "par", "box"], ["q_next", "e_next", "step"])
+                       [q_next, e_next, ca.mmax(ca.fabs(q_next - q) / sym.s),
+                        ca.mmax(ca.fabs(tangent))],
+                       ["q", "par", "box"], ["q_next", "e_next", "step", "pull"])
 
 
-_BUILDERS = {"lm": build_lm_step, "slide": build_slide_step}
+def build_newton_step(robot: Robot, kind: str) -> ca.Function:
+    """:func:`build_slide_step` with the Newton step alone (a third of its instructions).
+
+    Tried first at each slide: near the end of a slide, where it converges quadratically,
+    the other candidates are not needed.
+    """
+    return build_slide_step(robot, kind, newton_only=True)
+
+
+_BUILDERS = {"lm": build_lm_step, "slide": build_slide_step, "newton": build_newton_step}
 #: the source the iterations are built from: part of the compiled cache's key
 _CODE = source_hash(Path(__file__), problem.__file__, symbolic.__file__)
 
@@ -327,17 +343,19 @@ def cached_step(robot: Robot, phase: str, kind: str, n: int = 1,
 
 @dataclass
 class PhaseArrays:
-    """The two iterations' :class:`FunctionArrays` for ``n`` targets, sharing ``par``, ``box``.
+    """The iterations' :class:`FunctionArrays` for ``n`` targets, sharing ``par``, ``box``.
 
     Attributes:
         lm, slide: the arrays of :func:`build_lm_step` and :func:`build_slide_step`.
         par: (n, n_par) the NLP parameters of each target; box: (n, 3 nq) the limits.
+        newton: the arrays of :func:`build_newton_step`.
     """
 
     lm: FunctionArrays
     slide: FunctionArrays
     par: Array
     box: Array
+    newton: FunctionArrays
 
 
 def phase_arrays(robot: Robot, kind: str, n: int = 1, jit: bool = True) -> PhaseArrays:
@@ -348,7 +366,8 @@ def phase_arrays(robot: Robot, kind: str, n: int = 1, jit: bool = True) -> Phase
         lm = FunctionArrays(cached_step(robot, "lm", kind, n, jit), n)
         shared = {"par": lm.arg["par"], "box": lm.arg["box"]}
         slide = FunctionArrays(cached_step(robot, "slide", kind, n, jit), n, shared)
-        cache[key] = PhaseArrays(lm, slide, shared["par"], shared["box"])
+        newton = FunctionArrays(cached_step(robot, "newton", kind, n, jit), n, shared)
+        cache[key] = PhaseArrays(lm, slide, shared["par"], shared["box"], newton)
     return cache[key]
 
 
@@ -416,20 +435,29 @@ class _Run:
         return q_in.copy(), e, e <= e_tol
 
     def slide_toward(self, q: Array) -> tuple[Array, bool]:
-        """Phase 2 from a solution ``q``: (q, whether it moved)."""
-        f = self.f.slide
-        q_in, q_out = f.arg["q"], f.res["q_next"]
-        q_in[0] = q
+        """Phase 2 from a solution ``q``: (q, whether it moved).
+
+        Each slide tries the Newton step alone first; the full set of candidates only where
+        it was refused while the pull toward ``q0`` is still there (far from the end).
+        """
+        newton, full = self.f.newton, self.f.slide
         moved = False
         while self.budget > 0:
+            f = newton
+            f.arg["q"][0] = q
             f()
-            self._count("slide", f.res["e_next"][0, 0])
+            self._count("newton", f.res["e_next"][0, 0])
+            if f.res["step"][0, 0] == 0 and f.res["pull"][0, 0] > SLIDE_TOL:
+                f = full
+                f.arg["q"][0] = q
+                f()
+                self._count("slide", f.res["e_next"][0, 0])
             step = f.res["step"][0, 0]
-            q_in[0] = q_out[0]
+            q = f.res["q_next"][0].copy()
             moved = moved or step > 0
             if step <= SLIDE_TOL:
                 break
-        return q_in[0].copy(), moved
+        return q, moved
 
     def start(self, q: Array) -> tuple[Array, float]:
         """All three phases from one start: (q, ‖r‖²)."""

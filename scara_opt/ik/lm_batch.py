@@ -149,7 +149,7 @@ def _call(robot: Robot, phase: str, kind: str, box: Array, inputs: dict[str, Arr
         k = min(CHUNK, m - lo)
         size = 1 << (k - 1).bit_length()
         fa = phase_arrays(robot, kind, size, jit)
-        f = fa.lm if phase == "lm" else fa.slide
+        f = getattr(fa, phase)
         fa.box[:] = box
         for name, a in inputs.items():
             f.arg[name][:k] = a[lo:lo + k]
@@ -198,12 +198,20 @@ class _Batch:
         """Phase 2 for ``rows``: (Q, moved)."""
         Q, moved = Q.copy(), np.zeros(len(rows), bool)
         active = used[rows] < self.max_iter
-        while active.any():
+        while active.any():  # the Newton step alone first, as lm's slide_toward
             a = np.flatnonzero(active)
-            out = _call(self.robot, "slide", self.kind, self.box,
+            out = _call(self.robot, "newton", self.kind, self.box,
                         {"q": Q[a], "par": self.par[rows[a]]}, self.jit)
-            Q[a], step = out["q_next"], out["step"][:, 0]
             used[rows[a]] += 1
+            full = (out["step"][:, 0] == 0) & (out["pull"][:, 0] > SLIDE_TOL)
+            if full.any():
+                b = a[full]
+                more = _call(self.robot, "slide", self.kind, self.box,
+                             {"q": Q[b], "par": self.par[rows[b]]}, self.jit)
+                for name in out:
+                    out[name][full] = more[name]
+                used[rows[b]] += 1
+            Q[a], step = out["q_next"], out["step"][:, 0]
             moved[a] |= step > 0
             active[a[(step <= SLIDE_TOL) | (used[rows[a]] >= self.max_iter)]] = False
         return Q, moved
