@@ -20,12 +20,12 @@ joint ranges), over the joints that a bound does not hold:
    of :math:`\min \tfrac12\|u - u_0\|^2` subject to :math:`r = 0` with the Lagrangian's
    Hessian (quadratic convergence at the end: :func:`_newton`), and the tangent step
    :math:`(I - J^+ J)(u_0 - u)` (or a fraction of it, or as far as the first bound: these
-   carry the slide where the Newton step is not yet good); each is followed by two
-   Gauss–Newton steps back onto the solution set (a retraction, so curved solution
-   sets such as nguyen's rail + 2R are followed); the candidate nearest to ``q0`` among
-   those nearer than the current point with a residual below 1e-6 is kept. One target's
-   slide tries the Newton candidate alone first (a third of the instructions) and the
-   full set only where it was refused (:func:`solve_many` likewise).
+   carry the slide where the Newton step is refused). Each is followed by Gauss–Newton
+   steps back onto the solution set (a retraction, so curved solution sets such as
+   nguyen's rail + 2R are followed: two, four after the Newton step); the candidate
+   nearest to ``q0`` among those nearer than the current point with a residual below
+   1e-6 is kept. The Newton candidate is tried alone first (a third of the
+   instructions), the full set only where it was refused.
    Skipped in effect (one evaluation) where there is no redundancy.
 3. **Polish**: phase 1 again, to round-off, if the slide moved.
 
@@ -86,6 +86,10 @@ MU_FLOOR = 1e-300
 SLIDES = (1.0, 0.5, 0.25, 0.125)
 #: Gauss–Newton steps that bring a slid configuration back onto the solution set
 RETRACTION_STEPS = 2
+#: and after the Newton step, which is longer far from the end (Panda: 4 steps let it carry
+#: the slide where 2 left a residual above SLIDE_SLACK: 76 instead of 168 full slides on
+#: 100 poses)
+NEWTON_RETRACTION = 4
 #: residual [weighted m, rad] a slide may leave; the polish removes it
 SLIDE_SLACK = 1e-6
 #: a start has converged when ‖r‖ <= TOL_FACTOR * tol * min(weights) and the step <= STEP_TOL
@@ -100,8 +104,8 @@ UNROLL = 3
 ITERATIONS = {"lm": UNROLL, "slide": 1, "newton": 1}
 #: (the slide: the residual, Jacobian and Lagrangian Hessian at q, then per candidate the
 #: step, the retraction and the check)
-EVALS = {"lm": 2 * UNROLL, "slide": 2 + (2 + RETRACTION_STEPS) * (len(SLIDES) + 2),
-         "newton": 2 + 2 + RETRACTION_STEPS}
+EVALS = {"lm": 2 * UNROLL, "newton": 2 + (2 + NEWTON_RETRACTION),
+         "slide": 2 + (2 + NEWTON_RETRACTION) + (2 + RETRACTION_STEPS) * (len(SLIDES) + 1)}
 
 
 
@@ -270,11 +274,11 @@ def build_slide_step(robot: Robot, kind: str, newton_only: bool = False) -> ca.F
     q_next, e_next, d_next = q, e0, sym.distance(q)
     steps = [] if newton_only else [fix + alpha * tangent
                                     for alpha in (*SLIDES, _room(sym, q, tangent))]
-    for step in [_newton(sym, robot, kind, free, Js, r), *steps]:
+    for k, step in enumerate([_newton(sym, robot, kind, free, Js, r), *steps]):
         c1 = sym.clip(q + sym.s * step)
         inside = ca.logic_and(c1 > sym.lo, c1 < sym.hi)
         c2 = c1
-        for _ in range(RETRACTION_STEPS):
+        for _ in range(NEWTON_RETRACTION if k == 0 else RETRACTION_STEPS):
             r1, Js1 = _scaled(sym, robot, kind, c2, free * inside)
             c2 = sym.clip(c2 - sym.s * (_damped_pinv(Js1, 0.0) @ r1))
         e2, d2 = ca.sumsqr(task_residual(robot, kind, c2, sym.par)), sym.distance(c2)
