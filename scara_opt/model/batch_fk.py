@@ -85,11 +85,20 @@ def _arrays(robot: Robot, output: str, size: int) -> FunctionArrays:
     return cache[key]
 
 
+def fk_arrays(robot: Robot, output: str, n: int) -> FunctionArrays:
+    """The buffers that evaluate batches of ``n`` <= ``CHUNK`` rows (this thread's).
+
+    Write the rows into ``arg["q"][:n]``, call, read ``res["rows"][:n]`` (valid until the
+    next call): what :func:`evaluate` does, without its copy out.
+    """
+    return _arrays(robot, output, max(8, 1 << (n - 1).bit_length()))
+
+
 def evaluate(robot: Robot, output: str, Q: Array) -> Array:
     """Rows (n, rows) of ``output`` for checked configurations ``Q`` (n, nq)."""
     n = Q.shape[0]
     if 0 < n <= CHUNK:  # one chunk (every population): no loop, one copy out
-        f = _arrays(robot, output, max(8, 1 << (n - 1).bit_length()))
+        f = fk_arrays(robot, output, n)
         f.arg["q"][:n] = Q
         f()
         return f.res["rows"][:n].copy()
