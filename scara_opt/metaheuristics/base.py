@@ -117,7 +117,8 @@ class Problem:
         fk()
         dp = np.subtract(fk.res["rows"], sized.target, out=sized.dp)
         sq = np.einsum("ij,ij->i", dp, dp)
-        sq *= self._wp2                       # w_p^2 |dp|^2, as cost_from_errors
+        if self._wp2 != 1.0:                  # w_p^2 |dp|^2, as cost_from_errors (x 1 = x)
+            sq *= self._wp2
         return np.sqrt(sq, out=sq)
 
     def cost_one(self, x: Array) -> float:
