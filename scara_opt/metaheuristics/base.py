@@ -364,8 +364,8 @@ def greedy(old: Population, X: Array, f: Array) -> None:
         f: (n,) their costs.
     """
     better = f < old.f
-    old.X[better] = X[better]
-    old.f[better] = f[better]
+    np.copyto(old.X, X, where=better[:, None])   # old.X[better] = X[better], no copies
+    np.copyto(old.f, f, where=better)
 
 
 def survivors(X: Array, f: Array, X_new: Array, f_new: Array, n: int) -> Population:
