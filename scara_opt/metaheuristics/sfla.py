@@ -116,7 +116,9 @@ class ShuffledFrogSolver(PopulationSolver[Frogs]):
         worst = M[rows, fM.argmax(axis=1)]
         learns = worst != best        # a memeplex of equal frogs has nothing to learn
         global_best = X[f.argmin()].copy()    # fixed before any frog leaps
-        w = self._leap(problem, state, worst[learns], X.take(best[learns], axis=0), rng)
+        w = worst[learns]
+        if w.size:
+            w = self._leap(problem, state, w, X.take(best[learns], axis=0), rng)
         if w.size:
             w = self._leap(problem, state, w, global_best, rng)
         if w.size:
