@@ -14,8 +14,8 @@ from scara_opt.metaheuristics.base import (
     PopulationSolver,
     Problem,
     check_number,
-    tiled,
 )
+from scara_opt.metaheuristics.problem import tiled
 
 
 @dataclass
