@@ -148,6 +148,15 @@ class LazyGenerator:
         self._seed = seed
         self._rng: np.random.Generator | None = None
 
+    def generator(self) -> np.random.Generator:
+        """The generator itself, created now if not yet.
+
+        For loops that draw at every step: going through this proxy costs ~0.5 µs a draw.
+        """
+        if self._rng is None:
+            self._rng = np.random.default_rng(self._seed)
+        return self._rng
+
     def __getattr__(self, name: str) -> Any:
         if name.startswith("__"):
             raise AttributeError(name)

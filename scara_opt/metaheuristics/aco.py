@@ -7,6 +7,7 @@ from functools import lru_cache
 from typing import Any, ClassVar
 
 import numpy as np
+from numpy.typing import NDArray
 
 from scara_opt.ik.registry import register_solver
 from scara_opt.metaheuristics.base import (
@@ -85,9 +86,9 @@ class AntColonySolver(PopulationSolver[Population]):
         """Sample one generation of ants from the archive's kernels; keep the best k."""
         S, k = state.X, state.f.shape[0]
         cum = rank_weights_cumsum(k, float(self.options["q"]))
-        guide = np.minimum(np.searchsorted(cum, cum[-1] * rng.random(k), side="right"), k - 1)
-        sigma = self.options["xi"] * abs_deviation_sums(S)[guide] / (k - 1)
-        ants = problem.repair(S[guide] + sigma * rng.standard_normal(S.shape))
+        guide = np.minimum(cum.searchsorted(cum[-1] * rng.random(k), side="right"), k - 1)
+        sigma = self.options["xi"] * abs_deviation_sums(S).take(guide, axis=0) / (k - 1)
+        ants = problem.repair(S.take(guide, axis=0) + sigma * rng.standard_normal(S.shape))
         return survivors(S, state.f, ants, problem.cost(ants), k)
 
 
@@ -110,6 +111,8 @@ def abs_deviation_sums(S: Array) -> Array:
     O(k log k) per column by sorting (instead of the k × k pairwise differences): for
     the value at sorted position :math:`r`, the rows below contribute
     :math:`r v_r - \sum_{e<r} v_e` and the rows above :math:`\sum_{e>r} v_e - (k-1-r) v_r`.
+    Computed joint by joint along contiguous rows of ``S.T`` (sorts, running sums and
+    the scatter back as flat ``take``/``put``: ~12 instead of ~21 µs at 100 x 4).
 
     Args:
         S: (k, nq) archive.
@@ -118,11 +121,26 @@ def abs_deviation_sums(S: Array) -> Array:
         (k, nq) sums of absolute deviations, in the row order of ``S``.
     """
     k, nq = S.shape
-    order = np.argsort(S, axis=0, kind="stable")
-    cols = np.arange(nq)
-    V = S[order, cols]
-    C = np.cumsum(V, axis=0)
-    r = np.arange(k)[:, None]
-    out = np.empty_like(S)
-    out[order, cols] = (2 * r - (k - 1)) * V - 2 * C + V + C[-1]
-    return out
+    T = S.T.copy()                                        # (nq, k): one joint per row
+    rank_weight, row_start = _sorted_layout(k, nq)
+    flat = T.argsort(axis=1, kind="stable") + row_start   # flat indices into T, sorted rows
+    V = T.take(flat)
+    C = V.cumsum(axis=1)
+    sums = np.empty_like(T)
+    sums.put(flat, rank_weight * V - 2 * C + V + C[:, -1:])
+    return sums.T
+
+
+@lru_cache(maxsize=32)
+def _sorted_layout(k: int, nq: int) -> tuple[Array, NDArray[np.intp]]:
+    """The constants of :func:`abs_deviation_sums` (read-only).
+
+    Returns:
+        Per sorted position r, the weight ``2 r - (k - 1)`` (k,); each row's start in the
+        flat ``(nq, k)`` array (nq, 1).
+    """
+    rank_weight = 2.0 * np.arange(k) - (k - 1)
+    row_start = np.arange(0, nq * k, k)[:, None]
+    rank_weight.setflags(write=False)
+    row_start.setflags(write=False)
+    return rank_weight, row_start

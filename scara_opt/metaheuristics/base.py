@@ -5,7 +5,8 @@ limits and how a move that leaves it is brought back, the seeded random generato
 batch cost, the evaluation count, the best-so-far bookkeeping, ``history`` and the two
 stopping rules. A metaheuristic writes :meth:`PopulationSolver.initialize` (build its
 state from the first, already costed population) and :meth:`PopulationSolver.advance`
-(one generation).
+(one generation). The box, the repair rule and the batch cost are
+:class:`~scara_opt.metaheuristics.problem.Problem`'s (imported here too).
 """
 
 from __future__ import annotations
@@ -20,7 +21,8 @@ from numpy.typing import NDArray
 from scara_opt.errors import InputError
 from scara_opt.ik.auto import AutoSolver
 from scara_opt.ik.base import LazyGenerator, Solver, SolverOutput, check_number, default_q0
-from scara_opt.ik.task import config_errors, cost_batch, cost_from_errors, cost_of, wrap_angle
+from scara_opt.ik.task import cost_batch
+from scara_opt.metaheuristics.problem import Problem
 from scara_opt.model import batch_fk
 from scara_opt.model.robot import Robot
 from scara_opt.target import Target
@@ -48,96 +50,6 @@ class Population:
 
     X: Array
     f: Array
-
-
-class Problem:
-    """The search box and the counted, vectorised cost of one IK solve.
-
-    The box is the robot's joint limits, except that a joint without limits (a
-    continuous joint) is searched over one turn, ``[-π, π]``
-    (:attr:`Robot.sampling_lower` / :attr:`Robot.sampling_upper`).
-
-    Bounds rule (the only one any metaheuristic uses, through :meth:`repair`): a
-    coordinate that leaves ``[lower, upper]`` is **reflected** once at the limit it
-    crossed, then **clipped**, so a step that overshoots by more than the whole range
-    lands on the limit. Reflection keeps the step's length and does not pile
-    individuals up on the limits the way clipping alone does. A continuous joint's
-    angle is **wrapped** into ``[-π, π)`` instead: the same angle, no limit to hit.
-
-    Attributes:
-        robot: the robot.
-        target: the IK target.
-        lower: (nq,) lower end of the search box [rad or m].
-        upper: (nq,) upper end of the search box [rad or m].
-        span: (nq,) ``upper - lower``.
-        periodic: (nq,) bool, the joints without limits (wrapped, not reflected).
-        stop_cost: a cost at or below which the residual is within ``tol`` (see
-            :meth:`PopulationSolver._solve`).
-        evaluations: FK evaluations so far (rows passed to :meth:`cost`).
-    """
-
-    def __init__(self, robot: Robot, target: Target, tol: float) -> None:
-        self.robot = robot
-        self.target = target
-        self.lower: Array = robot.sampling_lower
-        self.upper: Array = robot.sampling_upper
-        self.span: Array = self.upper - self.lower
-        self.periodic = ~(np.isfinite(robot.lower) & np.isfinite(robot.upper))
-        self._any_periodic = bool(self.periodic.any())
-        self._mirror_lo, self._mirror_hi = 2.0 * self.lower, 2.0 * self.upper
-        wp, wa = target.weights
-        # cost^2 = wp^2 |dp|^2 + wa^2 da^2 >= min(wp, wa)^2 max(|dp|, |da|)^2 = (w error)^2
-        w = wp if target.kind == "position" else min(wp, wa)
-        self.stop_cost = tol * w * (1.0 - 1e-9)
-        self.evaluations = 0
-
-    @property
-    def nq(self) -> int:
-        """Number of joint coordinates."""
-        return self.lower.shape[0]
-
-    def cost(self, X: Array) -> Array:
-        """Costs (n,) of ``X`` (n, nq): one vectorised FK call, counted in :attr:`evaluations`.
-
-        The same numbers as :func:`~scara_opt.ik.task.cost_batch`; for a position target
-        the rows go straight to the batch FK (every row came through :meth:`repair` or
-        :meth:`uniform`, so the robot's input check is skipped: issue 18, ~4 µs a call).
-        """
-        self.evaluations += X.shape[0]
-        if self.target.kind == "position":
-            dp = batch_fk.positions(self.robot, X) - self.target.position
-            return cost_from_errors(self.target, dp, None)
-        return cost_batch(self.robot, self.target, X)
-
-    def cost_one(self, x: Array) -> float:
-        """Cost of one configuration ``x`` (nq,) (for scalar local searches such as Nelder–Mead).
-
-        One Pinocchio FK call (~5 µs), cheaper than a batch of one; the same cost up to
-        round-off. Counted in :attr:`evaluations`.
-        """
-        self.evaluations += 1
-        return cost_of(self.target, *config_errors(self.robot, self.target, x))
-
-    def repair(self, X: Array) -> Array:
-        """``X`` (n, nq) brought into the box (reflect, clip; wrap continuous joints).
-
-        Reflection as a maximum: below ``lower``, ``2 lower - x`` is the larger of the two;
-        above, ``x`` is (equal at the limit), so ``max(x, 2 lower - x)`` is exactly the
-        reflected value, in one ufunc instead of a comparison and a ``where`` (the same at
-        ``upper`` with a minimum). After both reflections no value is above ``upper``, so
-        the clip only has the lower limit left to enforce. Bit for bit the rule above; half
-        the time (issue 18).
-        """
-        Y = np.maximum(X, self._mirror_lo - X)
-        Y = np.minimum(Y, self._mirror_hi - Y)
-        np.maximum(Y, self.lower, out=Y)
-        if self._any_periodic:
-            Y[:, self.periodic] = wrap_angle(X[:, self.periodic])
-        return Y
-
-    def uniform(self, rng: np.random.Generator, n: int) -> Array:
-        """``n`` configurations (n, nq) drawn uniformly within the search box."""
-        return rng.uniform(self.lower, self.upper, (n, self.nq))
 
 
 S = TypeVar("S", bound=Population)
@@ -192,7 +104,10 @@ class PopulationSolver(Solver, Generic[S]):
         self.check_memory(robot.nq)
         probe = {"position": Target(np.zeros(3)), "yaw": Target(np.zeros(3), yaw=0.0),
                  "rotation": Target(np.zeros(3), rotation=np.eye(3))}[kind]
-        cost_batch(robot, probe, np.tile(default_q0(robot), (int(self.options["population"]), 1)))
+        n = int(self.options["population"])
+        cost_batch(robot, probe, np.tile(default_q0(robot), (n, 1)))
+        if kind == "position":  # Problem.cost's unpadded buffers of one population
+            batch_fk.fk_arrays(robot, "position", n)
 
     def witness(self, robot: Robot, target: Target, q0: Array | None, seed: int | None,
                 tol: float) -> Array | None:
@@ -208,18 +123,20 @@ class PopulationSolver(Solver, Generic[S]):
                rng: np.random.Generator, tol: float) -> SolverOutput:
         problem = Problem(robot, target, tol)
         self.check_memory(problem.nq)
+        if isinstance(rng, LazyGenerator):  # every generation draws: no proxy in between
+            rng = rng.generator()
         X = problem.uniform(rng, int(self.options["population"]))
         if q0 is not None:
             X[0] = q0
         state = self.initialize(problem, Population(X, problem.cost(X)), rng)
-        i = int(np.argmin(state.f))
+        i = int(state.f.argmin())   # the method, not np.argmin's wrapper (~1 µs a call)
         best_q, best_f = state.X[i].copy(), float(state.f[i])
         history = [best_f]
-        generations = 0
-        while generations < int(self.options["iterations"]) and best_f > problem.stop_cost:
+        generations, budget = 0, int(self.options["iterations"])
+        while generations < budget and best_f > problem.stop_cost:
             state = self.advance(problem, state, rng, generations)
             generations += 1
-            i = int(np.argmin(state.f))
+            i = int(state.f.argmin())
             if state.f[i] < best_f:
                 best_q, best_f = state.X[i].copy(), float(state.f[i])
             history.append(best_f)
@@ -310,8 +227,8 @@ def greedy(old: Population, X: Array, f: Array) -> None:
         f: (n,) their costs.
     """
     better = f < old.f
-    old.X[better] = X[better]
-    old.f[better] = f[better]
+    np.copyto(old.X, X, where=better[:, None])   # old.X[better] = X[better], no copies
+    np.copyto(old.f, f, where=better)
 
 
 def survivors(X: Array, f: Array, X_new: Array, f_new: Array, n: int) -> Population:
@@ -325,7 +242,9 @@ def survivors(X: Array, f: Array, X_new: Array, f_new: Array, n: int) -> Populat
 def truncate(X: Array, f: Array, n: int) -> Population:
     """The ``n`` cheapest rows of ``X`` (m, nq) with costs ``f`` (m,), sorted by cost.
 
-    A stable sort, so ties keep their order and the result is reproducible.
+    A stable sort, so ties keep their order and the result is reproducible. Rows are
+    gathered with ``take`` (the same rows as ``X[order]``, without fancy indexing's
+    overhead: ~0.3 instead of ~1.9 µs at 100 x 4).
     """
-    order = np.argsort(f, kind="stable")[:n]
-    return Population(X[order], f[order])
+    order = f.argsort(kind="stable")[:n]
+    return Population(X.take(order, axis=0), f.take(order))

@@ -82,9 +82,10 @@ class CulturalSolver(PopulationSolver[Culture]):
                 t: int) -> Culture:
         """Breed one child per individual under the belief space's influence, select, accept."""
         X = state.X
-        eps = rng.standard_normal(X.shape)
+        direction = rng.standard_normal(X.shape)
         gap = state.best - X
-        direction = np.where(gap == 0.0, eps, np.abs(eps) * np.sign(gap))
+        # |ε| sign(s - x) where x != s (bit for bit |ε| · ±1), ε itself where x = s
+        np.copysign(direction, gap, out=direction, where=gap != 0.0)
         children = problem.repair(X + self.options["step"] * (state.high - state.low) * direction)
         f = problem.cost(children)
         merged = survivors(X, state.f, children, f, X.shape[0])

@@ -163,10 +163,10 @@ def sweep_all(X: Array, f: Array, span: Array, beta0: float, gamma: float, step:
         (n, nq) moved positions, in the row order of ``X``.
     """
     n, nq = X.shape
-    order = np.argsort(f, kind="stable")                  # brightest first
-    Xs, fs = X[order], f[order]
+    order = f.argsort(kind="stable")                      # brightest first
+    Xs, fs = X.take(order, axis=0), f.take(order)
     new = Xs.copy()
-    first_dimmer = np.searchsorted(fs, fs, side="right")  # rows >= this are dimmer than row k
+    first_dimmer = fs.searchsorted(fs, side="right")      # rows >= this are dimmer than row k
     w = span**-2.0                                        # r² in joint ranges
     kernel = _kernel()
     if kernel is not None:

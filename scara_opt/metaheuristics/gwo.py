@@ -80,14 +80,27 @@ class GreyWolfSolver(PopulationSolver[Pack]):
                 t: int) -> Pack:
         """Move every wolf toward the three leaders (eq. 3.7), then re-elect the leaders."""
         a = self.options["a_start"] * (1.0 - self.progress(t + 1))  # 0 at the last generation
-        L = state.leaders[:, None, :]                      # (3, 1, nq)
-        r1, r2 = rng.random((2, 3, *state.X.shape))        # (3, n, nq) each
-        A, C = 2.0 * a * r1 - a, 2.0 * r2
-        X = problem.repair(np.add.reduce(L - A * np.abs(C * L - state.X)) / 3.0)  # the mean
+        n = state.X.shape[0]
+        # (3, n, nq): each leader repeated for every wolf (a (3, 1, nq) broadcast is ~4x slower)
+        L = state.leaders[:, None, :].repeat(n, axis=1)
+        A, C = rng.random((2, 3, n, state.X.shape[1]))     # r1, r2: (3, n, nq) each
+        # eqs. 3.3-3.7 in place on the draws (no temporaries; the same operations)
+        A *= 2.0 * a
+        A -= a                                # A = 2 a r1 - a
+        C *= 2.0                              # C = 2 r2
+        D = np.multiply(C, L, out=C)
+        D -= state.X
+        np.abs(D, out=D)                      # D_k = |C X_k - X|
+        D *= A
+        np.subtract(L, D, out=D)              # X'_k = X_k - A D_k
+        X = np.add.reduce(D)
+        X /= 3.0                              # the mean of the three
+        X = problem.repair(X)
         f = problem.cost(X)
         if self.options["greedy"]:  # every wolf keeps its best; the leaders are the 3 best wolves
             keep = f >= state.f
-            X[keep], f[keep] = state.X[keep], state.f[keep]
+            np.copyto(X, state.X, where=keep[:, None])    # X[keep] = state.X[keep], no copies
+            np.copyto(f, state.f, where=keep)
             lead = truncate(X, f, 3)
         else:
             lead = survivors(state.leaders, state.leader_f, X, f, 3)

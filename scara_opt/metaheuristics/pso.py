@@ -15,6 +15,7 @@ from scara_opt.metaheuristics.base import (
     Problem,
     check_number,
 )
+from scara_opt.metaheuristics.problem import tiled
 
 
 @dataclass
@@ -25,11 +26,14 @@ class Swarm(Population):
         V: (n, nq) velocities [rad or m per generation].
         P: (n, nq) best position each particle has visited.
         fP: (n,) its cost.
+        vmax: (n, nq) the velocity cap of each coordinate (``max_velocity`` times the
+            joint's range, one row per particle).
     """
 
     V: Array
     P: Array
     fP: Array
+    vmax: Array
 
 
 @register_solver("pso")
@@ -76,22 +80,24 @@ class ParticleSwarmSolver(PopulationSolver[Swarm]):
                    rng: np.random.Generator) -> Swarm:
         """Particles at rest, each its own best so far."""
         X, f = population.X, population.f
-        return Swarm(X, f, V=np.zeros_like(X), P=X.copy(), fP=f.copy())
+        vmax = tiled(self.options["max_velocity"] * problem.span, X.shape[0])
+        return Swarm(X, f, V=np.zeros_like(X), P=X.copy(), fP=f.copy(), vmax=vmax)
 
     def advance(self, problem: Problem, state: Swarm, rng: np.random.Generator,
                 t: int) -> Swarm:
         """Move every particle by its new velocity, then update the personal bests."""
         o = self.options
-        X, P = state.X, state.P
-        g = P[np.argmin(state.fP)]
+        X, P, vmax = state.X, state.P, state.vmax
+        g = P[state.fP.argmin()]
         r1, r2 = rng.random((2, *X.shape))
-        vmax = o["max_velocity"] * problem.span
         V = o["inertia"] * state.V + o["cognitive"] * r1 * (P - X) + o["social"] * r2 * (g - X)
-        V = np.minimum(np.maximum(V, -vmax), vmax)   # np.clip, without its overhead
+        np.maximum(V, -vmax, out=V)                  # np.clip, without its overhead
+        np.minimum(V, vmax, out=V)
         moved = X + V
         X = problem.repair(moved)
-        V = np.where(X != moved, -V, V)
+        np.negative(V, out=V, where=X != moved)      # reflected: the velocity reverses
         f = problem.cost(X)
         better = f < state.fP
-        P[better], state.fP[better] = X[better], f[better]
-        return Swarm(X, f, V=V, P=P, fP=state.fP)
+        np.copyto(P, X, where=better[:, None])       # P[better] = X[better], no copies
+        np.copyto(state.fP, f, where=better)
+        return Swarm(X, f, V=V, P=P, fP=state.fP, vmax=vmax)

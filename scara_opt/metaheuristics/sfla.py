@@ -111,31 +111,47 @@ class ShuffledFrogSolver(PopulationSolver[Frogs]):
             state = self._shuffle(state)
         X, f, M = state.X, state.f, state.memeplexes
         rows = np.arange(M.shape[0])
-        best = M[rows, np.argmin(f[M], axis=1)]
-        worst = M[rows, np.argmax(f[M], axis=1)]
-        todo = worst != best          # a memeplex of equal frogs has nothing to learn
-        for leader in (X[best], X[np.full(best.shape, np.argmin(f))]):
-            if todo.any():
-                self._leap(problem, state, worst, leader, todo, rng)
-        w = worst[todo]
+        fM = f.take(M)                # (m, n_m) the memeplexes' costs
+        best = M[rows, fM.argmin(axis=1)]
+        worst = M[rows, fM.argmax(axis=1)]
+        learns = worst != best        # a memeplex of equal frogs has nothing to learn
+        global_best = X[f.argmin()].copy()    # fixed before any frog leaps
+        w = worst[learns]
+        if w.size:
+            w = self._leap(problem, state, w, X.take(best[learns], axis=0), rng)
+        if w.size:
+            w = self._leap(problem, state, w, global_best, rng)
         if w.size:
             X[w] = problem.uniform(rng, w.size)
             f[w] = problem.cost(X[w])
         return state
 
-    def _leap(self, problem: Problem, state: Frogs, worst: NDArray[np.intp], leader: Array,
-              todo: NDArray[np.bool_], rng: np.random.Generator) -> None:
-        """Leap the ``todo`` worst frogs toward ``leader`` (eq. 8-9); keep improvements."""
-        w = worst[todo]
+    def _leap(self, problem: Problem, state: Frogs, w: NDArray[np.intp], leader: Array,
+              rng: np.random.Generator) -> NDArray[np.intp]:
+        """Leap the frogs ``w`` toward ``leader`` (eq. 8-9); keep improvements.
+
+        Args:
+            problem: bounds, repair rule and counted cost.
+            state: the frogs, updated in place.
+            w: (k,) the leaping frogs' rows in ``state.X``.
+            leader: (k, nq) each one's leader, or (nq,) one leader for all.
+            rng: the solve's random generator (one draw per leap).
+
+        Returns:
+            The frogs whose leap failed, in the order of ``w``.
+        """
         r = rng.random((w.shape[0], 1))
         cap = self.options["max_leap"]
-        D = np.minimum(np.maximum(r * self.options["leap"] * (leader[todo] - state.X[w]), -cap),
-                       cap)
-        cand = problem.repair(state.X[w] + D)
+        Xw = state.X.take(w, axis=0)
+        D = r * self.options["leap"] * (leader - Xw)
+        if cap != math.inf:           # max(D, -inf) and min(D, inf) would leave D as it is
+            D = np.minimum(np.maximum(D, -cap), cap)
+        cand = problem.repair(Xw + D)
         fc = problem.cost(cand)
-        better = fc < state.f[w]
-        state.X[w[better]], state.f[w[better]] = cand[better], fc[better]
-        todo[np.flatnonzero(todo)[better]] = False
+        better = fc < state.f.take(w)
+        kept = w[better]
+        state.X[kept], state.f[kept] = cand[better], fc[better]
+        return w[~better]
 
     def _shuffle(self, state: Frogs) -> Frogs:
         """Sort all frogs by cost and deal them into the memeplexes."""
