@@ -138,3 +138,17 @@ def test_slide_toward_q0_converges_quadratically(arm, kind, request):
         ratios += [b / a for a, b in zip(dist[:-1], dist[1:], strict=True) if 1e-7 < a <= 1e-2]
     assert len(ratios) >= 20
     assert np.median(ratios) <= 0.02, np.median(ratios)
+
+
+def test_a_start_stuck_in_a_local_minimum_is_abandoned_early(ur5_arm):
+    """LM abandons a start after two calls that lower ||r||^2 by less than 1 % each: on the
+    6R arm about 1 pose in 5 ends its first start in a local minimum of the residual (no
+    joint at a bound), where the old rule (any decrease above 1e-6) let it creep on for up
+    to 22 calls. Mean Function calls a solve over 300 poses <= 15 (measured 13.0; 17.9
+    under the old rule), all solved. Calls are counted, not timed: deterministic.
+
+    Mutation caught: STALL_DECREASE back to 1e-6 -> 17.9, the test fails.
+    """
+    results = [so.solve_ik(ur5_arm, t, method="lm") for t in pose_targets(ur5_arm, 300, seed=6)]
+    assert all(r.success for r in results)
+    assert np.mean([len(r.history) for r in results]) <= 15

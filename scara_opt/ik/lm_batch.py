@@ -27,6 +27,7 @@ from scara_opt.ik.lm import (
     LAMBDA_MAX,
     SLIDE_TOL,
     STALL_CALLS,
+    STALL_DECREASE,
     STEP_TOL,
     UNROLL,
     check_budget,
@@ -187,7 +188,7 @@ class _Batch:
             used[rows[a]] += UNROLL
             ok = (e[a] <= self.e_tol[rows[a]]) & (out["step"][:, 0] <= STEP_TOL)
             conv[a[ok]], slide[a[ok]] = True, out["slide"][ok, 0]
-            stall[a] = np.where(e[a] >= (1 - 1e-6) * prev[a], stall[a] + 1, 0)
+            stall[a] = np.where(e[a] >= (1 - STALL_DECREASE) * prev[a], stall[a] + 1, 0)
             prev[a] = np.minimum(prev[a], e[a])
             stop = ok | (stall[a] >= STALL_CALLS) | (lam[a] >= LAMBDA_MAX)
             active[a[stop | (used[rows[a]] >= self.max_iter)]] = False
