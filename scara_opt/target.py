@@ -66,11 +66,7 @@ class Target:
                 raise TargetError("a pose (4×4 matrix or SE3) already fixes the rotation: give "
                                   "no yaw= or rotation= with it")
             position, rotation = as_pose(position, "target pose")
-        pos = finite_array(position, (3,), "target position [m]")
-        if np.abs(pos).max() > MAX_COORDINATE:
-            raise TargetError(f"target position {pos.tolist()} m has a coordinate beyond "
-                              f"±{MAX_COORDINATE:g} m, far outside any robot's reach; positions "
-                              "are in metres (a unit error?)")
+        pos = _position(position)
         pos = pos.copy() if pos is position else pos
         pos.flags.writeable = False
         object.__setattr__(self, "position", pos)
@@ -122,6 +118,29 @@ class Target:
         elif self.rotation is not None:
             extra = ", rotation=<3x3>"
         return f"Target(position={np.array2string(self.position, precision=6)}{extra})"
+
+
+def _position(value: object) -> Array:
+    """``value`` as a finite (3,) position [m] within ±:data:`MAX_COORDINATE`.
+
+    A float (3,) array whose coordinates are all within the range (NaN and inf are not) is
+    taken as it is, with three float comparisons instead of the ~3 µs of numpy checks
+    (every solve of a bare position makes a Target); anything else is checked in full.
+
+    Raises:
+        TargetError: not numeric, not shape (3,), NaN/inf, or a coordinate out of range.
+    """
+    if type(value) is np.ndarray and value.dtype == np.float64 and value.shape == (3,):
+        x, y, z = value.tolist()
+        m = MAX_COORDINATE
+        if -m <= x <= m and -m <= y <= m and -m <= z <= m:
+            return value
+    pos = finite_array(value, (3,), "target position [m]")
+    if np.abs(pos).max() > MAX_COORDINATE:
+        raise TargetError(f"target position {pos.tolist()} m has a coordinate beyond "
+                          f"±{MAX_COORDINATE:g} m, far outside any robot's reach; positions "
+                          "are in metres (a unit error?)")
+    return pos
 
 
 def _is_pose(value: object) -> bool:

@@ -81,3 +81,22 @@ def test_target_does_not_freeze_the_callers_arrays():
     t = so.Target(p, rotation=R)
     assert p.flags.writeable and R.flags.writeable
     assert not t.position.flags.writeable and not t.rotation.flags.writeable
+
+
+@pytest.mark.parametrize("bad, match", [
+    ([np.nan, 0.0, 0.0], "NaN or inf"), ([0.0, np.inf, 0.0], "NaN or inf"),
+    ([0.0, 0.0, -np.inf], "NaN or inf"), ([1e308, 0.0, 0.0], r"beyond ±1e\+06 m"),
+    ([0.0, -2e6, 0.0], r"beyond ±1e\+06 m"),
+])
+def test_a_float_array_position_is_checked_like_any_other(bad, match):
+    """A float64 (3,) array takes the fast path (three comparisons): NaN, inf and
+    out-of-range coordinates still get their own errors, and a valid one is copied, not
+    frozen in the caller's hands.
+
+    Mutations caught: the fast path without its range comparisons (NaN accepted); the
+    fast path returning the caller's array un-copied (test_target_does_not_freeze...).
+    """
+    with pytest.raises(so.TargetError, match=match):
+        so.Target(np.array(bad))
+    p = np.array([0.1, -0.2, 0.3])
+    assert so.Target(p).position.tolist() == [0.1, -0.2, 0.3]
