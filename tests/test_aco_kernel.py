@@ -51,7 +51,7 @@ def test_kernel_gives_the_numpy_forms_ants_bit_for_bit(monkeypatch, k, q):
     σ without the ``/ (k - 1)``; the running sum off by one (``C[r - 1] + v[r]`` ->
     ``C[r - 1] + v[r - 1]``); ties merged right first (``before(key[j], key[i])`` ->
     ``!before(key[i], key[j])``); σ as ``xi * (dev / (k - 1))``; the deviation formula
-    regrouped (``+ v[r] + C[k - 1]`` -> ``+ (v[r] + C[k - 1])``); wrap as a plain fmod.
+    regrouped (``+ v[r] + C[k - 1]`` -> ``+ (v[r] + C[k - 1])``); wrap as a plain ``fmod``.
     """
     if aco._kernel() is None:
         pytest.skip("no C compiler: only the numpy form runs")

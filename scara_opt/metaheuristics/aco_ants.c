@@ -11,7 +11,9 @@
  *   3. Problem.repair: a continuous joint wrapped, (x + pi) mod 2pi - pi with numpy's
  *      remainder (fmod, then moved to the divisor's sign); any other reflected, then
  *      clipped: y = max(x, 2 lo - x); y = min(y, 2 hi - y); y = max(y, lo), where max/min
- *      are numpy's maximum/minimum (NaN propagates).
+ *      are numpy's maximum/minimum (NaN propagates). Of +0 and -0 numpy's SIMD and scalar
+ *      loops may return either; here the scalar loop's choice. A -0 only arises from a
+ *      limit written -0.0 (then the sign of a zero joint value might differ).
  *
  * k, nq: archive rows, joints; S (k, nq): the archive; cum (k,): cumulative rank weights;
  * u (k,), normal (k, nq): the draws; lo, hi (nq,): the search box; periodic (nq,): 1 for a
@@ -20,6 +22,8 @@
 #include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
+
+static const double PI = 3.141592653589793;   /* math.pi, the same double */
 
 static double max_np(double a, double b) { return (a >= b || a != a) ? a : b; }
 static double min_np(double a, double b) { return (a <= b || a != a) ? a : b; }
@@ -107,8 +111,8 @@ int aco_ants(int64_t k, int64_t nq, const double *S, const double *cum, const do
     }
     for (int64_t i = 0; i < k; i++) {                    /* 2. guide, then 3. the ant */
         double x = cum[k - 1] * u[i];
-        const double *base = cum;                        /* count of cum[l] <= x, */
-        for (int64_t n = k; n > 1; n -= n / 2)           /* branch-free bisection */
+        const double *base = cum;                        /* g = #{l : cum[l] <= x}, */
+        for (int64_t n = k; n > 1; n -= n / 2)           /* a branch-free bisection */
             base = base[n / 2] <= x ? base + n / 2 : base;
         int64_t g = (base - cum) + (*base <= x);
         g = g < k - 1 ? g : k - 1;
@@ -116,7 +120,7 @@ int aco_ants(int64_t k, int64_t nq, const double *S, const double *cum, const do
             double sigma = xi * dev[g * nq + j] / (double)(k - 1);
             double y = S[g * nq + j] + sigma * normal[i * nq + j];
             if (periodic[j]) {
-                y = remainder_np(y + M_PI, 2.0 * M_PI) - M_PI;
+                y = remainder_np(y + PI, 2.0 * PI) - PI;
             } else {
                 y = max_np(y, 2.0 * lo[j] - y);
                 y = min_np(y, 2.0 * hi[j] - y);
