@@ -2,8 +2,13 @@
 
 from __future__ import annotations
 
+import ctypes
+import functools
 import math
+from collections.abc import Callable
+from dataclasses import dataclass
 from functools import lru_cache
+from pathlib import Path
 from typing import Any, ClassVar
 
 import numpy as np
@@ -19,10 +24,35 @@ from scara_opt.metaheuristics.base import (
     survivors,
     truncate,
 )
+from scara_opt.model.compiled import c_library
+
+
+@dataclass
+class Archive(Population):
+    """The archive (rows sorted by cost) and the solve's :class:`Draws` buffers."""
+
+    draws: Draws
+
+
+class Draws:
+    """One solve's buffers of a generation's draws and ants, with their addresses.
+
+    Reused every generation (the ants only live until the survivors are picked); the
+    addresses are read once, since ``ndarray.ctypes.data`` costs ~1 µs a read.
+    """
+
+    def __init__(self, problem: Problem, k: int, q: float) -> None:
+        nq = problem.nq
+        self.cum = rank_weights_cumsum(k, q)
+        self.u, self.normal, self.ants = np.empty(k), np.empty((k, nq)), np.empty((k, nq))
+        self.box = tuple(np.ascontiguousarray(a) for a in
+                         (problem.lower, problem.upper, problem.periodic.astype(np.uint8)))
+        self.addresses = tuple(a.ctypes.data for a in (self.cum, self.u, self.normal, *self.box,
+                                                       self.ants))
 
 
 @register_solver("aco")
-class AntColonySolver(PopulationSolver[Population]):
+class AntColonySolver(PopulationSolver[Archive]):
     r"""Continuous ant colony ACO_R (Socha & Dorigo 2008, Sec. 3), standing in for zavar2024's ACO.
 
     **Not the paper's Algorithm 6.** zavar2024's Algorithm 6 is a pheromone-trail ACO in
@@ -77,19 +107,57 @@ class AntColonySolver(PopulationSolver[Population]):
         check_number("xi", self.options["xi"], 0.0, 5.0, low_open=True)
 
     def initialize(self, problem: Problem, population: Population,
-                   rng: np.random.Generator) -> Population:
+                   rng: np.random.Generator) -> Archive:
         """The first archive: the first population sorted by cost."""
-        return truncate(population.X, population.f, population.f.shape[0])
+        k = population.f.shape[0]
+        first = truncate(population.X, population.f, k)
+        return Archive(first.X, first.f, Draws(problem, k, float(self.options["q"])))
 
-    def advance(self, problem: Problem, state: Population, rng: np.random.Generator,
-                t: int) -> Population:
+    def advance(self, problem: Problem, state: Archive, rng: np.random.Generator,
+                t: int) -> Archive:
         """Sample one generation of ants from the archive's kernels; keep the best k."""
-        S, k = state.X, state.f.shape[0]
-        cum = rank_weights_cumsum(k, float(self.options["q"]))
-        guide = np.minimum(cum.searchsorted(cum[-1] * rng.random(k), side="right"), k - 1)
-        sigma = self.options["xi"] * abs_deviation_sums(S).take(guide, axis=0) / (k - 1)
-        ants = problem.repair(S.take(guide, axis=0) + sigma * rng.standard_normal(S.shape))
-        return survivors(S, state.f, ants, problem.cost(ants), k)
+        S, k, draws = state.X, state.f.shape[0], state.draws
+        rng.random(out=draws.u)                    # the same numbers as rng.random(k)
+        rng.standard_normal(out=draws.normal)
+        ants = sample_ants(problem, S, float(self.options["xi"]), draws)
+        new = survivors(S, state.f, ants, problem.cost(ants), k)
+        return Archive(new.X, new.f, draws)
+
+
+def sample_ants(problem: Problem, S: Array, xi: float, draws: Draws) -> Array:
+    r"""One generation's ants (k, nq), repaired, from the archive ``S`` (k, nq) and ``draws``.
+
+    Ant :math:`i` takes the guide :math:`l` with :math:`\text{cum}_{l-1} \le
+    \text{cum}_{k-1} u_i < \text{cum}_l` (rank :math:`l` with probability :math:`p_l`) and
+    :math:`s_l + σ_l \odot` ``normal[i]``, :math:`σ_l = ξ` ``abs_deviation_sums(S)[l]`` /
+    (k - 1), brought into the box by :meth:`Problem.repair`. In C (aco_ants.c, the same
+    operations in the same order: the same bits) where it compiles, else in numpy; either
+    way ``draws.ants`` may be the result, overwritten by the next generation.
+    """
+    k, cum = S.shape[0], draws.cum
+    kernel = _kernel()
+    if kernel is None:
+        guide = np.minimum(cum.searchsorted(cum[-1] * draws.u, side="right"), k - 1)
+        sigma = xi * abs_deviation_sums(S).take(guide, axis=0) / (k - 1)
+        return problem.repair(S.take(guide, axis=0) + sigma * draws.normal)
+    S = np.ascontiguousarray(S, dtype=float)
+    cum_at, u, normal, lo, hi, periodic, ants = draws.addresses
+    if kernel(k, S.shape[1], S.ctypes.data, cum_at, u, normal, xi, lo, hi, periodic, ants):
+        raise MemoryError("aco_ants: out of memory for the archive's sort buffers")
+    return draws.ants
+
+
+@functools.cache
+def _kernel() -> Callable[..., int] | None:
+    """``aco_ants`` of aco_ants.c compiled once per machine, or ``None`` (numpy form)."""
+    lib = c_library(Path(__file__).with_name("aco_ants.c"))
+    if lib is None:
+        return None
+    fn = lib.aco_ants
+    ptr, i64, dbl = ctypes.c_void_p, ctypes.c_int64, ctypes.c_double
+    fn.argtypes = [i64, i64, ptr, ptr, ptr, ptr, dbl, ptr, ptr, ptr, ptr]
+    fn.restype = ctypes.c_int
+    return fn
 
 
 @lru_cache(maxsize=32)
