@@ -1,0 +1,140 @@
+"""One GA generation's children from its random draws: a small C kernel, numpy as fallback.
+
+:func:`offspring` runs ga_breed.c where it compiles (:func:`~scara_opt.model.compiled.c_library`)
+and :func:`offspring_numpy` otherwise (or under ``SCARA_OPT_NO_COMPILE=1``): the same
+operations in the same order, so the same bits (tests/test_ga_kernel.py). The draws stay
+in numpy (:meth:`Draws.draw`), in the order and shapes the GA always took them, into
+buffers made once a solve: the kernel's arguments are their addresses, taken once (a
+``.ctypes.data`` costs ~1 µs, more than the kernel's arithmetic; issue 18).
+"""
+
+from __future__ import annotations
+
+import ctypes
+import functools
+import weakref
+from collections.abc import Callable
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+from numpy.typing import NDArray
+
+from scara_opt.metaheuristics.problem import Array, Problem
+from scara_opt.model.compiled import c_library
+
+_DRAWS: weakref.WeakKeyDictionary[Problem, Draws] = weakref.WeakKeyDictionary()
+
+
+class Draws:
+    """A generation's random draws and the kernel's buffers, for ``n`` rows and tournament ``t``.
+
+    Attributes:
+        entrants: (2, n, t) int64 rows: tournaments ``i`` and ``n + i`` give child ``i``'s
+            parents ``p1`` and ``p2``.
+        u: (n, nq) blend weights, :math:`U(-γ, 1 + γ)`.
+        rc: (n, 1) uniform draws: child ``i`` is crossed where ``rc < crossover``.
+        rm: (n, nq) uniform draws: a gene mutates where ``rm < mutation``.
+        step: (n, nq) standard normal mutation steps.
+    """
+
+    def __init__(self, problem: Problem, n: int, t: int) -> None:
+        nq = problem.nq
+        self.shape = (n, t)
+        self.entrants = np.empty((2, n, t), dtype=np.int64)
+        self.u, self.rm, self.step = (np.empty((n, nq)) for _ in range(3))
+        self.rc = np.empty((n, 1))
+        # the kernel's own copies of the population, its (nq,) operands and its output
+        self.X, self.out = np.empty((n, nq)), np.empty((n, nq))
+        self.f, self.sigma_span = np.empty(n), np.empty(nq)
+        self.lo, self.hi = problem.lower.copy(), problem.upper.copy()
+        self.repair = not problem._any_periodic   # else Problem.repair wraps, after
+        self.ptr = {k: v.ctypes.data for k, v in vars(self).items() if isinstance(v, np.ndarray)}
+
+    @staticmethod
+    def of(problem: Problem, n: int, t: int) -> Draws:
+        """The buffers of ``problem``'s solve (made at its first generation)."""
+        draws = _DRAWS.get(problem)
+        if draws is None or draws.shape != (n, t):
+            draws = _DRAWS[problem] = Draws(problem, n, t)
+        return draws
+
+    def draw(self, rng: np.random.Generator, blend: float) -> None:
+        """Take the draws, in the GA's order: entrants, u, rc, rm, step.
+
+        ``out=`` where the generator has it: the same numbers as a fresh array.
+        """
+        n, t = self.shape
+        np.copyto(self.entrants, rng.integers(n, size=(2, n, t)))
+        np.copyto(self.u, rng.uniform(-blend, 1.0 + blend, self.u.shape))
+        rng.random(out=self.rc)
+        rng.random(out=self.rm)
+        rng.standard_normal(out=self.step)
+
+
+def offspring(problem: Problem, X: Array, f: Array, d: Draws, sigma: float,
+              crossover: float, mutation: float) -> Array:
+    """The children (n, nq) of population ``X`` (n, nq), costs ``f`` (n,), in the box.
+
+    Parents ``p1``, ``p2``: the :func:`winners` of ``d.entrants``; the child is
+    ``p1 + u (p2 - p1)`` where ``rc < crossover``, else ``p1``; then
+    ``+ step * (sigma * span) * (rm < mutation)``; then :meth:`Problem.repair`. Where the
+    kernel repairs (no continuous joint), the result is ``d.out``, overwritten by the next
+    call: cost it and copy it (as :func:`~scara_opt.metaheuristics.base.survivors` does).
+    """
+    kernel = _kernel()
+    if kernel is None:
+        return offspring_numpy(problem, X, f, d, sigma, crossover, mutation)
+    np.copyto(d.X, X)
+    np.copyto(d.f, f)
+    np.multiply(sigma, problem.span, out=d.sigma_span)
+    n, t = d.shape
+    p = d.ptr
+    kernel(n, problem.nq, t, p["X"], p["f"], p["entrants"], p["u"], p["rc"], crossover,
+           p["rm"], mutation, p["step"], p["sigma_span"], d.repair, p["lo"], p["hi"], p["out"])
+    return d.out if d.repair else problem.repair(d.out)
+
+
+def offspring_numpy(problem: Problem, X: Array, f: Array, d: Draws, sigma: float,
+                    crossover: float, mutation: float) -> Array:
+    """:func:`offspring` in numpy (where nothing compiles); ``d`` is left as it was."""
+    children, p2 = X.take(winners(d.entrants, f), axis=0)   # p1, p2: (n, nq) each, fresh
+    blend = np.subtract(p2, children, out=p2)
+    blend *= d.u
+    blend += children                                 # p1 + u (p2 - p1)
+    np.copyto(children, blend, where=d.rc < crossover)   # the crossed; p1 the rest
+    step = d.step * (sigma * problem.span)            # σ_t (u_j - l_j) ε
+    step *= d.rm < mutation                           # 0 for the genes that keep
+    children += step
+    return problem.repair(children)
+
+
+def winners(entrants: NDArray[np.intp], f: Array) -> NDArray[np.intp]:
+    """The cheapest entrant of each tournament (the first of equals, as ``argmin``).
+
+    Args:
+        entrants: (..., t) row indices, the last axis one tournament.
+        f: the rows' costs.
+
+    Returns:
+        (...) the winners' row indices (picked by flat ``take``: ~4 instead of ~8 µs for
+        ``take_along_axis`` at 2 x 100 tournaments of 2).
+    """
+    t = entrants.shape[-1]
+    pick = f.take(entrants).argmin(axis=-1)
+    first = np.arange(0, entrants.size, t).reshape(pick.shape)  # each tournament's start
+    return entrants.reshape(-1).take(first + pick)
+
+
+@functools.cache
+def _kernel() -> Callable[..., Any] | None:
+    """``ga_children`` of ga_breed.c compiled once per machine, or ``None`` (numpy form)."""
+    lib = c_library(Path(__file__).with_name("ga_breed.c"))
+    if lib is None:
+        return None
+    fn = lib.ga_children
+    ptr, i64, dbl = ctypes.c_void_p, ctypes.c_int64, ctypes.c_double
+    fn.argtypes = [i64, i64, i64, ptr, ptr, ptr, ptr, ptr, dbl, ptr, dbl, ptr, ptr, i64,
+                   ptr, ptr, ptr]
+    fn.restype = None
+    return fn
