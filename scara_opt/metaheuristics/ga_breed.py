@@ -45,11 +45,13 @@ class Draws:
         self.u, self.rm, self.step = (np.empty((n, nq)) for _ in range(3))
         self.rc = np.empty((n, 1))
         # the kernel's own copies of the population, its (nq,) operands and its output
-        self.X, self.out = np.empty((n, nq)), np.empty((n, nq))
-        self.f, self.sigma_span = np.empty(n), np.empty(nq)
-        self.lo, self.hi = problem.lower.copy(), problem.upper.copy()
+        self.X, self.out, self.f = np.empty((n, nq)), np.empty((n, nq)), np.empty(n)
+        self.span, self.lo, self.hi = (a.copy() for a in (problem.span, problem.lower,
+                                                          problem.upper))
         self.repair = not problem._any_periodic   # else Problem.repair wraps, after
-        self.ptr = {k: v.ctypes.data for k, v in vars(self).items() if isinstance(v, np.ndarray)}
+        arrays = {k: v.ctypes.data for k, v in vars(self).items() if isinstance(v, np.ndarray)}
+        self.args = _Args(n=n, nq=nq, t=t, repair=self.repair, **arrays)
+        self.address = ctypes.addressof(self.args)   # the struct lives as long as self
 
     @staticmethod
     def of(problem: Problem, n: int, t: int) -> Draws:
@@ -87,11 +89,7 @@ def offspring(problem: Problem, X: Array, f: Array, d: Draws, sigma: float,
         return offspring_numpy(problem, X, f, d, sigma, crossover, mutation)
     np.copyto(d.X, X)
     np.copyto(d.f, f)
-    np.multiply(sigma, problem.span, out=d.sigma_span)
-    n, t = d.shape
-    p = d.ptr
-    kernel(n, problem.nq, t, p["X"], p["f"], p["entrants"], p["u"], p["rc"], crossover,
-           p["rm"], mutation, p["step"], p["sigma_span"], d.repair, p["lo"], p["hi"], p["out"])
+    kernel(d.address, sigma, crossover, mutation)
     return d.out if d.repair else problem.repair(d.out)
 
 
@@ -133,8 +131,14 @@ def _kernel() -> Callable[..., Any] | None:
     if lib is None:
         return None
     fn = lib.ga_children
-    ptr, i64, dbl = ctypes.c_void_p, ctypes.c_int64, ctypes.c_double
-    fn.argtypes = [i64, i64, i64, ptr, ptr, ptr, ptr, ptr, dbl, ptr, dbl, ptr, ptr, i64,
-                   ptr, ptr, ptr]
+    fn.argtypes = [ctypes.c_void_p, ctypes.c_double, ctypes.c_double, ctypes.c_double]
     fn.restype = None
     return fn
+
+
+class _Args(ctypes.Structure):
+    """ga_breed.c's ``struct ga_args``: sizes, then the buffers' addresses, in its order."""
+
+    _fields_ = [(name, ctypes.c_int64) for name in ("n", "nq", "t", "repair")] + [
+        (name, ctypes.c_void_p) for name in ("X", "f", "entrants", "u", "rc", "rm", "step",
+                                             "span", "lo", "hi", "out")]
