@@ -12,7 +12,6 @@ from scara_opt.metaheuristics.base import (
     PopulationSolver,
     Problem,
     check_number,
-    survivors,
     truncate,
 )
 from scara_opt.metaheuristics.ga_breed import Draws, offspring, winners  # noqa: F401
@@ -108,5 +107,5 @@ class GeneticSolver(PopulationSolver[Population]):
         sigma = self.cooled(o["mutation_scale"], o["mutation_scale_end"], t)
         children = offspring(problem, X, f, draws, sigma, o["crossover"], o["mutation"])
         fc = problem.cost(children)
-        return survivors(X, f, children, fc, n)
+        return draws.survivors(X, f, children, fc)
 

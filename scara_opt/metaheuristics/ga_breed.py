@@ -20,6 +20,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
+from scara_opt.metaheuristics.base import Population, survivors
 from scara_opt.metaheuristics.problem import Array, Problem
 from scara_opt.model.compiled import c_library
 
@@ -36,6 +37,8 @@ class Draws:
         rc: (n, 1) uniform draws: child ``i`` is crossed where ``rc < crossover``.
         rm: (n, nq) uniform draws: a gene mutates where ``rm < mutation``.
         step: (n, nq) standard normal mutation steps.
+        pool, pool_f: (2n, nq), (2n,): the parents (the kernel's copy of the population)
+            over the children and their costs, the rows the survivors are taken from.
     """
 
     def __init__(self, problem: Problem, n: int, t: int) -> None:
@@ -44,12 +47,12 @@ class Draws:
         self.entrants = np.empty((2, n, t), dtype=np.int64)
         self.u, self.rm, self.step = (np.empty((n, nq)) for _ in range(3))
         self.rc = np.empty((n, 1))
-        # the kernel's own copies of the population, its (nq,) operands and its output
-        self.X, self.out, self.f = np.empty((n, nq)), np.empty((n, nq)), np.empty(n)
+        self.pool, self.pool_f = np.empty((2 * n, nq)), np.empty(2 * n)
+        self.X, self.out, self.f, self.fc = self.pool[:n], self.pool[n:], *np.split(self.pool_f, 2)
         self.span, self.lo, self.hi = (a.copy() for a in (problem.span, problem.lower,
                                                           problem.upper))
         self.repair = not problem._any_periodic   # else Problem.repair wraps, after
-        arrays = {k: v.ctypes.data for k, v in vars(self).items() if isinstance(v, np.ndarray)}
+        arrays = {k: getattr(self, k).ctypes.data for k, _ in _Args._fields_[4:]}
         self.args = _Args(n=n, nq=nq, t=t, repair=self.repair, **arrays)
         self.address = ctypes.addressof(self.args)   # the struct lives as long as self
 
@@ -73,6 +76,20 @@ class Draws:
         rng.random(out=self.rm)
         rng.standard_normal(out=self.step)
 
+    def survivors(self, X: Array, f: Array, children: Array, fc: Array) -> Population:
+        """:func:`~scara_opt.metaheuristics.base.survivors` of the parents and the children.
+
+        The same rows: where ``children`` is :attr:`out` (the C form), the stable sort of
+        :attr:`pool_f` (parents first, so ties keep the old) picks them from :attr:`pool`,
+        without stacking the two again.
+        """
+        n = self.shape[0]
+        if children is not self.out:
+            return survivors(X, f, children, fc, n)
+        np.copyto(self.fc, fc)
+        order = self.pool_f.argsort(kind="stable")[:n]
+        return Population(self.pool.take(order, axis=0), self.pool_f.take(order))
+
 
 def offspring(problem: Problem, X: Array, f: Array, d: Draws, sigma: float,
               crossover: float, mutation: float) -> Array:
@@ -81,8 +98,8 @@ def offspring(problem: Problem, X: Array, f: Array, d: Draws, sigma: float,
     Parents ``p1``, ``p2``: the :func:`winners` of ``d.entrants``; the child is
     ``p1 + u (p2 - p1)`` where ``rc < crossover``, else ``p1``; then
     ``+ step * (sigma * span) * (rm < mutation)``; then :meth:`Problem.repair`. Where the
-    kernel repairs (no continuous joint), the result is ``d.out``, overwritten by the next
-    call: cost it and copy it (as :func:`~scara_opt.metaheuristics.base.survivors` does).
+    kernel repairs (no continuous joint), the C form's result is ``d.out``, overwritten by
+    the next call (pass it to :meth:`Draws.survivors`).
     """
     kernel = _kernel()
     if kernel is None:
@@ -90,7 +107,9 @@ def offspring(problem: Problem, X: Array, f: Array, d: Draws, sigma: float,
     np.copyto(d.X, X)
     np.copyto(d.f, f)
     kernel(d.address, sigma, crossover, mutation)
-    return d.out if d.repair else problem.repair(d.out)
+    if not d.repair:
+        np.copyto(d.out, problem.repair(d.out))
+    return d.out
 
 
 def offspring_numpy(problem: Problem, X: Array, f: Array, d: Draws, sigma: float,
