@@ -45,8 +45,9 @@ class Draws:
         nq = problem.nq
         self.shape = (n, t)
         self.entrants = np.empty((2, n, t), dtype=np.int64)
-        self.u, self.rm, self.step = (np.empty((n, nq)) for _ in range(3))
-        self.rc = np.empty((n, 1))
+        self.u, self.step = np.empty((n, nq)), np.empty((n, nq))
+        self.uniform = np.empty(n * (1 + nq))           # rc then rm: one call, one stream
+        self.rc, self.rm = self.uniform[:n].reshape(n, 1), self.uniform[n:].reshape(n, nq)
         self.pool, self.pool_f = np.empty((2 * n, nq)), np.empty(2 * n)
         self.X, self.out, self.f, self.fc = self.pool[:n], self.pool[n:], *np.split(self.pool_f, 2)
         self.span, self.lo, self.hi = (a.copy() for a in (problem.span, problem.lower,
@@ -67,13 +68,13 @@ class Draws:
     def draw(self, rng: np.random.Generator, blend: float) -> None:
         """Take the draws, in the GA's order: entrants, u, rc, rm, step.
 
-        ``out=`` where the generator has it: the same numbers as a fresh array.
+        ``out=`` where the generator has it: the same numbers as a fresh array; ``rc`` and
+        ``rm`` in one call (the generator fills them from one stream, in the same order).
         """
         n, t = self.shape
         np.copyto(self.entrants, rng.integers(n, size=(2, n, t)))
         np.copyto(self.u, rng.uniform(-blend, 1.0 + blend, self.u.shape))
-        rng.random(out=self.rc)
-        rng.random(out=self.rm)
+        rng.random(out=self.uniform)
         rng.standard_normal(out=self.step)
 
     def survivors(self, X: Array, f: Array, children: Array, fc: Array) -> Population:
