@@ -17,9 +17,10 @@
 
 #pragma STDC FP_CONTRACT OFF
 
-/* numpy's maximum and minimum: a NaN in either operand is the result. */
-static double np_max(double a, double b) { return (a >= b || a != a) ? a : b; }
-static double np_min(double a, double b) { return (a <= b || a != a) ? a : b; }
+/* numpy's maximum and minimum: a NaN in either operand is the result; of equals (+0.0 and
+ * -0.0) the second operand (numpy 2.x, every array length; tests/test_ga_kernel.py). */
+static double np_max(double a, double b) { return (a > b || a != a) ? a : b; }
+static double np_min(double a, double b) { return (a < b || a != a) ? a : b; }
 
 /* The row of the cheapest of the t entrants e[0..t-1], as argmin picks it. */
 static int64_t winner(const int64_t *e, int64_t t, const double *f)
