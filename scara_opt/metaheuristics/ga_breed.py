@@ -37,8 +37,10 @@ class Draws:
         rc: (n, 1) uniform draws: child ``i`` is crossed where ``rc < crossover``.
         rm: (n, nq) uniform draws: a gene mutates where ``rm < mutation``.
         step: (n, nq) standard normal mutation steps.
-        pool, pool_f: (2n, nq), (2n,): the parents (the kernel's copy of the population)
-            over the children and their costs, the rows the survivors are taken from.
+        cur, other: two :class:`_Pool` used in turn: the kernel reads the parents and
+            writes the children into ``cur``; the survivors are taken from it into
+            ``other``'s parent rows, which become ``cur`` (no copy back). So a population
+            :meth:`survivors` returns lives there until the generation after next.
     """
 
     def __init__(self, problem: Problem, n: int, t: int) -> None:
@@ -48,14 +50,15 @@ class Draws:
         self.u, self.step = np.empty((n, nq)), np.empty((n, nq))
         self.uniform = np.empty(n * (1 + nq))           # rc then rm: one call, one stream
         self.rc, self.rm = self.uniform[:n].reshape(n, 1), self.uniform[n:].reshape(n, nq)
-        self.pool, self.pool_f = np.empty((2 * n, nq)), np.empty(2 * n)
-        self.X, self.out, self.f, self.fc = self.pool[:n], self.pool[n:], *np.split(self.pool_f, 2)
         self.span, self.lo, self.hi = (a.copy() for a in (problem.span, problem.lower,
                                                           problem.upper))
         self.repair = not problem._any_periodic   # else Problem.repair wraps, after
-        arrays = {k: getattr(self, k).ctypes.data for k, _ in _Args._fields_[4:]}
-        self.args = _Args(n=n, nq=nq, t=t, repair=self.repair, **arrays)
-        self.address = ctypes.addressof(self.args)   # the struct lives as long as self
+        self.cur, self.other = _Pool(self, n, nq, t), _Pool(self, n, nq, t)
+
+    @property
+    def out(self) -> Array:
+        """The current pool's children (n, nq): the C form's output."""
+        return self.cur.out
 
     @staticmethod
     def of(problem: Problem, n: int, t: int) -> Draws:
@@ -81,15 +84,18 @@ class Draws:
         """:func:`~scara_opt.metaheuristics.base.survivors` of the parents and the children.
 
         The same rows: where ``children`` is :attr:`out` (the C form), the stable sort of
-        :attr:`pool_f` (parents first, so ties keep the old) picks them from :attr:`pool`,
-        without stacking the two again.
+        the pool's costs (parents first, so ties keep the old) picks them from the pool,
+        without stacking the two again, into the other pool.
         """
-        n = self.shape[0]
-        if children is not self.out:
+        n, p, q = self.shape[0], self.cur, self.other
+        if children is not p.out:
             return survivors(X, f, children, fc, n)
-        np.copyto(self.fc, fc)
-        order = self.pool_f.argsort(kind="stable")[:n]
-        return Population(self.pool.take(order, axis=0), self.pool_f.take(order))
+        np.copyto(p.fc, fc)
+        order = p.pool_f.argsort(kind="stable")[:n]
+        p.pool.take(order, axis=0, out=q.X, mode="clip")   # "clip": no index is out of
+        p.pool_f.take(order, out=q.f, mode="clip")         # range; "raise" copies twice
+        self.cur, self.other = q, p
+        return Population(q.X, q.f)
 
 
 def offspring(problem: Problem, X: Array, f: Array, d: Draws, sigma: float,
@@ -105,12 +111,15 @@ def offspring(problem: Problem, X: Array, f: Array, d: Draws, sigma: float,
     kernel = _kernel()
     if kernel is None:
         return offspring_numpy(problem, X, f, d, sigma, crossover, mutation)
-    np.copyto(d.X, X)
-    np.copyto(d.f, f)
-    kernel(d.address, sigma, crossover, mutation)
+    p = d.cur
+    if X is not p.X:                        # else already there: the last survivors
+        np.copyto(p.X, X)
+    if f is not p.f:
+        np.copyto(p.f, f)
+    kernel(p.address, sigma, crossover, mutation)
     if not d.repair:
-        np.copyto(d.out, problem.repair(d.out))
-    return d.out
+        np.copyto(p.out, problem.repair(p.out))
+    return p.out
 
 
 def offspring_numpy(problem: Problem, X: Array, f: Array, d: Draws, sigma: float,
@@ -154,6 +163,22 @@ def _kernel() -> Callable[..., Any] | None:
     fn.argtypes = [ctypes.c_void_p, ctypes.c_double, ctypes.c_double, ctypes.c_double]
     fn.restype = None
     return fn
+
+
+class _Pool:
+    """Parents over children, and their costs: ``pool`` (2n, nq), ``pool_f`` (2n,).
+
+    With their views (``X``, ``out``; ``f``, ``fc``) and the kernel's struct, which points
+    into them and into the draws of ``d``.
+    """
+
+    def __init__(self, d: Draws, n: int, nq: int, t: int) -> None:
+        self.pool, self.pool_f = np.empty((2 * n, nq)), np.empty(2 * n)
+        self.X, self.out, self.f, self.fc = self.pool[:n], self.pool[n:], *np.split(self.pool_f, 2)
+        arrays = {k: getattr(self if hasattr(self, k) else d, k).ctypes.data
+                  for k, _ in _Args._fields_[4:]}
+        self.args = _Args(n=n, nq=nq, t=t, repair=d.repair, **arrays)
+        self.address = ctypes.addressof(self.args)   # the struct lives as long as self
 
 
 class _Args(ctypes.Structure):
