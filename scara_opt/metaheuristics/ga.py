@@ -39,6 +39,10 @@ class GeneticSolver(PopulationSolver[Population]):
     :math:`T` generations costs ``population * (T + 1)``. Nothing else searches: no
     local polish (that is ``gha``, :class:`~scara_opt.metaheuristics.gha.GeneticHybridSolver`).
 
+    A generation's arithmetic between the random draws and the cost (tournaments, blend,
+    mutation, box repair) runs in a small C kernel (:mod:`~scara_opt.metaheuristics.ga_breed`),
+    in numpy where nothing compiles: the same numbers, bit for bit.
+
     Where it departs from the paper: zavar2024's Algorithm 4 names the operators only
     ("soft or hard" selection by roulette wheel, rank or top; crossover; mutation) and
     gives no rates; the operators and rates here are our choice (tournament, BLX-γ,

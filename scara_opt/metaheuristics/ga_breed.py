@@ -1,11 +1,12 @@
-"""One GA generation's children from its random draws: a small C kernel, numpy as fallback.
+"""One GA generation from its random draws: the children in C (numpy as fallback), survivors.
 
 :func:`offspring` runs ga_breed.c where it compiles (:func:`~scara_opt.model.compiled.c_library`)
 and :func:`offspring_numpy` otherwise (or under ``SCARA_OPT_NO_COMPILE=1``): the same
 operations in the same order, so the same bits (tests/test_ga_kernel.py). The draws stay
-in numpy (:meth:`Draws.draw`), in the order and shapes the GA always took them, into
+in numpy (:meth:`Draws.draw`), the same numbers in the order the GA always took them, into
 buffers made once a solve: the kernel's arguments are their addresses, taken once (a
 ``.ctypes.data`` costs ~1 µs, more than the kernel's arithmetic; issue 18).
+:meth:`Draws.survivors` keeps :func:`~scara_opt.metaheuristics.base.survivors`' rows.
 """
 
 from __future__ import annotations
