@@ -110,7 +110,9 @@ def test_pool_survivors_same_rows_as_base_survivors(problems, n):
 
     Mutations: the pool sorted with the default (unstable) ``argsort`` fails (ties then
     reorder); parents and children swapped in the pool (``self.pool[:n], self.pool[n:]``
-    -> ``self.pool[n:], self.pool[:n]``) fails.
+    -> ``self.pool[n:], self.pool[:n]``) fails; the pools not swapped after the survivors
+    are taken (``self.cur, self.other = q, p`` dropped: right rows, copied back each
+    generation) fails.
     """
     problem = problems["zavar2024"]
     rng = np.random.default_rng(n)
@@ -125,6 +127,7 @@ def test_pool_survivors_same_rows_as_base_survivors(problems, n):
     expect = base.survivors(X, f, children, fc, n)
     np.testing.assert_array_equal(bits(got.X), bits(expect.X))
     np.testing.assert_array_equal(bits(got.f), bits(expect.f))
+    assert got.X is d.cur.X and got.f is d.cur.f   # the next parents: read there, no copy
 
 
 def test_no_compile_runs_the_numpy_form_with_the_same_answer(robots):
