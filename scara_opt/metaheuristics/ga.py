@@ -5,18 +5,16 @@ from __future__ import annotations
 from typing import Any, ClassVar
 
 import numpy as np
-from numpy.typing import NDArray
 
 from scara_opt.ik.registry import register_solver
 from scara_opt.metaheuristics.base import (
-    Array,
     Population,
     PopulationSolver,
     Problem,
     check_number,
-    survivors,
     truncate,
 )
+from scara_opt.metaheuristics.ga_breed import Draws, offspring, winners  # noqa: F401
 
 
 @register_solver("ga")
@@ -40,6 +38,10 @@ class GeneticSolver(PopulationSolver[Population]):
     A generation costs exactly ``population`` evaluations, one batch, so a run of
     :math:`T` generations costs ``population * (T + 1)``. Nothing else searches: no
     local polish (that is ``gha``, :class:`~scara_opt.metaheuristics.gha.GeneticHybridSolver`).
+
+    A generation's arithmetic between the random draws and the cost (tournaments, blend,
+    mutation, box repair) runs in a small C kernel (:mod:`~scara_opt.metaheuristics.ga_breed`),
+    in numpy where nothing compiles: the same numbers, bit for bit.
 
     Where it departs from the paper: zavar2024's Algorithm 4 names the operators only
     ("soft or hard" selection by roulette wheel, rank or top; crossover; mutation) and
@@ -104,37 +106,10 @@ class GeneticSolver(PopulationSolver[Population]):
         o = self.options
         X, f = state.X, state.f
         n, nq = X.shape
-        entrants = rng.integers(n, size=(2, n, o["tournament"]))
-        children, p2 = X.take(winners(entrants, f), axis=0)   # p1, p2: (n, nq) each, fresh
-        u = rng.uniform(-o["blend"], 1.0 + o["blend"], (n, nq))
-        crossed = rng.random((n, 1)) < o["crossover"]
-        blend = np.subtract(p2, children, out=p2)
-        blend *= u
-        blend += children                                 # p1 + u (p2 - p1)
-        np.copyto(children, blend, where=crossed)         # the crossed children; p1 the rest
-        mutate = rng.random((n, nq)) < o["mutation"]
+        draws = Draws.of(problem, n, o["tournament"])
+        draws.draw(rng, o["blend"])
         sigma = self.cooled(o["mutation_scale"], o["mutation_scale_end"], t)
-        step = rng.standard_normal((n, nq))
-        step *= sigma * problem.span                      # σ_t (u_j - l_j) ε
-        step *= mutate                                    # 0 for the genes that keep
-        children += step
-        children = problem.repair(children)
+        children = offspring(problem, X, f, draws, sigma, o["crossover"], o["mutation"])
         fc = problem.cost(children)
-        return survivors(X, f, children, fc, n)
+        return draws.survivors(X, f, children, fc)
 
-
-def winners(entrants: NDArray[np.intp], f: Array) -> NDArray[np.intp]:
-    """The cheapest entrant of each tournament (the first of equals, as ``argmin``).
-
-    Args:
-        entrants: (..., t) row indices, the last axis one tournament.
-        f: the rows' costs.
-
-    Returns:
-        (...) the winners' row indices (picked by flat ``take``: ~4 instead of ~8 µs for
-        ``take_along_axis`` at 2 x 100 tournaments of 2).
-    """
-    t = entrants.shape[-1]
-    pick = f.take(entrants).argmin(axis=-1)
-    first = np.arange(0, entrants.size, t).reshape(pick.shape)  # each tournament's start
-    return entrants.reshape(-1).take(first + pick)
