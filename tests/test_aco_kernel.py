@@ -88,3 +88,22 @@ def test_no_compile_runs_the_numpy_form_with_the_same_numbers():
     res = so.solve_ik(so.load_robot("zavar2024"), (-0.23, 0.2, -0.07), method="aco",
                       population=30, iterations=30, seed=2, tol=1e-12)
     assert out[1:] == [res.q.tobytes().hex(), str(res.evaluations)]
+
+
+def test_signed_zeros_repair_as_numpy(monkeypatch):
+    """At a limit of 0, an ant of -0.0 (archive -0.0 plus a -0.0 kernel step) is reflected and
+    clipped to numpy's zero, sign included (np.maximum/minimum give the second of equals).
+
+    Mutation caught: max/min returning the first of equals (``a > b`` -> ``a >= b``).
+    """
+    if aco._kernel() is None:
+        pytest.skip("no C compiler: only the numpy form runs")
+    problem = box([0.0, -1.0], [1.0, 0.0], [False, False])
+    k = 4
+    S = np.array([[-0.0, -0.0], [0.0, 0.0], [-0.0, 0.0], [0.0, -0.0]])
+    draws = aco.Draws(problem, k, 0.5)
+    draws.u[:] = [0.1, 0.4, 0.6, 0.9]
+    draws.normal[:] = -0.0
+    ants_c = aco.sample_ants(problem, S, 0.85, draws).copy()
+    monkeypatch.setattr(aco, "_kernel", lambda: None)
+    assert ants_c.tobytes() == aco.sample_ants(problem, S, 0.85, draws).tobytes()

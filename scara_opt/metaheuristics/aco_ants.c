@@ -11,9 +11,7 @@
  *   3. Problem.repair: a continuous joint wrapped, (x + pi) mod 2pi - pi with numpy's
  *      remainder (fmod, then moved to the divisor's sign); any other reflected, then
  *      clipped: y = max(x, 2 lo - x); y = min(y, 2 hi - y); y = max(y, lo), where max/min
- *      are numpy's maximum/minimum (NaN propagates). Of +0 and -0 numpy's SIMD and scalar
- *      loops may return either; here the scalar loop's choice. A -0 only arises from a
- *      limit written -0.0 (then the sign of a zero joint value might differ).
+ *      are numpy's maximum/minimum (NaN propagates; of +0 and -0, the second operand).
  *
  * k, nq: archive rows, joints; S (k, nq): the archive; cum (k,): cumulative rank weights;
  * u (k,), normal (k, nq): the draws; lo, hi (nq,): the search box; periodic (nq,): 1 for a
@@ -25,8 +23,10 @@
 
 static const double PI = 3.141592653589793;   /* math.pi, the same double */
 
-static double max_np(double a, double b) { return (a >= b || a != a) ? a : b; }
-static double min_np(double a, double b) { return (a <= b || a != a) ? a : b; }
+/* numpy's maximum and minimum: a NaN in either operand is the result; of equals (+0.0 and
+ * -0.0) the second operand (numpy 2.x, every array length: tests/test_ga_kernel.py) */
+static double max_np(double a, double b) { return (a > b || a != a) ? a : b; }
+static double min_np(double a, double b) { return (a < b || a != a) ? a : b; }
 
 /* a sorts strictly before b: the smaller, or a number before a NaN */
 static int before(double a, double b) { return a < b || (b != b && a == a); }
