@@ -59,7 +59,9 @@ def test_c_and_numpy_children_same_bits(problems, robot, t, n, nan):
     ``winner``); a NaN cost not winning (``|| f[e[k]] != f[e[k]]`` dropped); the blend
     where not crossed (``crossed ?`` -> ``1 ?``); the mutation mask dropped (``(double)(...)``
     -> ``1.0``); ``step * (sigma * span)`` reassociated as ``(step * sigma) * span``; the
-    upper reflection dropped (``np_min(c, 2.0 * a->hi[j] - c)`` -> ``c``).
+    upper reflection dropped (``np_min(c, 2.0 * a->hi[j] - c)`` -> ``c``); the blend weight
+    without its map to U(-γ, 1 + γ) (``w = u_low + u_range * u`` -> ``w = u``; the golden
+    runs of test_meta_reproducible fail too).
     """
     if ga_breed._kernel() is None:
         pytest.skip("no C compiler here: only the numpy form runs")

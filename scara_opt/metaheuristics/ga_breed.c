@@ -6,7 +6,8 @@
  * one IEEE operation as in numpy (tests/test_ga_kernel.py compares the bits). For child i (row i of out):
  *     p1, p2  the winners of tournaments i and n + i (entrants (2, n, t)): the cheapest
  *             entrant, the first of equals, the first NaN if any (numpy's argmin)
- *     c       crossed (rc[i] < p_cross) ? (p2 - p1) * u + p1 : p1
+ *     w       u_low + u_range * u   (the blend weight U(-g, 1 + g): numpy's uniform)
+ *     c       crossed (rc[i] < p_cross) ? (p2 - p1) * w + p1 : p1
  *     c      += (step * (sigma * span)) * mutate  (mutate = rm < p_mut as 0.0 or 1.0,
  *                                                  numpy's bool -> float: -0.0 kept)
  *     repair  (if asked) reflect at lower, at upper, clip at lower, as Problem.repair:
@@ -41,7 +42,8 @@ struct ga_args {
     double *out;
 };
 
-void ga_children(const struct ga_args *a, double sigma, double p_cross, double p_mut)
+void ga_children(const struct ga_args *a, double sigma, double p_cross, double p_mut,
+                 double u_low, double u_range)
 {
     int64_t n = a->n, nq = a->nq, t = a->t;
     for (int64_t i = 0; i < n; i++) {
@@ -50,7 +52,8 @@ void ga_children(const struct ga_args *a, double sigma, double p_cross, double p
         int crossed = a->rc[i] < p_cross;
         for (int64_t j = 0; j < nq; j++) {
             int64_t ij = i * nq + j;
-            double c = crossed ? (p2[j] - p1[j]) * a->u[ij] + p1[j] : p1[j];
+            double w = u_low + u_range * a->u[ij];
+            double c = crossed ? (p2[j] - p1[j]) * w + p1[j] : p1[j];
             double s = a->step[ij] * (sigma * a->span[j]);
             s = s * (double)(a->rm[ij] < p_mut);
             c = c + s;

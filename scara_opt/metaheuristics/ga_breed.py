@@ -34,7 +34,10 @@ class Draws:
     Attributes:
         entrants: (2, n, t) int64 rows: tournaments ``i`` and ``n + i`` give child ``i``'s
             parents ``p1`` and ``p2``.
-        u: (n, nq) blend weights, :math:`U(-γ, 1 + γ)`.
+        u: (n, nq) uniform draws in [0, 1): the blend weights are
+            ``u_low + u_range * u``, :math:`U(-γ, 1 + γ)`, as numpy's ``uniform`` makes them
+            from the same draws (bit for bit).
+        u_low, u_range: :math:`-γ` and :math:`(1 + γ) - (-γ)`, set by :meth:`draw`.
         rc: (n, 1) uniform draws: child ``i`` is crossed where ``rc < crossover``.
         rm: (n, nq) uniform draws: a gene mutates where ``rm < mutation``.
         step: (n, nq) standard normal mutation steps.
@@ -49,6 +52,7 @@ class Draws:
         self.shape = (n, t)
         self.entrants = np.empty((2, n, t), dtype=np.int64)
         self.u, self.step = np.empty((n, nq)), np.empty((n, nq))
+        self.u_low, self.u_range = 0.0, 1.0
         self.uniform = np.empty(n * (1 + nq))           # rc then rm: one call, one stream
         self.rc, self.rm = self.uniform[:n].reshape(n, 1), self.uniform[n:].reshape(n, nq)
         self.span, self.lo, self.hi = (a.copy() for a in (problem.span, problem.lower,
@@ -77,7 +81,9 @@ class Draws:
         """
         n, t = self.shape
         np.copyto(self.entrants, rng.integers(n, size=(2, n, t)))
-        np.copyto(self.u, rng.uniform(-blend, 1.0 + blend, self.u.shape))
+        rng.random(out=self.u)   # the weights' draws: uniform(-γ, 1 + γ) is low + range * u
+        self.u_low = -blend
+        self.u_range = (1.0 + blend) - self.u_low
         rng.random(out=self.uniform)
         rng.standard_normal(out=self.step)
 
@@ -117,7 +123,7 @@ def offspring(problem: Problem, X: Array, f: Array, d: Draws, sigma: float,
         np.copyto(p.X, X)
     if f is not p.f:
         np.copyto(p.f, f)
-    kernel(p.address, sigma, crossover, mutation)
+    kernel(p.address, sigma, crossover, mutation, d.u_low, d.u_range)
     if not d.repair:
         np.copyto(p.out, problem.repair(p.out))
     return p.out
@@ -128,7 +134,7 @@ def offspring_numpy(problem: Problem, X: Array, f: Array, d: Draws, sigma: float
     """:func:`offspring` in numpy (where nothing compiles); ``d`` is left as it was."""
     children, p2 = X.take(winners(d.entrants, f), axis=0)   # p1, p2: (n, nq) each, fresh
     blend = np.subtract(p2, children, out=p2)
-    blend *= d.u
+    blend *= d.u * d.u_range + d.u_low                # U(-γ, 1 + γ), as numpy's uniform
     blend += children                                 # p1 + u (p2 - p1)
     np.copyto(children, blend, where=d.rc < crossover)   # the crossed; p1 the rest
     step = d.step * (sigma * problem.span)            # σ_t (u_j - l_j) ε
@@ -161,7 +167,8 @@ def _kernel() -> Callable[..., Any] | None:
     if lib is None:
         return None
     fn = lib.ga_children
-    fn.argtypes = [ctypes.c_void_p, ctypes.c_double, ctypes.c_double, ctypes.c_double]
+    dbl = ctypes.c_double
+    fn.argtypes = [ctypes.c_void_p, dbl, dbl, dbl, dbl, dbl]
     fn.restype = None
     return fn
 

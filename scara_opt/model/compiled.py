@@ -38,8 +38,10 @@ import casadi as ca
 
 log = logging.getLogger(__name__)
 
-#: the C compiler and its flags (``$CC`` overrides the compiler)
-FLAGS = ("-O2", "-shared", "-fPIC")
+#: the C compiler and its flags (``$CC`` overrides the compiler); no fused multiply-add:
+#: the metaheuristics' kernels give numpy's bits only with one rounding per operation (none
+#: in x86-64's base set anyway; aarch64 would fuse ``a * b + c``)
+FLAGS = ("-O2", "-ffp-contract=off", "-shared", "-fPIC")
 #: set to 1 to never compile (casadi's virtual machine evaluates the Functions)
 NO_COMPILE_ENV = "SCARA_OPT_NO_COMPILE"
 #: the cache folder's environment variable
