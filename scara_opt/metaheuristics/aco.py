@@ -24,7 +24,7 @@ from scara_opt.metaheuristics.base import (
     survivors,
     truncate,
 )
-from scara_opt.model.compiled import c_library
+from scara_opt.model.compiled import c_function
 
 
 @dataclass
@@ -150,14 +150,9 @@ def sample_ants(problem: Problem, S: Array, xi: float, draws: Draws) -> Array:
 @functools.cache
 def _kernel() -> Callable[..., int] | None:
     """``aco_ants`` of aco_ants.c compiled once per machine, or ``None`` (numpy form)."""
-    lib = c_library(Path(__file__).with_name("aco_ants.c"))
-    if lib is None:
-        return None
-    fn = lib.aco_ants
     ptr, i64, dbl = ctypes.c_void_p, ctypes.c_int64, ctypes.c_double
-    fn.argtypes = [i64, i64, ptr, ptr, ptr, ptr, dbl, ptr, ptr, ptr, ptr]
-    fn.restype = ctypes.c_int
-    return fn
+    return c_function(Path(__file__).with_name("aco_ants.c"), "aco_ants",
+                      [i64, i64, ptr, ptr, ptr, ptr, dbl, ptr, ptr, ptr, ptr], ctypes.c_int)
 
 
 @lru_cache(maxsize=32)

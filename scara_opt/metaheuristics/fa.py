@@ -20,7 +20,7 @@ from scara_opt.metaheuristics.base import (
     check_number,
     greedy,
 )
-from scara_opt.model.compiled import c_library
+from scara_opt.model.compiled import c_function
 
 #: the values of the ``sweep`` option: every brighter firefly in turn, or the nearest one
 SWEEPS = ("all", "nearest")
@@ -214,14 +214,9 @@ def _sweep_compiled(kernel: Callable[..., None], Xs: Array, new: Array, first_di
 @functools.cache
 def _kernel() -> Callable[..., None] | None:
     """``fa_sweep`` of fa_sweep.c compiled once per machine, or ``None`` (numpy form)."""
-    lib = c_library(Path(__file__).with_name("fa_sweep.c"))
-    if lib is None:
-        return None
-    fn = lib.fa_sweep
     ptr, i64, dbl = ctypes.c_void_p, ctypes.c_int64, ctypes.c_double
-    fn.argtypes = [i64, i64, i64, i64, ptr, ptr, ptr, ptr, dbl, dbl, ptr, ptr]
-    fn.restype = None
-    return fn
+    return c_function(Path(__file__).with_name("fa_sweep.c"), "fa_sweep",
+                      [i64, i64, i64, i64, ptr, ptr, ptr, ptr, dbl, dbl, ptr, ptr])
 
 
 def sweep_nearest(X: Array, f: Array, span: Array, beta0: float, gamma: float, step: Array,

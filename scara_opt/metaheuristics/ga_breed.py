@@ -1,6 +1,6 @@
 """One GA generation from its random draws: the children in C (numpy as fallback), survivors.
 
-:func:`offspring` runs ga_breed.c where it compiles (:func:`~scara_opt.model.compiled.c_library`)
+:func:`offspring` runs ga_breed.c where it compiles (:func:`~scara_opt.model.compiled.c_function`)
 and :func:`offspring_numpy` otherwise (or under ``SCARA_OPT_NO_COMPILE=1``): the same
 operations in the same order, so the same bits (tests/test_ga_kernel.py). The draws stay
 in numpy (:meth:`Draws.draw`), the same numbers in the order the GA always took them, into
@@ -23,7 +23,7 @@ from numpy.typing import NDArray
 
 from scara_opt.metaheuristics.base import Population, survivors
 from scara_opt.metaheuristics.problem import Array, Problem
-from scara_opt.model.compiled import c_library
+from scara_opt.model.compiled import c_function
 
 _DRAWS: weakref.WeakKeyDictionary[Problem, Draws] = weakref.WeakKeyDictionary()
 
@@ -163,14 +163,9 @@ def winners(entrants: NDArray[np.intp], f: Array) -> NDArray[np.intp]:
 @functools.cache
 def _kernel() -> Callable[..., Any] | None:
     """``ga_children`` of ga_breed.c compiled once per machine, or ``None`` (numpy form)."""
-    lib = c_library(Path(__file__).with_name("ga_breed.c"))
-    if lib is None:
-        return None
-    fn = lib.ga_children
     dbl = ctypes.c_double
-    fn.argtypes = [ctypes.c_void_p, dbl, dbl, dbl, dbl, dbl]
-    fn.restype = None
-    return fn
+    return c_function(Path(__file__).with_name("ga_breed.c"), "ga_children",
+                      [ctypes.c_void_p, dbl, dbl, dbl, dbl, dbl])
 
 
 class _Pool:

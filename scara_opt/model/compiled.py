@@ -33,6 +33,7 @@ import tempfile
 import threading
 from collections.abc import Callable
 from pathlib import Path
+from typing import Any
 
 import casadi as ca
 
@@ -164,3 +165,18 @@ def c_library(source: str | Path) -> ctypes.CDLL | None:
     with _LOCK:
         _LIBRARIES[str(path)] = lib
     return lib
+
+
+def c_function(source: str | Path, name: str, argtypes: list[Any],
+               restype: Any = None) -> Callable[..., Any] | None:
+    """Function ``name`` of the C file ``source``, with its ctypes signature set.
+
+    Compiled and loaded by :func:`c_library`; ``None`` where nothing compiles (the caller
+    runs its numpy form).
+    """
+    lib = c_library(source)
+    if lib is None:
+        return None
+    fn = getattr(lib, name)
+    fn.argtypes, fn.restype = argtypes, restype
+    return fn
