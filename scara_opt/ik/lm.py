@@ -143,15 +143,22 @@ class _Symbols:
         return ca.sumsqr((q - self.q_ref) / self.s)
 
 
+def _floored(J: ca.SX, mu: ca.SX | float) -> ca.SX:
+    r"""The damping with its floor: :math:`μ' = μ + ` ``MU_REL`` :math:`\|J\|_F^2 +` ``MU_FLOOR``.
+
+    The floor scales with ``J``; ``μ = 0`` gives the floor alone.
+    """
+    return mu + MU_REL * ca.sumsqr(J) + MU_FLOOR
+
+
 def _damped_pinv(J: ca.SX, mu: ca.SX | float) -> ca.SX:
     r""":math:`J^T (J J^T + μ'I)^{-1}` (nq, m), solved in the smaller of its two forms.
 
-    :math:`μ' = μ + ` ``MU_REL`` :math:`\|J\|_F^2 +` ``MU_FLOOR``: the floor scales with
-    ``J``, so the step is sound on rank-deficient Jacobians too (more residual rows than
-    joints, singular poses).
+    :math:`μ'`: :func:`_floored`; the floor keeps the step sound on rank-deficient
+    Jacobians too (more residual rows than joints, singular poses).
     """
     m, nq = J.shape
-    mu = mu + MU_REL * ca.sumsqr(J) + MU_FLOOR
+    mu = _floored(J, mu)
     if m <= nq:
         return ca.solve(J @ J.T + mu * ca.SX.eye(m), J).T
     return ca.solve(J.T @ J + mu * ca.SX.eye(nq), J.T)
@@ -240,13 +247,13 @@ def _newton(sym: _Symbols, robot: Robot, kind: str, free: ca.SX, Js: ca.SX,
     \begin{bmatrix} Δu \\ ν \end{bmatrix} = -\begin{bmatrix} g \\ r \end{bmatrix}`,
     :math:`g = u - u_0` over the free joints, :math:`H = I + \sum_i λ_i ∇^2 r_i` with the
     least-squares multipliers :math:`λ = -(J_s J_s^T)^{-1} J_s g` (μ: the floor of
-    :func:`_damped_pinv`). The tangent step alone takes :math:`H = I` and converges
+    :func:`_floored`). The tangent step alone takes :math:`H = I` and converges
     linearly, at the rate the solution set's curvature sets (~0.3 a step on a 7-joint
     arm far from ``q0``); with the curvature this step converges quadratically.
     """
     nq, m = robot.nq, Js.shape[0]
     g = free * (sym.q - sym.q_ref) / sym.s
-    mu = MU_REL * ca.sumsqr(Js) + MU_FLOOR
+    mu = _floored(Js, 0.0)
     lam = -ca.solve(Js @ Js.T + mu * ca.SX.eye(m), Js @ g)
     x, lx = ca.SX.sym("x", nq), ca.SX.sym("l", m)
     phi = ca.dot(lx, task_residual(robot, kind, x, sym.par))
