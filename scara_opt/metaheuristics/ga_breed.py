@@ -13,7 +13,6 @@ from __future__ import annotations
 
 import ctypes
 import functools
-import weakref
 from collections.abc import Callable
 from pathlib import Path
 from typing import Any
@@ -24,8 +23,6 @@ from numpy.typing import NDArray
 from scara_opt.metaheuristics.base import Population, survivors
 from scara_opt.metaheuristics.problem import Array, Problem
 from scara_opt.model.compiled import c_function
-
-_DRAWS: weakref.WeakKeyDictionary[Problem, Draws] = weakref.WeakKeyDictionary()
 
 
 class Draws:
@@ -67,10 +64,13 @@ class Draws:
 
     @staticmethod
     def of(problem: Problem, n: int, t: int) -> Draws:
-        """The buffers of ``problem``'s solve (made at its first generation)."""
-        draws = _DRAWS.get(problem)
+        """The buffers of ``problem``'s solve, made at its first generation.
+
+        Kept on the problem, which lives for one solve (as its per-size buffers do).
+        """
+        draws: Draws | None = problem.__dict__.get("_ga_draws")
         if draws is None or draws.shape != (n, t):
-            draws = _DRAWS[problem] = Draws(problem, n, t)
+            draws = problem.__dict__["_ga_draws"] = Draws(problem, n, t)
         return draws
 
     def draw(self, rng: np.random.Generator, blend: float) -> None:
