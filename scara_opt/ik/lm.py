@@ -56,7 +56,7 @@ from typing import Any, ClassVar
 import casadi as ca
 import numpy as np
 
-from scara_opt.ik import problem
+from scara_opt.ik import lm_driver, problem
 from scara_opt.ik.base import (
     MAX_ITER,
     MAX_RESTARTS,
@@ -386,6 +386,26 @@ def phase_arrays(robot: Robot, kind: str, n: int = 1, jit: bool = True) -> Phase
     return cache[key]
 
 
+def phase_driver(robot: Robot, kind: str, jit: bool = True) -> lm_driver.Driver | None:
+    """This thread's C start loop on the one-target :func:`phase_arrays`, or ``None``.
+
+    :mod:`scara_opt.ik.lm_driver`; ``None`` where the phases are not compiled (``jit=False``,
+    no C compiler): ``_Run``, the same loop in Python, runs.
+    """
+    cache: dict[tuple, lm_driver.Driver | None] = robot.__dict__.setdefault("_ik_lm_driver", {})
+    key = (kind, jit, threading.get_ident())
+    if key not in cache:
+        f = phase_arrays(robot, kind, 1, jit)
+        phases = {phase: (step_function(robot, phase, kind, jit), getattr(f, phase))
+                  for phase in ("lm", "newton", "slide")}
+        counts = {phase: (ITERATIONS[phase], EVALS[phase]) for phase in phases}
+        constants = {"stall_calls": STALL_CALLS, "lambda0": LAMBDA0, "lambda_max": LAMBDA_MAX,
+                     "step_tol": STEP_TOL, "slide_tol": SLIDE_TOL,
+                     "stall_decrease": STALL_DECREASE}
+        cache[key] = lm_driver.make(phases, counts, constants, robot.nq) if jit else None
+    return cache[key]
+
+
 def limits(robot: Robot) -> tuple[Array, Array]:
     """``box`` (3 nq,) = [lower, upper, ranges] and the default ``q0``, cached per limits."""
     lo, hi = robot.lower, robot.upper
@@ -510,7 +530,8 @@ class Search:
 
 
 def lm_search(robot: Robot, target: Target, q_ref: Array, starts: Iterable[Array], *,
-              tol: float, max_iter: int, jit: bool = True, box: Array | None = None) -> Search:
+              tol: float, max_iter: int, jit: bool = True, box: Array | None = None,
+              c_loop: bool = True) -> Search:
     """The three phases from each start in turn until one converges.
 
     Args:
@@ -522,6 +543,8 @@ def lm_search(robot: Robot, target: Target, q_ref: Array, starts: Iterable[Array
         max_iter: iterations per start.
         jit: the iterations compiled to C (see :func:`step_function`).
         box: ``limits(robot)[0]`` if the caller has it already.
+        c_loop: run each start's loop in C where the phases are compiled
+            (:func:`phase_driver`; the same numbers as the Python loop, ``False``).
 
     Returns:
         Search: the best configuration over the starts tried.
@@ -529,7 +552,22 @@ def lm_search(robot: Robot, target: Target, q_ref: Array, starts: Iterable[Array
     f = phase_arrays(robot, target.kind, 1, jit)
     fill_params(f.par[0], target, q_ref, 0.0)
     f.box[0] = limits(robot)[0] if box is None else box
-    run = _Run(f, residual_tol(target.weights, tol))
+    return search_filled(robot, target.kind, residual_tol(target.weights, tol), q_ref, starts,
+                         max_iter=max_iter, jit=jit, c_loop=c_loop)
+
+
+def search_filled(robot: Robot, kind: str, e_tol: float, q_ref: Array,
+                  starts: Iterable[Array], *, max_iter: int, jit: bool = True,
+                  c_loop: bool = True) -> Search:
+    """:func:`lm_search` once this thread's one-target arrays hold the target and limits.
+
+    The arrays: ``phase_arrays(robot, kind, 1, jit)``, its ``par[0]`` and ``box[0]``.
+    ``e_tol``: the convergence threshold on ‖r‖² (:func:`residual_tol`). For
+    :func:`~scara_opt.ik.lm_batch.solve_many`, which fills them from its own rows.
+    """
+    driver = phase_driver(robot, kind, jit) if c_loop else None
+    run = _Run(phase_arrays(robot, kind, 1, jit), e_tol) if driver is None \
+        else driver.reset(e_tol, max_iter)
     best_q, best_e, n = q_ref, math.inf, 0
     for start in starts:
         n += 1
@@ -537,9 +575,9 @@ def lm_search(robot: Robot, target: Target, q_ref: Array, starts: Iterable[Array
         q, e = run.start(np.asarray(start, dtype=float))
         if e < best_e:
             best_q, best_e = q, e
-        if best_e <= run.e_tol:
+        if best_e <= e_tol:
             break
-    return Search(best_q, best_e, best_e <= run.e_tol, run.iterations, run.evaluations, n,
+    return Search(best_q, best_e, best_e <= e_tol, run.iterations, run.evaluations, n,
                   run.history)
 
 

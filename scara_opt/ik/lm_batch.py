@@ -14,6 +14,7 @@ import math
 import time
 from collections.abc import Iterator, Sequence
 from dataclasses import dataclass
+from itertools import chain
 from typing import cast
 
 import numpy as np
@@ -21,7 +22,7 @@ from numpy.typing import NDArray
 
 from scara_opt.checks import float_array
 from scara_opt.errors import InputError
-from scara_opt.ik.base import LIMIT_SLACK, check_q0, check_seed, check_tol
+from scara_opt.ik.base import LIMIT_SLACK, LazyGenerator, check_q0, check_seed, check_tol
 from scara_opt.ik.lm import (
     LAMBDA0,
     LAMBDA_MAX,
@@ -33,8 +34,10 @@ from scara_opt.ik.lm import (
     check_budget,
     limits,
     phase_arrays,
+    phase_driver,
     random_starts,
     residual_tol,
+    search_filled,
 )
 from scara_opt.ik.problem import nlp_params
 from scara_opt.ik.task import check_task, errors_from_poses
@@ -268,6 +271,9 @@ def solve_many(robot: Robot, targets: object, q0s: object | None = None, *,
     weights = [t.weights for t in ts] if ts is not None else [(1.0, 1.0)] * n
     batch = _Batch(robot, stacked.kind, _params_rows(stacked, ts, Q_ref), limits(robot)[0],
                    np.array([residual_tol(w, tol) for w in weights]), int(max_iter), bool(jit))
+    if phase_driver(robot, stacked.kind, bool(jit)) is not None:  # the C loop, target by target
+        return _result(robot, stacked, *_one_by_one(batch, Q_ref, int(restarts), seed),
+                       time.perf_counter() - clock, tol)
     best_Q, best_e = Q_ref.copy(), np.full(n, math.inf)
     iterations, starts = np.zeros(n, np.int64), np.zeros(n, np.int64)
     draws: dict[int, Iterator[Array]] = {}  # per target: the draws of a single solve
@@ -289,6 +295,27 @@ def solve_many(robot: Robot, targets: object, q0s: object | None = None, *,
         if not rows.size:
             break
     return _result(robot, stacked, best_Q, iterations, starts, time.perf_counter() - clock, tol)
+
+
+def _one_by_one(batch: _Batch, Q_ref: Array, restarts: int, seed: int | None,
+                ) -> tuple[Array, NDArray[np.int64], NDArray[np.int64]]:
+    """Each target's search as a single solve runs it, in C: (Q, iterations, starts).
+
+    Where the C loop runs (:func:`lm.phase_driver`), a target costs its iterations alone;
+    the mapped rounds' padding and bookkeeping would cost more than they save.
+    """
+    n = len(Q_ref)
+    f = phase_arrays(batch.robot, batch.kind, 1, batch.jit)
+    f.box[0] = batch.box
+    Q, iterations, starts = np.empty_like(Q_ref), np.zeros(n, np.int64), np.zeros(n, np.int64)
+    for i in range(n):
+        f.par[0] = batch.par[i]
+        found = search_filled(
+            batch.robot, batch.kind, float(batch.e_tol[i]), Q_ref[i],
+            chain([Q_ref[i]], random_starts(batch.robot, LazyGenerator(seed), restarts)),
+            max_iter=batch.max_iter, jit=batch.jit)
+        Q[i], iterations[i], starts[i] = found.q, found.iterations, found.starts
+    return Q, iterations, starts
 
 
 def _result(robot: Robot, stacked: _Stacked, Q: Array, iterations: NDArray[np.int64],

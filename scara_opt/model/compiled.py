@@ -50,6 +50,7 @@ CACHE_ENV = "SCARA_OPT_CACHE"
 
 _LOCK = threading.Lock()
 _LOADED: dict[str, ca.Function] = {}
+_PATHS: dict[str, Path] = {}  # Function name -> the library it was loaded from
 _LIBRARIES: dict[str, ctypes.CDLL | None] = {}
 _WARNED: set[str] = set()
 
@@ -94,6 +95,7 @@ def compiled(name: str, key: str, build: Callable[[], ca.Function]) -> ca.Functi
         if path.is_file():
             try:
                 _LOADED[str(path)] = ca.external(name, str(path))
+                _PATHS[name] = path
                 return _LOADED[str(path)]
             except RuntimeError:  # a corrupt or foreign library: build it again
                 path.unlink(missing_ok=True)
@@ -111,7 +113,18 @@ def compiled(name: str, key: str, build: Callable[[], ca.Function]) -> ca.Functi
         return f
     with _LOCK:
         _LOADED[str(path)] = loaded
+        _PATHS[name] = path
     return loaded
+
+
+def library_path(name: str) -> Path | None:
+    """The library :func:`compiled` loaded the Function ``name`` from, or ``None``.
+
+    ``None``: not compiled in this process (casadi's virtual machine evaluates it). The
+    library's C entry point is ``name`` with casadi's signature, for C code that calls it
+    directly (:mod:`scara_opt.ik.lm_driver`).
+    """
+    return _PATHS.get(name)
 
 
 def _compile(f: ca.Function, name: str, cc: str, path: Path) -> None:
