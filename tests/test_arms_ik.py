@@ -79,23 +79,34 @@ def test_lm_converges_in_few_iterations_on_the_7r_arm(panda_arm):
 def test_damped_step_is_sound_on_a_rank_deficient_jacobian():
     """At an exact solution (mu = 0 from the residual) of a singular pose, the damped
     pseudo-inverse is regular (a floor scaled to |J|^2) and its step is the minimum-norm
-    least-squares one, up to the floor's damping of the smallest singular values (1e-4 of
-    its length).
+    least-squares one, up to the floor's damping: J of rank 5, 4 and 1, scaled by 1e-6 to
+    1e6, 20 draws each, every step finite and within 1e-4 of its length (6 x 7, J J^T
+    form; measured <= 2.1e-8) or 1e-2 (7 x 6, J^T J form, where the floor of a hundred
+    epsilons bounds the null direction's round-off: measured <= 2.4e-3).
 
-    Mutation caught: no floor (mu = lambda |r|^2 only) -> J J^T singular, a NaN step.
+    Mutations caught: no floor (mu = lambda |r|^2 only) -> J J^T singular, a NaN step; the
+    floor at one machine epsilon instead of a hundred -> a relative error of 0.11 (J^T J
+    form: the null direction's round-off no longer bounded); casadi's QR
+    ``solve`` instead of the Cholesky factorisation (the form before) -> relative errors
+    up to 1.2e-4 (J J^T) and 3.5e10 (J^T J).
     """
     import casadi as ca
 
     from scara_opt.ik.lm import _damped_pinv
 
     rng = np.random.default_rng(0)
-    Jn = rng.normal(size=(6, 5)) @ rng.normal(size=(5, 7))  # 6 x 7 of rank 5
-    rn = Jn @ rng.normal(size=7) * 1e-6  # a residual J can reduce
-    J, r = ca.SX.sym("J", 6, 7), ca.SX.sym("r", 6)
-    step = np.asarray(ca.Function("step", [J, r], [_damped_pinv(J, 0.0) @ r])(Jn, rn)).ravel()
-    expected = np.linalg.lstsq(Jn, rn, rcond=None)[0]
-    assert np.all(np.isfinite(step))
-    assert np.linalg.norm(step - expected) <= 1e-4 * np.linalg.norm(expected)
+    for m, nq, rank in ((6, 7, 5), (6, 7, 4), (6, 7, 1), (7, 6, 5)):
+        J, r = ca.SX.sym("J", m, nq), ca.SX.sym("r", m)
+        f = ca.Function("step", [J, r], [_damped_pinv(J, 0.0, r)])
+        for scale in (1e-6, 1.0, 1e6):
+            for _ in range(20):
+                Jn = scale * rng.normal(size=(m, rank)) @ rng.normal(size=(rank, nq))
+                rn = Jn @ rng.normal(size=nq) * 1e-6  # a residual J can reduce
+                step = np.asarray(f(Jn, rn)).ravel()
+                expected = np.linalg.lstsq(Jn, rn, rcond=None)[0]
+                assert np.all(np.isfinite(step)), (m, nq, rank, scale)
+                bound = 1e-4 if m <= nq else 1e-2
+                assert np.linalg.norm(step - expected) <= bound * np.linalg.norm(expected)
 
 
 @pytest.mark.parametrize(("arm", "kind"), [("panda_arm", "rotation"), ("ur5_arm", "position")])
