@@ -166,10 +166,10 @@ def _damped_pinv(J: ca.SX, mu: ca.SX | float, v: ca.SX) -> ca.SX:
 
 
 def _spd_solve(A: ca.SX, b: ca.SX) -> ca.SX:
-    r""":math:`A^{-1} b` for a symmetric positive definite ``A`` (n, n): Cholesky, then two
-    triangular solves (half the instructions of casadi's QR ``solve``).
+    r""":math:`A^{-1} b` for a symmetric positive definite ``A`` (n, n), by Cholesky.
 
-    The callers' ``A`` is :math:`J J^T + μ'I` (or :math:`J^T J + μ'I`) with the floor of
+    Then two triangular solves: half the instructions of casadi's QR ``solve``. The
+    callers' ``A`` is :math:`J J^T + μ'I` (or :math:`J^T J + μ'I`) with the floor of
     :func:`_floored`, a hundred machine epsilons of :math:`\|J\|_F^2`: above the
     factorisation's round-off (a few epsilons of :math:`\|A\|`), so every pivot stays
     positive.
