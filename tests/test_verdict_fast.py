@@ -11,6 +11,7 @@ sign on a zero limit, ints, lists, float32, wrong shapes.
 from __future__ import annotations
 
 import math
+import numbers
 import sys
 
 import numpy as np
@@ -18,7 +19,7 @@ import pytest
 
 import scara_opt as so
 from scara_opt.errors import InputError, JointLimitError
-from scara_opt.ik.base import check_q0
+from scara_opt.ik.base import TOL_CEILING, TOL_FLOOR, check_number, check_q0, check_seed, check_tol
 from scara_opt.ik.result import SolverOutput
 from scara_opt.ik.task import LIMIT_SLACK, config_errors, cost_of, error_from, wrap_angle
 from scara_opt.ik.verdict import _in_limits, judge
@@ -327,3 +328,117 @@ def test_fk_checked_returns_a_new_array_each_call(ur5_arm):
     T2 = ur5_arm.fk_checked(q2)
     assert not np.shares_memory(T1, T2) and np.array_equal(T1, keep)
     assert not np.array_equal(T1, T2)
+
+
+# ------------------------------------------------------------------ option checks
+def ref_check_number(name, value, low, high=math.inf, *, integer=False, low_open=False,
+                     high_open=False):
+    """``check_number`` before its fast path."""
+    ok_type = isinstance(value, (int, np.integer)) if integer else isinstance(
+        value, (int, float, np.integer, np.floating))
+    ok = ok_type and not isinstance(value, bool) and not math.isnan(value)
+    if ok:
+        ok = ((value > low if low_open else value >= low)
+              and (value < high if high_open else value <= high))
+    if not ok:
+        kind = "an integer" if integer else "a number"
+        if math.isinf(high):
+            span = f"{'>' if low_open else '>='} {low:g}"
+        else:
+            span = f"in {'(' if low_open else '['}{low:g}, {high:g}{')' if high_open else ']'}"
+        raise InputError(f"option {name}={value!r} must be {kind} {span}")
+
+
+def ref_check_tol(tol):
+    ok = isinstance(tol, numbers.Real) and not isinstance(tol, (bool, np.bool_))
+    if not (ok and math.isfinite(tol) and tol > 0):
+        raise InputError(f"tol must be a positive number [m, rad]; got {tol!r}")
+    if tol < TOL_FLOOR:
+        raise InputError("floor")
+    if tol > TOL_CEILING:
+        raise InputError("ceiling")
+    return float(tol)
+
+
+VALUES = [0, 1, -1, 2, 10, 50, 10_000, 10_001, 2**53, 2**53 + 1, -(2**53) - 1, 10**400,
+          0.0, -0.0, 0.5, 1.0, 1.5, 2.0, 4.0, 1e-300, math.nan, math.inf, -math.inf, True,
+          False, np.int64(3), np.float64(0.5), np.float32(0.5), np.bool_(True), "1", None,
+          1e-16, 1e-15, 1e-9, 1.0 + 1e-16, 1.0000001]
+
+
+def test_option_checks_give_what_the_full_checks_gave():
+    """``check_number``, ``check_tol`` and ``check_seed`` on ints (huge ones too), floats,
+    NaN, ±inf, bools, numpy scalars and strings, at and beside each end of open and closed
+    ranges: the same value or the same error (type and message) as the full checks.
+
+    Mutations caught: the fast path taking any int (``10**400`` accepted where the full
+    check's ``math.isnan`` overflows); taking floats for ``integer=True``; a closed end
+    where it is open; check_tol's fast path without its range (1e-16 accepted); check_seed
+    taking bools (``type(seed) is int`` weakened to ``isinstance``).
+    """
+    ranges = [(0, 10_000, True, False, False), (1, 100_000, True, False, False),
+              (0.0, 1.0, False, False, False), (0.0, 1.0, False, True, False),
+              (0.0, 2.0, False, True, True), (0.0, math.inf, False, False, False),
+              (1, math.inf, True, False, False), (-1.0, 1.0, False, False, True)]
+    for low, high, integer, low_open, high_open in ranges:
+        for value in VALUES + [low, high]:
+            kw = {"integer": integer, "low_open": low_open, "high_open": high_open}
+            new = _outcome(lambda v, a=(low, high), kw=kw: check_number("x", v, *a, **kw), value)
+            old = _outcome(lambda v, a=(low, high), kw=kw: ref_check_number("x", v, *a, **kw),
+                           value)
+            assert new == old, (value, low, high, kw)
+    for value in VALUES:
+        new, old = _outcome(check_tol, value), _outcome(ref_check_tol, value)
+        assert new[0] == old[0] and (new[0] == "raise" or same_bits(new[1], old[1])), value
+        assert new[0] == "ok" or new[1] is old[1], value  # (messages: the full check's)
+        seed_new = _outcome(check_seed, value)
+        ok = value is None or (isinstance(value, (int, np.integer))
+                               and not isinstance(value, (bool, np.bool_)) and value >= 0)
+        assert (seed_new[0] == "ok") == ok and (not ok or seed_new[1] is value), value
+
+
+def test_unknown_option_is_refused_with_the_names():
+    """An option a solver does not take: SolverOptionError listing the unknown ones only;
+    defaults alone and known options are taken.
+
+    Mutation caught: ``options.keys() >= defaults.keys()`` for ``<=`` (every call with
+    fewer options than the defaults refused).
+    """
+    from scara_opt.errors import SolverOptionError
+    from scara_opt.ik.registry import get_solver
+
+    assert get_solver("lm").options == {"restarts": 50, "max_iter": 100, "jit": True}
+    assert get_solver("lm", restarts=3).options["restarts"] == 3
+    with pytest.raises(SolverOptionError) as info:
+        get_solver("lm", restarts=3, bogus=1, other=2)
+    assert info.value.unknown == ["bogus", "other"]
+
+
+# ------------------------------------------------------------------ IKResult._new
+def test_ikresult_new_is_the_dataclass_with_every_field():
+    """``IKResult._new`` with every field gives what ``IKResult(...)`` gives (equal, frozen,
+    the same attributes); with some fields missing it falls back to the constructor's
+    defaults; with an unknown name, its TypeError.
+
+    Mutation caught: the fall-back removed (missing fields left unset: AttributeError).
+    """
+    import dataclasses
+
+    from scara_opt.ik.result import IKResult, Status
+
+    robot = so.load_robot("zavar2024")
+    q = np.array([0.3, -0.4, 0.01, 1.0])
+    res = judge(robot, so.Target(robot.fk(q)[:3, 3]), SolverOutput(q=q), tol=1e-9,
+                method="lm", seed=0, time_s=0.0)
+    again = IKResult(**vars(res))
+    assert res == again and vars(res).keys() == vars(again).keys()
+    with pytest.raises(dataclasses.FrozenInstanceError):
+        res.error = 0.0  # type: ignore[misc]
+    some = {"q": q, "success": True, "status": Status.SOLVED, "message": "m",
+            "position_error": np.zeros(3), "yaw_error": None, "error": 0.0, "cost": 0.0,
+            "iterations": 1, "evaluations": 1, "time_s": 0.0}
+    short, full = IKResult._new(**some), IKResult(**some)
+    for f in dataclasses.fields(IKResult):
+        assert same_bits(getattr(short, f.name), getattr(full, f.name)), f.name
+    with pytest.raises(TypeError):
+        IKResult._new(**some, bogus=1)

@@ -143,12 +143,16 @@ def judge(robot: Robot, target: Target, out: SolverOutput, *, tol: float, method
         status, reason, evidence = classify_miss(robot, target, tol, held=out.held,
                                                  search=search)
     message = STATUS_MESSAGES[status]
-    if status != Status.SOLVED:
+    solved = status is Status.SOLVED
+    if not solved:
         message += f"; residual {error:.4g} ({_describe_miss(dp, dang, tol)}), tol {tol:g}"
-    message += "".join(f"; {part}" for part in (evidence, extra) if part)
-    return IKResult(q=q, success=status == Status.SOLVED, status=status, message=message,
-                    position_error=dp, yaw_error=dang, error=error,
-                    cost=cost_of(target, dp, dang), iterations=int(out.iterations),
-                    evaluations=int(out.evaluations), time_s=time_s,
-                    history=np.asarray(out.history, dtype=float), method=method, seed=seed,
-                    tol=tol, reason=reason, evidence=evidence, setup_s=setup_s)
+    if evidence:
+        message += f"; {evidence}"
+    if extra:
+        message += f"; {extra}"
+    return IKResult._new(q=q, success=solved, status=status, message=message,
+                         position_error=dp, yaw_error=dang, error=error,
+                         cost=cost_of(target, dp, dang), iterations=int(out.iterations),
+                         evaluations=int(out.evaluations), time_s=time_s,
+                         history=np.asarray(out.history, dtype=float), method=method,
+                         seed=seed, tol=tol, reason=reason, evidence=evidence, setup_s=setup_s)
