@@ -54,7 +54,7 @@ class JointChecks:
         upper)``, would give the limit's ``±0.0``). Anything else (a list, ints, another
         dtype or shape, an ndarray subclass, NaN, ±inf, a value outside) gives False, never
         an error: the caller's full check then runs. A Python loop over cached limit pairs,
-        ~0.5 µs for 7 joints against ~2 µs for the numpy comparisons (one per solve).
+        ~0.8 µs for 7 joints against ~2.3 µs for the numpy comparisons (one per solve).
         """
         if type(q) is not np.ndarray or q.dtype is not _F64 or q.ndim != 1:
             return False

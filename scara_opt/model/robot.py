@@ -302,7 +302,7 @@ class Robot(JointChecks, ToolAngle, InertialData):
         data = self.data
         pin.forwardKinematics(self.model, data, qa)
         # a new array: the frame's placement is returned by value and ``homogeneous`` builds
-        # the 4×4 from it (no copy needed; tests/test_robot.py checks it is not shared)
+        # the 4×4 from it (no copy needed; tests/test_verdict_fast.py checks it is not shared)
         return pin.updateFramePlacement(self.model, data, self.tip_id).homogeneous
 
     def fk_se3(self, q: object) -> pin.SE3:
