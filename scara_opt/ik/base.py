@@ -38,6 +38,8 @@ TOL_CEILING = 1.0
 #: the most restarts and iterations per start an exact solver takes (a budget above them
 #: would not return in any useful time: 10,000 IPOPT starts already take tens of seconds)
 MAX_RESTARTS, MAX_ITER = 10_000, 100_000
+#: ints up to this size are exact as floats (beyond ~1.8e308, ``math.isnan`` overflows)
+_EXACT_INT = 2**53
 
 __all__ = ["LIMIT_SLACK", "MAX_ITER", "MAX_RESTARTS", "TOL_CEILING", "TOL_FLOOR",
            "LazyGenerator", "Solver", "SolverOutput", "check_flag", "check_number",
@@ -53,6 +55,8 @@ def check_q0(robot: Robot, q0: object | None) -> Array | None:
     """
     if q0 is None:
         return None
+    if robot.fits_limits(q0):  # the common case, a float (nq,) array within the limits:
+        return q0  # type: ignore[return-value]  # check_q would hand back the same object
     q = robot.check_q(q0, "q0")
     lower, upper = robot.lower, robot.upper
     if ((q >= lower) & (q <= upper)).all():  # the array method: np.all costs ~2 µs a call
@@ -76,6 +80,11 @@ def check_number(name: str, value: Any, low: float, high: float = math.inf, *,
     Raises:
         InputError: wrong type or out of range; the message names the option and range.
     """
+    t = type(value)  # a plain int (exact as a float) or float in range: ~0.2 µs less per check
+    if (t is int and -_EXACT_INT <= value <= _EXACT_INT) or (t is float and not integer):
+        if ((value > low if low_open else value >= low)  # NaN fails: the full check says why
+                and (value < high if high_open else value <= high)):
+            return
     ok_type = isinstance(value, (int, np.integer)) if integer else isinstance(
         value, (int, float, np.integer, np.floating))
     ok = ok_type and not isinstance(value, bool) and not math.isnan(value)
@@ -107,6 +116,8 @@ def check_tol(tol: Any) -> float:
     Raises:
         InputError: not a number, not finite, or below the floor (the message says why).
     """
+    if type(tol) is float and TOL_FLOOR <= tol <= TOL_CEILING:  # the common case, ~0.4 µs less
+        return tol
     ok = isinstance(tol, numbers.Real) and not isinstance(tol, (bool, np.bool_))
     if not (ok and math.isfinite(tol) and tol > 0):
         raise InputError(f"tol must be a positive number [m, rad]; got {tol!r}")
@@ -127,6 +138,8 @@ def check_seed(seed: Any) -> int | None:
     Raises:
         InputError: anything else.
     """
+    if seed is None or (type(seed) is int and seed >= 0):  # the common cases
+        return seed
     ok = seed is None or (isinstance(seed, (int, np.integer))
                           and not isinstance(seed, (bool, np.bool_)) and seed >= 0)
     if not ok:
@@ -177,9 +190,8 @@ class Solver(ABC):
     defaults: ClassVar[dict[str, Any]] = {}
 
     def __init__(self, **options: Any) -> None:
-        unknown = set(options) - set(self.defaults)
-        if unknown:
-            raise SolverOptionError(self.name, unknown, self.defaults)
+        if options and not options.keys() <= self.defaults.keys():
+            raise SolverOptionError(self.name, set(options) - set(self.defaults), self.defaults)
         self.options: dict[str, Any] = {**self.defaults, **options}
         self.check_options()
 

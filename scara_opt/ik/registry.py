@@ -93,7 +93,7 @@ def get_solver(method: str, **options: Any) -> Solver:
         raise InputError(f"method must be one solver name (a str) from {solvers()}; got "
                          f"{method!r} ({type(method).__name__}); to run several, use "
                          "so.compare(robot, targets, methods=[...])")
-    registry = _registry()
+    registry = _REGISTRY if _LOAD_STATE["loaded"] else _registry()
     if method not in registry:
         raise UnknownSolverError(method, registry)
     return registry[method](**options)

@@ -6,8 +6,9 @@ solver hands to the verdict).
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, fields
 from enum import Enum
+from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
@@ -166,6 +167,21 @@ class IKResult:
     evidence: str = ""
     setup_s: float = 0.0
 
+    @classmethod
+    def _new(cls, **values: Any) -> IKResult:
+        """``IKResult(**values)``, ~1.5 µs faster when every field is given (the verdict's).
+
+        The frozen dataclass's ``__init__`` sets each of the 18 fields through
+        ``object.__setattr__``; this fills ``__dict__`` at once (no ``__post_init__`` is
+        skipped: there is none). The result is as frozen. Any other set of names goes
+        through ``__init__`` (its defaults and its errors).
+        """
+        if values.keys() != _FIELD_NAMES:
+            return cls(**values)
+        result = object.__new__(cls)
+        result.__dict__.update(values)
+        return result
+
     def __repr__(self) -> str:
         q = np.array2string(self.q, precision=4, separator=", ")
         return (f"IKResult({self.status.value}, error={self.error:.3g}, method={self.method!r}, "
@@ -173,3 +189,7 @@ class IKResult:
                 f"{'' if self.success else ' [' + self.reason.value + ']: ' + self.message})")
 
     __str__ = __repr__
+
+
+#: the names of :class:`IKResult`'s fields (:meth:`IKResult._new` fills them all)
+_FIELD_NAMES = frozenset(f.name for f in fields(IKResult))

@@ -85,7 +85,7 @@ def cost_from_errors(target: Target, dp: Array, dang: Array | None) -> Array:
 def cost_of(target: Target, dp: Array, dang: float | None) -> float:
     """:func:`cost_from_errors` of one configuration: ``dp`` (3,) [m], ``dang`` [rad]."""
     wp, wa = target.weights
-    sq = wp**2 * float(dp @ dp)
+    sq = wp**2 * float(dp.dot(dp))  # dot: the same BLAS sum as ``@``, without its ~0.4 µs
     return math.sqrt(sq if dang is None else sq + wa**2 * dang**2)
 
 
@@ -95,8 +95,11 @@ def cost_batch(robot: Robot, target: Target, Q: Array) -> Array:
 
 
 def error_from(dp: Array, dang: float | None) -> float:
-    """The honest residual of one solution: max(|Δp| [m], |Δangle| [rad])."""
-    err = math.sqrt(float(dp @ dp))
+    """The honest residual of one solution: max(|Δp| [m], |Δangle| [rad]).
+
+    NaN in ``dp`` gives NaN, inf gives inf (so ``error <= tol`` is False for both).
+    """
+    err = math.sqrt(float(dp.dot(dp)))  # dot: the same BLAS sum as ``@``, ~0.4 µs less
     return err if dang is None else max(err, abs(float(dang)))
 
 
@@ -106,15 +109,20 @@ def config_errors(robot: Robot, target: Target, q: Array) -> tuple[Array, float 
     The same numbers as :func:`errors_from_poses`, with scalar arithmetic: this runs once
     per solve, where numpy's per-call cost on 3×3 blocks would dominate. ``q`` must be a
     finite float (nq,) array (the callers' solutions, checked or clipped already).
+
+    Products are ``a.dot(b)`` (the same BLAS sums as ``a @ b``, ~0.4 µs less each) and the
+    yaw is wrapped in Python floats (the same IEEE operations as :func:`wrap_angle`).
     """
     T = robot.fk_checked(q)
     dp = T[:3, 3] - target.position
-    if target.kind == "position":
+    kind = target.kind
+    if kind == "position":
         return dp, None
-    if target.kind == "yaw":
+    if kind == "yaw":
         e1, e2 = robot.yaw_basis()
         x = T[:3, 0]
-        return dp, float(wrap_angle(math.atan2(float(x @ e2), float(x @ e1)) - target.yaw))
+        yaw = math.atan2(float(x.dot(e2)), float(x.dot(e1))) - target.yaw
+        return dp, (yaw + math.pi) % (2 * math.pi) - math.pi
     d = (T[:3, :3] - target.rotation).ravel()
-    frob = math.sqrt(float(d @ d))
+    frob = math.sqrt(float(d.dot(d)))
     return dp, 2.0 * math.asin(min(frob / (2.0 * math.sqrt(2.0)), 1.0))

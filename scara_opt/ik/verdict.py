@@ -94,6 +94,28 @@ def classify_miss(robot: Robot, target: Target, tol: float, *, held: bool = Fals
         "target is within the chain's reach bound); try more restarts or another q0")
 
 
+def _in_limits(robot: Robot, out: SolverOutput) -> tuple[Array, bool, str]:
+    """The solver's ``q`` within the limits (a new array), whether it was a bug, the message.
+
+    Within the limits: ``q`` as it is (a float (nq,) array the clip leaves bit for bit,
+    :meth:`~scara_opt.model.robot.Robot.fits_limits`, is copied: ~1.5 µs less per solve).
+    Outside by up to :data:`LIMIT_SLACK` (round-off): clipped. Farther, or NaN: a solver
+    bug, reported at the nearest in-limit point of ``nan_to_num(q)``.
+    """
+    extra = out.message
+    if robot.fits_limits(out.q):
+        return out.q.copy(), False, extra
+    lower, upper = robot.lower, robot.upper
+    q_out = np.asarray(out.q, dtype=float)
+    q = np.minimum(np.maximum(q_out, lower), upper)  # np.clip, without its overhead
+    over = float(np.abs(q - q_out).max())  # NaN if q_out has NaN
+    bug = not over <= LIMIT_SLACK
+    if bug:  # a solver bug must not leak: report failure at the closest in-limit point
+        extra = f"solver returned q outside the limits by {over:.3g}; " + extra
+        q = np.clip(np.nan_to_num(q_out), lower, upper)
+    return q, bug, extra
+
+
 def judge(robot: Robot, target: Target, out: SolverOutput, *, tol: float, method: str,
           seed: int | None, time_s: float, setup_s: float = 0.0,
           search: WitnessSearch | None = None) -> IKResult:
@@ -110,15 +132,7 @@ def judge(robot: Robot, target: Target, out: SolverOutput, *, tol: float, method
         setup_s: its one-off setup time in this call [s].
         search: its witness search for a missed target (see :func:`classify_miss`).
     """
-    lower, upper = robot.lower, robot.upper
-    q_out = np.asarray(out.q, dtype=float)
-    q = np.minimum(np.maximum(q_out, lower), upper)  # np.clip, without its overhead
-    over = float(np.abs(q - q_out).max())  # NaN if q_out has NaN
-    extra = out.message
-    bug = not over <= LIMIT_SLACK
-    if bug:  # a solver bug must not leak: report failure at the closest in-limit point
-        extra = f"solver returned q outside the limits by {over:.3g}; " + extra
-        q = np.clip(np.nan_to_num(q_out), lower, upper)
+    q, bug, extra = _in_limits(robot, out)
     dp, dang = config_errors(robot, target, q)
     error = error_from(dp, dang)
     if error <= tol:
@@ -129,12 +143,16 @@ def judge(robot: Robot, target: Target, out: SolverOutput, *, tol: float, method
         status, reason, evidence = classify_miss(robot, target, tol, held=out.held,
                                                  search=search)
     message = STATUS_MESSAGES[status]
-    if status != Status.SOLVED:
+    solved = status is Status.SOLVED
+    if not solved:
         message += f"; residual {error:.4g} ({_describe_miss(dp, dang, tol)}), tol {tol:g}"
-    message += "".join(f"; {part}" for part in (evidence, extra) if part)
-    return IKResult(q=q, success=status == Status.SOLVED, status=status, message=message,
-                    position_error=dp, yaw_error=dang, error=error,
-                    cost=cost_of(target, dp, dang), iterations=int(out.iterations),
-                    evaluations=int(out.evaluations), time_s=time_s,
-                    history=np.asarray(out.history, dtype=float), method=method, seed=seed,
-                    tol=tol, reason=reason, evidence=evidence, setup_s=setup_s)
+    if evidence:
+        message += f"; {evidence}"
+    if extra:
+        message += f"; {extra}"
+    return IKResult._new(q=q, success=solved, status=status, message=message,
+                         position_error=dp, yaw_error=dang, error=error,
+                         cost=cost_of(target, dp, dang), iterations=int(out.iterations),
+                         evaluations=int(out.evaluations), time_s=time_s,
+                         history=np.asarray(out.history, dtype=float), method=method,
+                         seed=seed, tol=tol, reason=reason, evidence=evidence, setup_s=setup_s)

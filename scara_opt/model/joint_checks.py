@@ -6,6 +6,9 @@ A mixin of :class:`~scara_opt.model.robot.Robot` (it reads ``nq``, ``joint_names
 
 from __future__ import annotations
 
+import math
+import sys
+
 import numpy as np
 from numpy.typing import NDArray
 
@@ -13,6 +16,11 @@ from scara_opt.checks import check_real, describe, float_array
 from scara_opt.errors import InputError
 
 Array = NDArray[np.float64]
+
+_F64 = np.dtype(np.float64)
+#: the largest finite float: an infinite limit (continuous joint) is compared as this bound,
+#: so that ``±inf`` (like NaN) never passes :meth:`JointChecks.fits_limits`
+_BIG = sys.float_info.max
 
 
 class JointChecks:
@@ -37,6 +45,47 @@ class JointChecks:
             raise InputError(f"{name} has non-finite values (NaN or inf) at joints {names}; "
                              "pass finite joint values")
         return arr
+
+    def fits_limits(self, q: object) -> bool:
+        """Whether ``q`` is a float64 ndarray (nq,) that the limits leave as it is, bit for bit.
+
+        True iff every value is finite and within ``[lower, upper]`` (no slack) and is not a
+        zero of the other sign on a zero limit (clipping, ``np.minimum(np.maximum(q, lower),
+        upper)``, would give the limit's ``±0.0``). Anything else (a list, ints, another
+        dtype or shape, an ndarray subclass, NaN, ±inf, a value outside) gives False, never
+        an error: the caller's full check then runs. A Python loop over cached limit pairs,
+        ~0.8 µs for 7 joints against ~2.3 µs for the numpy comparisons (one per solve).
+        """
+        if type(q) is not np.ndarray or q.dtype is not _F64 or q.ndim != 1:
+            return False
+        pairs, zeros = self.__dict__.get("_fit_table_cached") or self._fit_table()
+        values = q.tolist()
+        if len(values) != len(pairs):
+            return False
+        for v, (lo, hi) in zip(values, pairs, strict=True):
+            if not lo <= v <= hi:  # NaN fails both; ±inf is beyond ±_BIG
+                return False
+        for k, sign in zeros:
+            v = values[k]
+            if v == 0.0 and math.copysign(1.0, v) != sign:
+                return False
+        return True
+
+    def _fit_table(self) -> tuple[tuple[tuple[float, float], ...], tuple[tuple[int, float], ...]]:
+        """For :meth:`fits_limits`, made once (a robot's limits never change).
+
+        ``(lower, upper)`` per joint as floats, ``∓inf`` as ``∓_BIG``; and ``(index, sign)``
+        of each zero limit (sign ``±1.0`` of its ``±0.0``).
+        """
+        table = self.__dict__.get("_fit_table_cached")
+        if table is None:
+            lower, upper = self.lower.tolist(), self.upper.tolist()
+            pairs = tuple((max(lo, -_BIG), min(hi, _BIG))
+                          for lo, hi in zip(lower, upper, strict=True))
+            zeros = tuple((k, math.copysign(1.0, b)) for k, (lo, hi) in
+                          enumerate(zip(lower, upper, strict=True)) for b in (lo, hi) if b == 0.0)
+            table = self.__dict__["_fit_table_cached"] = (pairs, zeros)
+        return table
 
     def check_q_batch(self, Q: object, name: str = "Q") -> Array:
         """Return ``Q`` as a float array of shape (n, nq), or raise :class:`InputError`."""

@@ -301,7 +301,9 @@ class Robot(JointChecks, ToolAngle, InertialData):
         """
         data = self.data
         pin.forwardKinematics(self.model, data, qa)
-        return pin.updateFramePlacement(self.model, data, self.tip_id).homogeneous.copy()
+        # a new array: the frame's placement is returned by value and ``homogeneous`` builds
+        # the 4×4 from it (no copy needed; tests/test_verdict_fast.py checks it is not shared)
+        return pin.updateFramePlacement(self.model, data, self.tip_id).homogeneous
 
     def fk_se3(self, q: object) -> pin.SE3:
         """Tip pose at ``q`` as a ``pinocchio.SE3`` (a copy; ``.homogeneous`` is :meth:`fk`)."""
