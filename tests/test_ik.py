@@ -87,6 +87,33 @@ def test_ipopt_with_a_full_rotation_on_a_general_arm(arm6):
     assert sum(r.success for r in results) >= 18, results
 
 
+def test_ipopt_counts_are_honest_where_the_task_overdetermines_the_joints(robots):
+    """A full pose for a 4-joint SCARA (6 residual rows, 4 joints): IPOPT's nearest NLP would
+    have no degrees of freedom, so it is not run; the answer comes from the closest NLP.
+    The iterations reported are IPOPT's, at most max_iter per call (before: 3e10 to 6e10,
+    casadi's unset counter of the refused calls summed), and an IPOPT call that stopped
+    before evaluating the objective counts no iterations.
+
+    Mutations caught: the nearest NLP run anyway (Not_Enough_Degrees_Of_Freedom in the
+    message); the count taken from a call that never evaluated f (an unset counter, ~1e9).
+    """
+    from scara_opt.ik.ipopt import _Run, build_nearest_nlp
+
+    robot = robots["zavar2024"]
+    q = random_q(robot, 1, seed=3)[0]
+    T = robot.fk(q)
+    target = so.Target(T[:3, 3], rotation=T[:3, :3])
+    res = so.solve_ik(robot, target, method="ipopt", restarts=3)
+    assert res.success, res
+    assert "Not_Enough_Degrees_Of_Freedom" not in res.message
+    assert 0 < res.iterations <= 4 * 100, res.iterations
+    run = _Run(robot, target, {**so.get_solver("ipopt").options}, q, robot.lower,
+               robot.upper, 1e-9, nearest=False)
+    run._call(build_nearest_nlp(robot, "rotation"), q, lbg=0.0, ubg=0.0)  # refused by IPOPT
+    assert run.statuses == ["Not_Enough_Degrees_Of_Freedom"]
+    assert run.iterations == 0 and run.evaluations <= 1  # IPOPT's one gradient at the start
+
+
 def test_nlp_is_built_once_per_robot_and_task_kind(robots):
     """A second solve reuses the cached casadi NLP instead of rebuilding it."""
     robot = robots["zavar2024"]

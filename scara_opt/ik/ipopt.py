@@ -15,6 +15,8 @@ Two NLPs per robot and task kind (built once, cached on the robot per thread), b
   on the branch reached). Where the task leaves joints free (redundant robots, a
   position-only target on a robot with a wrist) this is the redundancy rule; elsewhere it
   removes the offset of order λ the pull leaves. Kept only if it still reaches the target.
+  Not run where the task has more residual rows than the robot joints (a full pose for a
+  4-joint SCARA): no configuration is left to choose, and IPOPT refuses such a problem.
 
 IPOPT stops at its own tolerance (``NEAREST_OPTIONS``: the task residual met to 1e-13, no
 early exit at an "acceptable" level), so IPOPT alone reaches round-off on reachable
@@ -53,6 +55,7 @@ from scara_opt.ik.base import (
 from scara_opt.ik.certificates import certify
 from scara_opt.ik.lm import lm_search, phase_arrays
 from scara_opt.ik.problem import (
+    RESIDUAL_SIZE,
     ik_objective,
     n_params,
     nlp_params,
@@ -237,6 +240,9 @@ class _Run:
         self.robot, self.target, self.tol = robot, target, tol
         self.lbx, self.ubx = lbx, ubx
         self.closest = cached_nlp(robot, target.kind, opts["max_iter"], opts["verbose"])
+        # more residual rows than joints (a full pose for a 4-joint SCARA): the nearest NLP
+        # has no degrees of freedom (IPOPT refuses it), the closest NLP's answer stands
+        nearest = nearest and RESIDUAL_SIZE[target.kind] <= robot.nq
         self.nearest = cached_nlp(robot, target.kind, opts["max_iter"], opts["verbose"],
                                   nearest=True) if nearest else None
         self.par = nlp_params(target, q_ref, float(opts["regularization"]))
@@ -251,9 +257,10 @@ class _Run:
         stats = nlp.solver.stats()
         interrupt.check(stats)
         self.statuses.append(stats["return_status"])
-        self.iterations += int(stats.get("iter_count", 0))
-        self.evaluations += int(stats.get("n_call_nlp_f", 0)) + int(
-            stats.get("n_call_nlp_grad_f", 0))
+        calls = int(stats.get("n_call_nlp_f", 0))
+        if calls:  # casadi leaves iter_count unset where IPOPT stops before evaluating f
+            self.iterations += int(stats.get("iter_count", 0))
+        self.evaluations += calls + int(stats.get("n_call_nlp_grad_f", 0))
         return np.clip(np.asarray(sol["x"]).ravel(), self.lbx, self.ubx)
 
     def _error(self, q: Array) -> float:
