@@ -30,10 +30,12 @@ joint ranges), over the joints that a bound does not hold:
 3. **Polish**: phase 1 again, to round-off, if the slide moved.
 
 Each phase's iteration is one casadi SX :class:`casadi.Function` per robot and task kind
-(FK, Jacobian, active set, damped pseudo-inverse, candidates and the choice), evaluated
-by casadi's virtual machine through :meth:`casadi.Function.buffer`: ~1 µs of call
-overhead and no C compiler at run time. :func:`solve_many` maps the same Functions over
-a batch of targets.
+(FK, Jacobian, active set, damped pseudo-inverse by Cholesky, candidates and the choice),
+compiled to C once per machine and kept (:mod:`scara_opt.model.compiled`; casadi's
+virtual machine where no compiler works). Where they are compiled, each start's loop of
+calls runs in C too (:mod:`scara_opt.ik.lm_driver`, the same numbers as :class:`_Run`,
+its Python form). :func:`solve_many` runs that loop target by target, or maps the same
+Functions over the batch where nothing is compiled.
 
 A start that stalls (a local minimum of the residual, or a joint limit: less than
 ``STALL_DECREASE`` progress for ``STALL_CALLS`` calls) is followed by up to ``restarts``
