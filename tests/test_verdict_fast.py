@@ -19,7 +19,16 @@ import pytest
 
 import scara_opt as so
 from scara_opt.errors import InputError, JointLimitError
-from scara_opt.ik.base import TOL_CEILING, TOL_FLOOR, check_number, check_q0, check_seed, check_tol
+from scara_opt.ik.base import (
+    TOL_CEILING,
+    TOL_FLOOR,
+    _check_number_full,
+    _check_q0_full,
+    check_number,
+    check_q0,
+    check_seed,
+    check_tol,
+)
 from scara_opt.ik.result import SolverOutput
 from scara_opt.ik.task import LIMIT_SLACK, config_errors, cost_of, error_from, wrap_angle
 from scara_opt.ik.verdict import _in_limits, judge
@@ -34,19 +43,8 @@ def random_q(robot: so.Robot, n: int, seed: int) -> np.ndarray:
 
 # ------------------------------------------------------------------ the replaced code
 def ref_check_q0(robot: so.Robot, q0: object) -> np.ndarray:
-    """``check_q0`` before its fast path."""
-    q = robot.check_q(q0, "q0")
-    lower, upper = robot.lower, robot.upper
-    if ((q >= lower) & (q <= upper)).all():
-        return q
-    for name, kind, v, lo, hi in zip(robot.joint_names, robot.joint_types, q, lower, upper,
-                                     strict=True):
-        if not lo - LIMIT_SLACK <= v <= hi + LIMIT_SLACK:
-            unit = "rad" if kind == "revolute" else "m"
-            raise JointLimitError(
-                f"q0: joint {name!r} = {v:.4g} {unit} is outside [{lo:.4g}, {hi:.4g}] {unit}; "
-                "pass q0 inside the limits or q0=None", joint=name)
-    return np.clip(q, lower, upper)
+    """``check_q0`` before its fast path: its full check, which it falls back to."""
+    return _check_q0_full(robot, q0)
 
 
 def ref_in_limits(robot: so.Robot, out: SolverOutput) -> tuple[np.ndarray, bool, str]:
@@ -333,20 +331,9 @@ def test_fk_checked_returns_a_new_array_each_call(ur5_arm):
 # ------------------------------------------------------------------ option checks
 def ref_check_number(name, value, low, high=math.inf, *, integer=False, low_open=False,
                      high_open=False):
-    """``check_number`` before its fast path."""
-    ok_type = isinstance(value, (int, np.integer)) if integer else isinstance(
-        value, (int, float, np.integer, np.floating))
-    ok = ok_type and not isinstance(value, bool) and not math.isnan(value)
-    if ok:
-        ok = ((value > low if low_open else value >= low)
-              and (value < high if high_open else value <= high))
-    if not ok:
-        kind = "an integer" if integer else "a number"
-        if math.isinf(high):
-            span = f"{'>' if low_open else '>='} {low:g}"
-        else:
-            span = f"in {'(' if low_open else '['}{low:g}, {high:g}{')' if high_open else ']'}"
-        raise InputError(f"option {name}={value!r} must be {kind} {span}")
+    """``check_number`` before its fast path: its full check, which it falls back to."""
+    _check_number_full(name, value, low, high, integer=integer, low_open=low_open,
+                       high_open=high_open)
 
 
 def ref_check_tol(tol):

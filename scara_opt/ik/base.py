@@ -57,6 +57,11 @@ def check_q0(robot: Robot, q0: object | None) -> Array | None:
         return None
     if robot.fits_limits(q0):  # the common case, a float (nq,) array within the limits:
         return q0  # type: ignore[return-value]  # check_q would hand back the same object
+    return _check_q0_full(robot, q0)
+
+
+def _check_q0_full(robot: Robot, q0: object) -> Array:
+    """:func:`check_q0` of a ``q0`` that is not None, without its fast path."""
     q = robot.check_q(q0, "q0")
     lower, upper = robot.lower, robot.upper
     if ((q >= lower) & (q <= upper)).all():  # the array method: np.all costs ~2 µs a call
@@ -85,6 +90,13 @@ def check_number(name: str, value: Any, low: float, high: float = math.inf, *,
         if ((value > low if low_open else value >= low)  # NaN fails: the full check says why
                 and (value < high if high_open else value <= high)):
             return
+    _check_number_full(name, value, low, high, integer=integer, low_open=low_open,
+                       high_open=high_open)
+
+
+def _check_number_full(name: str, value: Any, low: float, high: float, *, integer: bool,
+                       low_open: bool, high_open: bool) -> None:
+    """:func:`check_number` without its fast path for plain ints and floats in range."""
     ok_type = isinstance(value, (int, np.integer)) if integer else isinstance(
         value, (int, float, np.integer, np.floating))
     ok = ok_type and not isinstance(value, bool) and not math.isnan(value)
