@@ -1,8 +1,11 @@
 """Many IK targets at once: the Levenberg–Marquardt phases of :mod:`scara_opt.ik.lm`, batched.
 
-The casadi iterations are mapped over the targets still running (``Function.map``, padded
-to a power of two and evaluated through :meth:`casadi.Function.buffer`), so the Python
-work is per iteration round, not per target. Each target follows exactly the steps of
+Where the iterations are compiled, each target's search runs in C, target by target
+(:func:`lm.phase_driver`): the Python work per target is a few µs, the rest is its
+iterations. Elsewhere (no C compiler, ``jit=False``) the casadi iterations are mapped over
+the targets still running (``Function.map``, padded to a power of two and evaluated
+through :meth:`casadi.Function.buffer`), so the Python work is per iteration round, not
+per target. Either way each target follows exactly the steps of
 :func:`scara_opt.solve_ik` with ``method="lm"``: its ``q0`` (or the default start) first,
 then up to ``restarts`` starts from a generator seeded with ``seed`` (the same draws as a
 single solve with that seed), so both give the same answers.
