@@ -71,8 +71,9 @@ def test_solves_and_batches_run_the_c_loop_and_the_mapped_path_agrees(ur5_arm):
     without it (``jit=False``: casadi's virtual machine, no driver) ``solve_many`` still
     runs the mapped batch path, and both give the single solves' q bit for bit.
 
-    Mutation caught: ``phase_driver`` built for ``jit=False`` too (it finds no library and
-    must say None: the assertion on it fails).
+    Mutation caught: ``phase_driver`` built for ``jit=False`` too (the Functions' names find
+    the libraries compiled earlier in the process, so compiled code would run under
+    ``jit=False``: the assertion on it fails).
     """
     _driver_or_skip(ur5_arm, "rotation")
     assert lm.phase_driver(ur5_arm, "rotation", jit=False) is None

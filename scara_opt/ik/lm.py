@@ -409,6 +409,8 @@ def phase_driver(robot: Robot, kind: str, jit: bool = True) -> lm_driver.Driver 
     """
     cache: dict[tuple, lm_driver.Driver | None] = robot.__dict__.setdefault("_ik_lm_driver", {})
     key = (kind, jit, threading.get_ident())
+    if key not in cache and not jit:
+        cache[key] = None
     if key not in cache:
         f = phase_arrays(robot, kind, 1, jit)
         phases = {phase: (step_function(robot, phase, kind, jit), getattr(f, phase))
@@ -417,7 +419,7 @@ def phase_driver(robot: Robot, kind: str, jit: bool = True) -> lm_driver.Driver 
         constants = {"stall_calls": STALL_CALLS, "lambda0": LAMBDA0, "lambda_max": LAMBDA_MAX,
                      "step_tol": STEP_TOL, "slide_tol": SLIDE_TOL,
                      "stall_decrease": STALL_DECREASE}
-        cache[key] = lm_driver.make(phases, counts, constants, robot.nq) if jit else None
+        cache[key] = lm_driver.make(phases, counts, constants, robot.nq)
     return cache[key]
 
 
