@@ -284,8 +284,9 @@ class Footprint:
         pts = chain_uv[:, first:]
         if self.shape == "circle":  # segment by segment, on (n,) columns: no (n, m, 2) copies
             ends = [(pts[:, k, 0], pts[:, k, 1]) for k in range(pts.shape[1])]
+            pairs = list(zip(ends[:-1], ends[1:], strict=True)) or [(ends[0], ends[0])]
             hit = np.zeros(len(pts), dtype=bool)
-            for a, b in zip(ends, ends[1:] if len(ends) > 1 else ends, strict=False):
+            for a, b in pairs:  # one checked point: the segment from it to itself
                 hit |= _segment_within(*a, *b, self.center, self.radius)
             return hit
         A, B = (pts, pts) if pts.shape[1] == 1 else (pts[:, :-1], pts[:, 1:])  # (n, m, 2)

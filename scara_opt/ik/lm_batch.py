@@ -307,6 +307,9 @@ def _one_by_one(batch: _Batch, Q_ref: Array, restarts: int, seed: int | None,
     Where the C loop runs (:func:`lm.phase_driver`), a target costs its iterations alone;
     the mapped rounds' padding and bookkeeping would cost more than they save.
     """
+    def rng(seed: int | None) -> np.random.Generator:  # seeded at its first draw, as solve_ik
+        return cast(np.random.Generator, LazyGenerator(seed))
+
     n = len(Q_ref)
     f = phase_arrays(batch.robot, batch.kind, 1, batch.jit)
     f.box[0] = batch.box
@@ -315,7 +318,7 @@ def _one_by_one(batch: _Batch, Q_ref: Array, restarts: int, seed: int | None,
         f.par[0] = batch.par[i]
         found = search_filled(
             batch.robot, batch.kind, float(batch.e_tol[i]), Q_ref[i],
-            chain([Q_ref[i]], random_starts(batch.robot, LazyGenerator(seed), restarts)),
+            chain([Q_ref[i]], random_starts(batch.robot, rng(seed), restarts)),
             max_iter=batch.max_iter, jit=batch.jit)
         Q[i], iterations[i], starts[i] = found.q, found.iterations, found.starts
     return Q, iterations, starts
