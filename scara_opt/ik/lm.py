@@ -409,18 +409,20 @@ def phase_driver(robot: Robot, kind: str, jit: bool = True) -> lm_driver.Driver 
     """
     cache: dict[tuple, lm_driver.Driver | None] = robot.__dict__.setdefault("_ik_lm_driver", {})
     key = (kind, jit, threading.get_ident())
-    if key not in cache and not jit:
-        cache[key] = None
     if key not in cache:
-        f = phase_arrays(robot, kind, 1, jit)
-        phases = {phase: (step_function(robot, phase, kind, jit), getattr(f, phase))
-                  for phase in ("lm", "newton", "slide")}
-        counts = {phase: (ITERATIONS[phase], EVALS[phase]) for phase in phases}
-        constants = {"stall_calls": STALL_CALLS, "lambda0": LAMBDA0, "lambda_max": LAMBDA_MAX,
-                     "step_tol": STEP_TOL, "slide_tol": SLIDE_TOL,
-                     "stall_decrease": STALL_DECREASE}
-        cache[key] = lm_driver.make(phases, counts, constants, robot.nq)
+        cache[key] = _make_driver(robot, kind) if jit else None
     return cache[key]
+
+
+def _make_driver(robot: Robot, kind: str) -> lm_driver.Driver | None:
+    """:func:`lm_driver.make` on this thread's compiled phases and lm's constants."""
+    f = phase_arrays(robot, kind, 1, True)
+    phases = {phase: (step_function(robot, phase, kind, True), getattr(f, phase))
+              for phase in ("lm", "newton", "slide")}
+    counts = {phase: (ITERATIONS[phase], EVALS[phase]) for phase in phases}
+    constants = {"stall_calls": STALL_CALLS, "lambda0": LAMBDA0, "lambda_max": LAMBDA_MAX,
+                 "step_tol": STEP_TOL, "slide_tol": SLIDE_TOL, "stall_decrease": STALL_DECREASE}
+    return lm_driver.make(phases, counts, constants, robot.nq)
 
 
 def limits(robot: Robot) -> tuple[Array, Array]:

@@ -157,11 +157,15 @@ def make(phases: dict[str, tuple[ca.Function, FunctionArrays]],
         constants: lm's constants, by the field names of ``struct lm_run``.
         nq: joints.
     """
-    entries = {name: _entry(f) for name, (f, _) in phases.items()}
     start = c_function(Path(__file__).with_name("lm_driver.c"), "lm_start", [_P, _P, _P],
                        ctypes.c_int)
-    if nq > MAX_NQ or start is None or any(e is None for e in entries.values()):
+    if nq > MAX_NQ or start is None:
         return None
-    found = {name: entry for name, entry in entries.items() if entry is not None}
-    return Driver({name: (f, arrays, found[name][0]) for name, (f, arrays) in phases.items()},
-                  counts, constants, nq, start, [lib for _, lib in found.values()])
+    entries: dict[str, tuple[ca.Function, FunctionArrays, int]] = {}
+    libraries = []
+    for name, (f, arrays) in phases.items():
+        if (entry := _entry(f)) is None:
+            return None
+        entries[name] = (f, arrays, entry[0])
+        libraries.append(entry[1])
+    return Driver(entries, counts, constants, nq, start, libraries)
