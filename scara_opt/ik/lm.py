@@ -269,7 +269,7 @@ def _newton(sym: _Symbols, robot: Robot, kind: str, free: ca.SX, Js: ca.SX,
     nq, m = robot.nq, Js.shape[0]
     g = free * (sym.q - sym.q_ref) / sym.s
     mu = _floored(Js, 0.0)
-    lam = -ca.solve(Js @ Js.T + mu * ca.SX.eye(m), Js @ g)
+    lam = -_spd_solve(Js @ Js.T + mu * ca.SX.eye(m), Js @ g)
     x, lx = ca.SX.sym("x", nq), ca.SX.sym("l", m)
     phi = ca.dot(lx, task_residual(robot, kind, x, sym.par))
     hess = ca.Function("lagrangian_hessian", [x, lx, sym.par], [ca.hessian(phi, x)[0]])
