@@ -271,6 +271,15 @@ class Footprint:
                              f"robot {robot.name!r}; joints: {robot.joint_names}")
         return robot.joint_names.index(self.links_from)
 
+    def blocks_arms(self, robot: Robot, plane: Plane, chain: Array) -> NDArray[np.bool_]:
+        """:meth:`blocks` of world chains: (n,) True where an arm passes through the zone.
+
+        ``chain``: (n, k, 3) [m] joint origins and tip (:meth:`Robot.joint_origins
+        <scara_opt.Robot.joint_origins>`); only the checked points, from
+        :meth:`first_origin` on, are put into ``plane``'s coordinates.
+        """
+        return self.blocks(plane.coords(chain[:, self.first_origin(robot):]))
+
     def blocks(self, chain_uv: Array, first: int = 0) -> NDArray[np.bool_]:
         """Which arms pass through the zone.
 
@@ -657,8 +666,8 @@ def _closed_form_contains(robot: Robot, P: Array, plane: Plane,
     Q, valid = solve_batch(robot, P)
     if footprint is not None and valid.any():
         rows, branch = np.nonzero(valid)
-        chain = plane.coords(robot.joint_origins(Q[rows, branch]))
-        valid[rows, branch] = ~footprint.blocks(chain, footprint.first_origin(robot))
+        valid[rows, branch] = ~footprint.blocks_arms(robot, plane,
+                                                     robot.joint_origins(Q[rows, branch]))
     return valid.any(axis=1)
 
 
@@ -728,14 +737,13 @@ def workspace(robot: Robot, n: int = 60_000, seed: int | np.random.Generator | N
             uv = plane.coords(P)
         else:
             chain = robot.joint_origins(Q)
-            checked = plane.coords(chain[:, zone.first_origin(robot):])  # tip last
-            keep = ~zone.blocks(checked)
+            keep = ~zone.blocks_arms(robot, plane, chain)
             if not keep.any():
                 raise InputError(f"the footprint blocks all {n} samples of robot "
                                  f"{robot.name!r}; check its center/vertices, radius and "
                                  "links_from")
             Q, P = Q[keep], chain[keep, -1]
-            uv = plane.coords(P)  # not checked[keep, -1]: (2, m) rows for the reductions
+            uv = plane.coords(P)  # (2, m) rows for the reductions
     span = float(np.ptp(uv, axis=0).max())
     if grid is not None and 0.0 < span < grid:
         raise InputError(f"grid cell {grid:g} m is larger than the workspace ({span:.3g} m "
