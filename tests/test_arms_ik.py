@@ -163,3 +163,57 @@ def test_a_start_stuck_in_a_local_minimum_is_abandoned_early(ur5_arm):
     results = [so.solve_ik(ur5_arm, t, method="lm") for t in pose_targets(ur5_arm, 300, seed=6)]
     assert all(r.success for r in results)
     assert np.mean([len(r.history) for r in results]) <= 15
+
+
+def test_nearest_false_stops_at_the_descents_solution(panda_arm):
+    """``nearest=False`` (lm, solve_many): a solution at 1e-9 from phase 1 alone, no slide.
+
+    On 40 Panda poses: every one solved to 1e-9 in the limits; only Levenberg–Marquardt
+    calls counted (``EVALS["lm"]`` evaluations per history entry); from the same single
+    start, the default's answer is never farther from ``q0`` (range-scaled, beyond
+    round-off) and is nearer on most poses (the slide moved); ``solve_many`` gives the
+    single solves' q, C loop and mapped path alike.
+
+    Mutations caught: the option ignored in ``_Run.start`` (Python loop: the evaluation
+    count fails), in ``lm_start`` (lm_driver.c: the same), in ``_Batch.start`` (the
+    mapped path slides: solve_many(jit=False) differs); the option not passed on by the
+    solver (``nearest=bool(opts["nearest"])`` dropped: the count fails).
+    """
+    from scara_opt.ik import lm
+    from scara_opt.ik.lm_batch import solve_many
+
+    q0 = lm.limits(panda_arm)[1]
+    s = panda_arm.upper - panda_arm.lower
+    targets = pose_targets(panda_arm, 40, seed=12)
+    nearer = both = 0
+    for jit in (True, False):
+        fast = [so.solve_ik(panda_arm, t, method="lm", nearest=False, jit=jit) for t in targets]
+        for t, res in zip(targets, fast, strict=True):
+            assert res.success and errors(panda_arm, res.q, t) <= 1e-9, res
+            assert panda_arm.within_limits(res.q)
+            assert res.evaluations == lm.EVALS["lm"] * len(res.history), res
+        batch = solve_many(panda_arm, targets, nearest=False, jit=jit)
+        np.testing.assert_array_equal(batch.q, np.array([r.q for r in fast]))
+    for t in targets:
+        near = so.solve_ik(panda_arm, t, method="lm", restarts=0)
+        one = lm.lm_search(panda_arm, t, q0, [q0], tol=1e-9, max_iter=100, nearest=False)
+        if near.success and one.converged:
+            both += 1
+            d_near, d_one = (np.linalg.norm((q - q0) / s) for q in (near.q, one.q))
+            assert d_near <= d_one + 1e-9  # the polish may move by round-off
+            nearer += d_near < d_one - 1e-6
+    assert both >= 20 and nearer >= 0.8 * both  # 27 and 23 (the rest: q0's own solution)
+
+
+def test_nearest_is_a_flag(panda_arm):
+    """``nearest`` takes True or False only (a str such as "no" is refused, not truthy).
+
+    Mutations caught: the check dropped from the solver's ``check_options``; from
+    ``solve_many``.
+    """
+    with pytest.raises(so.InputError, match="nearest"):
+        so.solve_ik(panda_arm, pose_targets(panda_arm, 1, seed=1)[0], method="lm",
+                    nearest="no")
+    from scara_opt.ik.lm_batch import solve_many
+    with pytest.raises(so.InputError, match="nearest"):
+        solve_many(panda_arm, pose_targets(panda_arm, 2, seed=1), nearest=1)

@@ -25,7 +25,14 @@ from numpy.typing import NDArray
 
 from scara_opt.checks import float_array
 from scara_opt.errors import InputError
-from scara_opt.ik.base import LIMIT_SLACK, LazyGenerator, check_q0, check_seed, check_tol
+from scara_opt.ik.base import (
+    LIMIT_SLACK,
+    LazyGenerator,
+    check_flag,
+    check_q0,
+    check_seed,
+    check_tol,
+)
 from scara_opt.ik.lm import (
     LAMBDA0,
     LAMBDA_MAX,
@@ -178,6 +185,7 @@ class _Batch:
     e_tol: Array
     max_iter: int
     jit: bool
+    nearest: bool = True
 
     def descend(self, rows: NDArray[np.intp], Q: Array,
                 used: NDArray[np.int64]) -> tuple[Array, Array, NDArray[np.bool_], Array]:
@@ -227,7 +235,7 @@ class _Batch:
               used: NDArray[np.int64]) -> tuple[Array, Array]:
         """All three phases from the starts ``Q0`` of ``rows``: (Q, ‖r‖²)."""
         Q, e, conv, slide = self.descend(rows, Q0, used)
-        need = np.flatnonzero(conv & (slide > SLIDE_TOL))
+        need = np.flatnonzero(conv & (slide > SLIDE_TOL) & self.nearest)
         if need.size:
             Qs, moved = self.slide(rows[need], Q[need], used)
             m = need[moved]
@@ -239,7 +247,7 @@ class _Batch:
 
 def solve_many(robot: Robot, targets: object, q0s: object | None = None, *,
                tol: float = 1e-9, max_iter: int = 100, restarts: int = 50,
-               seed: int | None = 0, jit: bool = True) -> BatchResult:
+               seed: int | None = 0, jit: bool = True, nearest: bool = True) -> BatchResult:
     """Solve IK for many targets at once with the fast solver (``method="lm"``).
 
     Args:
@@ -254,6 +262,8 @@ def solve_many(robot: Robot, targets: object, q0s: object | None = None, *,
         seed: seed of each target's generator (the draws of a single solve with it).
         jit: the iterations compiled to C, cached per machine (default True; casadi's
             virtual machine where no compiler works; False: the virtual machine always).
+        nearest: slide to the solution nearest each ``q0`` (default True); ``False``: the
+            solution the descent reaches (``solve_ik``'s lm option of that name).
 
     Returns:
         BatchResult: configurations, honest residuals and success flags, one row each.
@@ -268,12 +278,14 @@ def solve_many(robot: Robot, targets: object, q0s: object | None = None, *,
     tol = check_tol(tol)
     check_seed(seed)
     check_budget({"restarts": restarts, "max_iter": max_iter, "jit": jit})
+    check_flag("nearest", nearest)
     stacked, ts = _targets(robot, targets)
     n = len(stacked.position)
     Q_ref = _q0s(robot, q0s, n)
     weights = [t.weights for t in ts] if ts is not None else [(1.0, 1.0)] * n
     batch = _Batch(robot, stacked.kind, _params_rows(stacked, ts, Q_ref), limits(robot)[0],
-                   np.array([residual_tol(w, tol) for w in weights]), int(max_iter), bool(jit))
+                   np.array([residual_tol(w, tol) for w in weights]), int(max_iter), bool(jit),
+                   nearest)
     if phase_driver(robot, stacked.kind, bool(jit)) is not None:  # the C loop, target by target
         return _result(robot, stacked, *_one_by_one(batch, Q_ref, int(restarts), seed),
                        time.perf_counter() - clock, tol)
@@ -319,7 +331,7 @@ def _one_by_one(batch: _Batch, Q_ref: Array, restarts: int, seed: int | None,
         found = search_filled(
             batch.robot, batch.kind, float(batch.e_tol[i]), Q_ref[i],
             chain([Q_ref[i]], random_starts(batch.robot, rng(seed), restarts)),
-            max_iter=batch.max_iter, jit=batch.jit)
+            max_iter=batch.max_iter, jit=batch.jit, nearest=batch.nearest)
         Q[i], iterations[i], starts[i] = found.q, found.iterations, found.starts
     return Q, iterations, starts
 

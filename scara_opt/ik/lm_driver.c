@@ -10,8 +10,9 @@
  *   descend       phase 1 (and 3): lm_step calls until converged, stalled or out of budget
  *   slide_toward  phase 2: the Newton step alone, the full candidate set where it was
  *                 refused while the pull toward q0 remains, until the step is tiny
- *   lm_start      the three phases from one start; the state (budget, counts, best, the
- *                 history) lives in struct lm_run across the starts of a solve
+ *   lm_start      the three phases from one start (phase 1 alone where run->nearest is
+ *                 0); the state (budget, counts, best, the history) lives in struct lm_run
+ *                 across the starts of a solve
  */
 #include <math.h>
 #include <stdint.h>
@@ -43,6 +44,7 @@ struct lm_run {
     int64_t nq, stall_calls;
     double lambda0, lambda_max, step_tol, slide_tol, stall_decrease;
     double e_tol;
+    int64_t nearest;                   /* 0: no slide (lm's nearest=False) */
     int64_t budget, iterations, evaluations, slide_needed;
     double best;
     double *history;                   /* sqrt(best) after each call */
@@ -138,7 +140,7 @@ int lm_start(struct lm_run *run, double *q, double *e)
 
     if ((converged = descend(run, q, e)) < 0)
         return converged;
-    if (!(converged && run->slide_needed))
+    if (!(converged && run->nearest && run->slide_needed))
         return 0;
     memcpy(slid, q, run->nq * sizeof(double));
     if ((moved = slide_toward(run, slid)) < 0)

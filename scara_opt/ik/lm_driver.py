@@ -45,7 +45,7 @@ class _RunState(ctypes.Structure):
     _fields_ = [("lm", _Phase), ("newton", _Phase), ("slide", _Phase),
                 ("nq", _I), ("stall_calls", _I),
                 ("lambda0", _D), ("lambda_max", _D), ("step_tol", _D), ("slide_tol", _D),
-                ("stall_decrease", _D), ("e_tol", _D),
+                ("stall_decrease", _D), ("e_tol", _D), ("nearest", _I),
                 ("budget", _I), ("iterations", _I), ("evaluations", _I), ("slide_needed", _I),
                 ("best", _D), ("history", _P), ("n_history", _I), ("history_size", _I)]
 
@@ -102,9 +102,13 @@ class Driver:
                       _address(w), at("q"), at("lam"), at("q_next"), at("lam_next"),
                       at("e_next"), at("step"), at("slide", "pull"), *counts)
 
-    def reset(self, e_tol: float, max_iter: int) -> Driver:
-        """Start a solve: counts zero, best ∞, the history empty (room for ``max_iter``)."""
+    def reset(self, e_tol: float, max_iter: int, nearest: bool = True) -> Driver:
+        """Start a solve: counts zero, best ∞, the history empty (room for ``max_iter``).
+
+        ``nearest``: the slide toward ``q0`` and the polish after phase 1 (lm's option).
+        """
         c = self._c
+        c.nearest = int(nearest)
         c.e_tol, c.iterations, c.evaluations, c.slide_needed, c.best = e_tol, 0, 0, 1, math.inf
         size = 2 * max_iter + 8  # a start's calls: each counts >= 1 but a slide's retry
         if len(self._history) < size:
