@@ -145,6 +145,20 @@ def test_same_seed_gives_the_same_points(robots):
     assert not np.array_equal(a.points, workspace(robot, n=500, seed=4).points)
 
 
+@pytest.mark.parametrize("name", ["fang", "nguyen", "inverted5"])
+def test_samples_are_numpys_uniform_draws(robots, name):
+    """The samples are ``default_rng(seed).uniform(lower, upper, (n, nq))`` bit for bit
+    (workspace draws them in one block and scales in place, for speed).
+
+    Mutations caught: the offset dropped (``out += lo``); the range taken as ``hi`` alone.
+    """
+    robot = robots[name]
+    ws = workspace(robot, n=2000, seed=5, footprint=False)
+    expected = np.random.default_rng(5).uniform(robot.sampling_lower, robot.sampling_upper,
+                                                (2000, robot.nq))
+    np.testing.assert_array_equal(ws.q, expected)
+
+
 def test_samples_are_within_limits_and_match_fk(robots):
     """Samples lie within the joint limits and points are their FK positions."""
     robot = robots["inverted5"]
@@ -190,6 +204,32 @@ def test_peng2025_contains_respects_the_footprint(robots):
     np.testing.assert_array_equal(inside, limited.contains(P))
     assert (free.contains(P) & ~inside).sum() > 1000  # points only the folded elbow reached
     assert not (inside & ~free.contains(P)).any()
+
+
+def test_footprint_columns_give_the_plane_coordinates_answers(robots):
+    """``blocks_arms`` of a circle (the plane's columns point by point, views of the world
+    columns where the plane's axes are world axes) answers as ``blocks`` of the full plane
+    coordinates, on peng2025's chains, in its own plane, one with a reversed axis and a
+    tilted one.
+
+    Mutations caught: u and v swapped in ``Plane.columns``; the view taken for a reversed
+    axis too (``e[k[0]] == 1.0`` -> ``abs(e[k[0]]) == 1.0``).
+    """
+    from scara_opt.workspace_analysis import Plane, workspace_plane
+
+    robot = robots["peng2025"]
+    zone, plane = Footprint.from_robot(robot), workspace_plane(robot)
+    Q = np.random.default_rng(6).uniform(robot.sampling_lower, robot.sampling_upper,
+                                         (5000, robot.nq))
+    chain = robot.joint_origins(Q)
+    s = math.sqrt(0.5)
+    planes = [plane, Plane(-plane.e1, plane.e2, -plane.n, plane.origin, ("u", "v", "h")),
+              Plane(np.array([s, 0.0, s]), plane.e2, np.array([-s, 0.0, s]), plane.origin,
+                    ("u", "v", "h"))]
+    for p in planes:
+        expected = zone.blocks(p.coords(chain), zone.first_origin(robot))
+        assert 100 < expected.sum() < 4900  # both answers occur
+        np.testing.assert_array_equal(zone.blocks_arms(robot, p, chain), expected)
 
 
 def test_polygon_footprint_blocks_crossing_segments():
