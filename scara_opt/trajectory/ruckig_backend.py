@@ -25,72 +25,143 @@ from scipy.interpolate import PPoly
 from scara_opt.errors import TrajectoryError
 from scara_opt.trajectory.limits import Limits
 from scara_opt.trajectory.methods import TimingMethod
-from scara_opt.trajectory.trajectory import Trajectory, concatenate
+from scara_opt.trajectory.trajectory import Trajectory
 
 Array = NDArray[np.float64]
 
 #: phases shorter than this are dropped when building the piecewise cubic [s]
 _MIN_PHASE = 1e-14
+#: a joint whose phases end this much before the segment's duration rests at its target [s]
+_EARLY = 1e-12
+#: slots per joint and segment: Ruckig's seven constant-jerk phases, then a rest at the target
+_SLOTS = 8
+#: where each slot's cubic coefficients (highest power first) sit in a profile row of
+#: :func:`_read_profiles` (4, 8): jerk, acceleration, velocity and position at the start of
+#: each phase, then the rest slot's 0, 0, 0 (the row's trailing 0) and final position
+_COEFF_COLUMNS = np.array([[*range(7, 14), 38], [*range(14, 21), 38], [*range(22, 29), 38],
+                           [*range(30, 38)]])
+#: and what they are divided by: q = j t³/6 + a t²/2 + v t + p in each phase
+_COEFF_DIVISORS = np.array([[6.0] * 7 + [1.0], [2.0] * 7 + [1.0], [1.0] * 8, [1.0] * 8])
+_SLOT = np.arange(_SLOTS)
 
 
-def _profile_pieces(t: Array, j: Array, a: Array, v: Array, p: Array, duration: float) -> PPoly:
-    """One joint's constant-jerk phases as a PPoly on [0, duration].
+def _read_profiles(profiles: list) -> list[list[float]]:
+    """Ruckig's per-joint ``Profile`` fields, one row of 39 numbers per joint.
 
-    ``t``, ``j`` (7,): phase durations [s] and jerks; ``a``, ``v``, ``p`` (8,): acceleration,
-    velocity and position at the phase boundaries (Ruckig's ``Profile`` fields).
+    Each row: ``t``, ``j`` (7 each: phase durations [s], jerks), then ``a``, ``v``, ``p``
+    (8 each: acceleration, velocity, position at the phase boundaries), as Ruckig gives
+    them, and a 0 (the rest slot's zero coefficients, see :data:`_COEFF_COLUMNS`).
     """
-    keep = t > _MIN_PHASE
-    breaks = np.concatenate([[0.0], np.cumsum(t[keep])])
-    coeffs = np.array([j[keep] / 6, a[:-1][keep] / 2, v[:-1][keep], p[:-1][keep]])
-    if not keep.any():  # the joint does not move
-        coeffs = np.array([[0.0], [0.0], [0.0], [p[-1]]])
-        breaks = np.array([0.0, duration])
-    elif breaks[-1] < duration - 1e-12:  # finished early: rest at the target
-        coeffs = np.hstack([coeffs, [[0.0], [0.0], [0.0], [p[-1]]]])
-        breaks = np.append(breaks, duration)
-    else:
-        breaks[-1] = duration
-    # built from checked parts (increasing breaks, finite coefficients): skip PPoly's checks
-    return PPoly.construct_fast(coeffs, breaks, extrapolate=False)
+    return [prof.t + prof.j + prof.a + prof.v + prof.p + [0.0] for prof in profiles]
+
+
+def _phases(profile: Array, durations: Array) -> tuple[Array, Array, Array]:
+    """Every segment's and joint's phases as the slots of piecewise cubics, all at once.
+
+    Args:
+        profile: (S, nq, 39), S segments' rows of :func:`_read_profiles`.
+        durations: (S,) the segments' durations [s].
+
+    Returns:
+        ``(ends, coeffs, keep)``: ``ends`` (S, nq, 8) the end time of each slot in its
+        segment [s], the last kept one exactly the duration (and every one after it);
+        ``coeffs`` (S, nq, 4, 8) each slot's cubic in local time, highest power first;
+        ``keep`` (S, nq, 8) the slots that are pieces: phases longer than
+        :data:`_MIN_PHASE`, and the rest slot when the kept phases end early or there are
+        none (the joint does not move). A dropped phase ends where the kept one before it
+        does (its duration counts as 0), so ``ends`` never decreases along a segment.
+
+    Raises:
+        TrajectoryError: the kept phases do not fit in the duration (their ends decrease).
+    """
+    T = durations[:, None, None]
+    t = profile[..., :7]
+    phase = t > _MIN_PHASE
+    ends = np.add.accumulate(np.where(phase, t, 0.0), axis=-1)
+    rest = ~np.logical_or.reduce(phase, axis=-1) | (ends[..., 6] < T[..., 0] - _EARLY)
+    keep = np.concatenate([phase, rest[..., None]], axis=-1)
+    last = _SLOTS - 1 - np.argmax(keep[..., ::-1], axis=-1)   # the last kept slot
+    ends = np.where(_SLOT >= last[..., None], T, np.concatenate([ends, ends[..., -1:]], -1))
+    if (ends[..., 1:] < ends[..., :-1]).any():
+        raise TrajectoryError("ruckig's phases do not fit in its duration (they end later); "
+                              "this should not happen, please report it")
+    return ends, profile.take(_COEFF_COLUMNS, axis=-1) / _COEFF_DIVISORS, keep
+
+
+def _joint_pieces(ends: Array, coeffs: Array, keep: Array, times: Array) -> tuple[PPoly, ...]:
+    """One PPoly per joint from consecutive segments' slots, laid end to end in time.
+
+    Args:
+        ends: (S, nq, 8), as :func:`_phases` gives them.
+        coeffs: (S, nq, 4, 8).
+        keep: (S, nq, 8).
+        times: (S + 1,) the segments' start times, then the end [s].
+    """
+    nq = ends.shape[1]
+    breaks = (ends + times[:-1, None, None]).transpose(1, 0, 2).reshape(nq, -1)
+    kept = keep.transpose(1, 0, 2).reshape(nq, -1)
+    c = coeffs.transpose(1, 2, 0, 3).reshape(nq, 4, -1)
+    start = np.zeros(1)
+    # from checked parts (non-decreasing breaks, see _phases): skip PPoly's checks
+    return tuple(PPoly.construct_fast(c[k][:, kept[k]],
+                                      np.concatenate([start, breaks[k][kept[k]]]),
+                                      extrapolate=False) for k in range(nq))
+
+
+class _Ruckig:
+    """One Ruckig calculator, input and output for rest-to-rest segments under ``limits``.
+
+    Reused for every segment of one trajectory (never shared between calls or threads).
+    """
+
+    def __init__(self, nq: int, limits: Limits) -> None:
+        import ruckig
+
+        if limits.jmax is None:
+            raise TrajectoryError("ruckig needs jerk limits; resolve them with need_jerk=True")
+        self.otg, self.inp, self.out = ruckig.Ruckig(nq), ruckig.InputParameter(nq), \
+            ruckig.Trajectory(nq)
+        inp = self.inp
+        inp.current_velocity = inp.current_acceleration = [0.0] * nq
+        inp.target_velocity = inp.target_acceleration = [0.0] * nq
+        inp.max_velocity = limits.vmax.tolist()
+        inp.max_acceleration = limits.amax.tolist()
+        inp.max_jerk = limits.jmax.tolist()
+        inp.synchronization = ruckig.Synchronization.Time
+
+    def segment(self, qa: Array, qb: Array) -> tuple[list[list[float]], float]:
+        """The profile rows (:func:`_read_profiles`) and duration [s] from ``qa`` to ``qb``.
+
+        Raises:
+            TrajectoryError: Ruckig refused or failed, or needed a brake pre-trajectory.
+        """
+        import ruckig
+
+        self.inp.current_position, self.inp.target_position = qa.tolist(), qb.tolist()
+        try:
+            result = self.otg.calculate(self.inp, self.out)
+        except (RuntimeError, ruckig.RuckigError) as exc:  # ruckig raises on invalid input
+            raise TrajectoryError(f"ruckig refused the segment {qa} → {qb}: {exc}") from None
+        except ValueError as exc:  # a result code the binding does not know, e.g. -101
+            raise TrajectoryError(
+                f"ruckig failed on the segment {qa} → {qb} ({exc}; -101 means the duration "
+                "exceeds Ruckig's numerical range): raise vmax=/amax=/jmax= or use "
+                "method='quintic'") from None
+        if result not in (ruckig.Result.Working, ruckig.Result.Finished):
+            raise TrajectoryError(f"ruckig failed on the segment {qa} → {qb}: {result}; check "
+                                  "the limits (they must be finite and positive)")
+        profiles = self.out.profiles[0]
+        if any(prof.brake.duration > 0 for prof in profiles):
+            raise TrajectoryError("ruckig needed a brake pre-trajectory on a rest-to-rest "
+                                  "move; this should not happen, please report it")
+        return _read_profiles(profiles), float(self.out.duration)
 
 
 def ruckig_segment(qa: Array, qb: Array, limits: Limits) -> tuple[list[PPoly], float]:
     """Rest-to-rest Ruckig motion from ``qa`` to ``qb``: one PPoly per joint, and its duration."""
-    import ruckig
-
-    nq = len(qa)
-    otg = ruckig.Ruckig(nq)
-    inp = ruckig.InputParameter(nq)
-    inp.current_position, inp.target_position = list(qa), list(qb)
-    inp.current_velocity = inp.current_acceleration = [0.0] * nq
-    inp.target_velocity = inp.target_acceleration = [0.0] * nq
-    inp.max_velocity = list(limits.vmax)
-    inp.max_acceleration = list(limits.amax)
-    if limits.jmax is None:
-        raise TrajectoryError("ruckig needs jerk limits; resolve them with need_jerk=True")
-    inp.max_jerk = list(limits.jmax)
-    inp.synchronization = ruckig.Synchronization.Time
-    traj = ruckig.Trajectory(nq)
-    try:
-        result = otg.calculate(inp, traj)
-    except (RuntimeError, ruckig.RuckigError) as exc:  # ruckig raises on invalid input
-        raise TrajectoryError(f"ruckig refused the segment {qa} → {qb}: {exc}") from None
-    except ValueError as exc:  # a result code the binding does not know, e.g. -101
-        raise TrajectoryError(
-            f"ruckig failed on the segment {qa} → {qb} ({exc}; -101 means the duration "
-            "exceeds Ruckig's numerical range): raise vmax=/amax=/jmax= or use "
-            "method='quintic'") from None
-    if result not in (ruckig.Result.Working, ruckig.Result.Finished):
-        raise TrajectoryError(f"ruckig failed on the segment {qa} → {qb}: {result}; check the "
-                              "limits (they must be finite and positive)")
-    T = float(traj.duration)
-    profiles = traj.profiles[0]
-    if any(prof.brake.duration > 0 for prof in profiles):
-        raise TrajectoryError("ruckig needed a brake pre-trajectory on a rest-to-rest move; "
-                              "this should not happen, please report it")
-    fields = [np.array([getattr(prof, name) for prof in profiles], dtype=float)
-              for name in ("t", "j", "a", "v", "p")]     # (nq, 7) or (nq, 8) each
-    return [_profile_pieces(*(f[k] for f in fields), T) for k in range(nq)], T
+    rows, T = _Ruckig(len(qa), limits).segment(qa, qb)
+    times = np.array([0.0, T])
+    return list(_joint_pieces(*_phases(np.array([rows], dtype=float), times[1:]), times)), T
 
 
 def ruckig_trajectory(Q: Array, limits: Limits, duration: float | None = None) -> Trajectory:
@@ -104,14 +175,11 @@ def ruckig_trajectory(Q: Array, limits: Limits, duration: float | None = None) -
     Raises:
         TrajectoryError: Ruckig failed on a segment.
     """
-    segments: list[list[PPoly]] = []
-    durations: list[float] = []
-    for qa, qb in zip(Q[:-1], Q[1:], strict=True):
-        seg, T = ruckig_segment(qa, qb, limits)
-        segments.append(seg)
-        durations.append(T)
-    pieces = tuple(concatenate([seg[k] for seg in segments]) for k in range(Q.shape[1]))
+    solver = _Ruckig(Q.shape[1], limits)
+    rows, durations = zip(*(solver.segment(qa, qb) for qa, qb in zip(Q[:-1], Q[1:],
+                                                                      strict=True)), strict=True)
     times = np.concatenate([[0.0], np.cumsum(durations)])
+    pieces = _joint_pieces(*_phases(np.array(rows, dtype=float), np.array(durations)), times)
     return Trajectory(pieces, limits, "ruckig", Q.copy(), times,
                       notes="free Ruckig: rest-to-rest between consecutive waypoints")
 
