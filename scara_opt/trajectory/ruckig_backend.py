@@ -10,6 +10,9 @@ closely spaced waypoints that is much slower than toppra, which keeps moving thr
 Each joint of a Ruckig profile is seven phases of constant jerk; the phases are read from
 ``Trajectory.profiles`` and turned into exact piecewise cubics (checked against
 ``Trajectory.at_time`` in the tests), so sampling and the limit check need no Ruckig call.
+The conversion works on the Python floats Ruckig hands over, joint by joint: for one
+segment of a few joints that is about half the time of numpy on arrays of 7 (each numpy
+call costs about a microsecond on so few numbers).
 
 Jerk limit: robots carry none; the default is
 :data:`~scara_opt.trajectory.limits.JERK_PER_ACCELERATION` × amax (10/s × amax: the
@@ -17,6 +20,8 @@ acceleration limit is reached in 0.1 s).
 """
 
 from __future__ import annotations
+
+from itertools import accumulate
 
 import numpy as np
 from numpy.typing import NDArray
@@ -28,84 +33,46 @@ from scara_opt.trajectory.methods import TimingMethod
 from scara_opt.trajectory.trajectory import Trajectory
 
 Array = NDArray[np.float64]
+#: one cubic piece's coefficients, highest power first: (j/6, a/2, v, p) of a phase
+Cubic = tuple[float, float, float, float]
 
 #: phases shorter than this are dropped when building the piecewise cubic [s]
 _MIN_PHASE = 1e-14
 #: a joint whose phases end this much before the segment's duration rests at its target [s]
 _EARLY = 1e-12
-#: slots per joint and segment: Ruckig's seven constant-jerk phases, then a rest at the target
-_SLOTS = 8
-#: where each slot's cubic coefficients (highest power first) sit in a profile row of
-#: :func:`_read_profiles` (4, 8): jerk, acceleration, velocity and position at the start of
-#: each phase, then the rest slot's 0, 0, 0 (the row's trailing 0) and final position
-_COEFF_COLUMNS = np.array([[*range(7, 14), 38], [*range(14, 21), 38], [*range(22, 29), 38],
-                           [*range(30, 38)]])
-#: and what they are divided by: q = j t³/6 + a t²/2 + v t + p in each phase
-_COEFF_DIVISORS = np.array([[6.0] * 7 + [1.0], [2.0] * 7 + [1.0], [1.0] * 8, [1.0] * 8])
-_SLOT = np.arange(_SLOTS)
 
 
-def _read_profiles(profiles: list) -> list[list[float]]:
-    """Ruckig's per-joint ``Profile`` fields, one row of 39 numbers per joint.
-
-    Each row: ``t``, ``j`` (7 each: phase durations [s], jerks), then ``a``, ``v``, ``p``
-    (8 each: acceleration, velocity, position at the phase boundaries), as Ruckig gives
-    them, and a 0 (the rest slot's zero coefficients, see :data:`_COEFF_COLUMNS`).
-    """
-    return [prof.t + prof.j + prof.a + prof.v + prof.p + [0.0] for prof in profiles]
-
-
-def _phases(profile: Array, durations: Array) -> tuple[Array, Array, Array]:
-    """Every segment's and joint's phases as the slots of piecewise cubics, all at once.
+def _joint_phases(prof: object, duration: float) -> tuple[list[float], list[Cubic]]:
+    """One joint's constant-jerk phases of one segment: where its pieces end, and their cubics.
 
     Args:
-        profile: (S, nq, 39), S segments' rows of :func:`_read_profiles`.
-        durations: (S,) the segments' durations [s].
+        prof: Ruckig's ``Profile`` of the joint: ``t``, ``j`` (7,) phase durations [s] and
+            jerks; ``a``, ``v``, ``p`` (8,) acceleration, velocity and position at the phase
+            boundaries.
+        duration: the segment's duration [s].
 
     Returns:
-        ``(ends, coeffs, keep)``: ``ends`` (S, nq, 8) the end time of each slot in its
-        segment [s], the last kept one exactly the duration (and every one after it);
-        ``coeffs`` (S, nq, 4, 8) each slot's cubic in local time, highest power first;
-        ``keep`` (S, nq, 8) the slots that are pieces: phases longer than
-        :data:`_MIN_PHASE`, and the rest slot when the kept phases end early or there are
-        none (the joint does not move). A dropped phase ends where the kept one before it
-        does (its duration counts as 0), so ``ends`` never decreases along a segment.
+        ``(ends, cubics)``: the end [s] of each piece in the segment's time (the last one
+        exactly ``duration``), and each piece's cubic in its local time. Phases up to
+        :data:`_MIN_PHASE` are dropped; a joint whose phases end early (or that does not
+        move) rests at its target until ``duration``.
 
     Raises:
-        TrajectoryError: the kept phases do not fit in the duration (their ends decrease).
+        TrajectoryError: the phases end after ``duration``.
     """
-    T = durations[:, None, None]
-    t = profile[..., :7]
-    phase = t > _MIN_PHASE
-    ends = np.add.accumulate(np.where(phase, t, 0.0), axis=-1)
-    rest = ~np.logical_or.reduce(phase, axis=-1) | (ends[..., 6] < T[..., 0] - _EARLY)
-    keep = np.concatenate([phase, rest[..., None]], axis=-1)
-    last = _SLOTS - 1 - np.argmax(keep[..., ::-1], axis=-1)   # the last kept slot
-    ends = np.where(_SLOT >= last[..., None], T, np.concatenate([ends, ends[..., -1:]], -1))
-    if (ends[..., 1:] < ends[..., :-1]).any():
-        raise TrajectoryError("ruckig's phases do not fit in its duration (they end later); "
-                              "this should not happen, please report it")
-    return ends, profile.take(_COEFF_COLUMNS, axis=-1) / _COEFF_DIVISORS, keep
-
-
-def _joint_pieces(ends: Array, coeffs: Array, keep: Array, times: Array) -> tuple[PPoly, ...]:
-    """One PPoly per joint from consecutive segments' slots, laid end to end in time.
-
-    Args:
-        ends: (S, nq, 8), as :func:`_phases` gives them.
-        coeffs: (S, nq, 4, 8).
-        keep: (S, nq, 8).
-        times: (S + 1,) the segments' start times, then the end [s].
-    """
-    nq = ends.shape[1]
-    breaks = (ends + times[:-1, None, None]).transpose(1, 0, 2).reshape(nq, -1)
-    kept = keep.transpose(1, 0, 2).reshape(nq, -1)
-    c = coeffs.transpose(1, 2, 0, 3).reshape(nq, 4, -1)
-    start = np.zeros(1)
-    # from checked parts (non-decreasing breaks, see _phases): skip PPoly's checks
-    return tuple(PPoly.construct_fast(c[k][:, kept[k]],
-                                      np.concatenate([start, breaks[k][kept[k]]]),
-                                      extrapolate=False) for k in range(nq))
+    t, j, a, v, p = prof.t, prof.j, prof.a, prof.v, prof.p
+    kept = [i for i in range(7) if t[i] > _MIN_PHASE]
+    ends = list(accumulate(t[i] for i in kept))
+    cubics = [(j[i] / 6, a[i] / 2, v[i], p[i]) for i in kept]
+    if not kept or ends[-1] < duration - _EARLY:
+        ends.append(duration)
+        cubics.append((0.0, 0.0, 0.0, p[-1]))
+    elif len(ends) > 1 and ends[-2] > duration:
+        raise TrajectoryError(f"ruckig's phases end at {ends[-2]!r} s, after its duration "
+                              f"{duration!r} s; this should not happen, please report it")
+    else:
+        ends[-1] = duration
+    return ends, cubics
 
 
 class _Ruckig:
@@ -119,8 +86,8 @@ class _Ruckig:
 
         if limits.jmax is None:
             raise TrajectoryError("ruckig needs jerk limits; resolve them with need_jerk=True")
-        self.otg, self.inp, self.out = ruckig.Ruckig(nq), ruckig.InputParameter(nq), \
-            ruckig.Trajectory(nq)
+        self.otg, self.inp = ruckig.Ruckig(nq), ruckig.InputParameter(nq)
+        self.out = ruckig.Trajectory(nq)
         inp = self.inp
         inp.current_velocity = inp.current_acceleration = [0.0] * nq
         inp.target_velocity = inp.target_acceleration = [0.0] * nq
@@ -129,8 +96,8 @@ class _Ruckig:
         inp.max_jerk = limits.jmax.tolist()
         inp.synchronization = ruckig.Synchronization.Time
 
-    def segment(self, qa: Array, qb: Array) -> tuple[list[list[float]], float]:
-        """The profile rows (:func:`_read_profiles`) and duration [s] from ``qa`` to ``qb``.
+    def segment(self, qa: Array, qb: Array) -> tuple[list, float]:
+        """Ruckig's per-joint ``Profile`` and the duration [s] of the move ``qa`` → ``qb``.
 
         Raises:
             TrajectoryError: Ruckig refused or failed, or needed a brake pre-trajectory.
@@ -154,14 +121,38 @@ class _Ruckig:
         if any(prof.brake.duration > 0 for prof in profiles):
             raise TrajectoryError("ruckig needed a brake pre-trajectory on a rest-to-rest "
                                   "move; this should not happen, please report it")
-        return _read_profiles(profiles), float(self.out.duration)
+        return profiles, float(self.out.duration)
+
+
+def _timed_pieces(Q: Array, limits: Limits) -> tuple[tuple[PPoly, ...], list[float]]:
+    """Rest-to-rest Ruckig moves through ``Q`` (n, nq), laid end to end in time.
+
+    Returns:
+        One PPoly per joint (time [s] → q [rad or m]), and the (n,) waypoint times [s].
+    """
+    nq = Q.shape[1]
+    solver = _Ruckig(nq, limits)
+    breaks: list[list[float]] = [[0.0] for _ in range(nq)]
+    cubics: list[list[Cubic]] = [[] for _ in range(nq)]
+    times = [0.0]
+    for qa, qb in zip(Q[:-1], Q[1:], strict=True):
+        profiles, T = solver.segment(qa, qb)
+        t0 = times[-1]
+        for k, prof in enumerate(profiles):
+            ends, joint_cubics = _joint_phases(prof, T)
+            breaks[k] += [end + t0 for end in ends]
+            cubics[k] += joint_cubics
+        times.append(T + t0)
+    # from checked parts (increasing breaks, finite coefficients): skip PPoly's checks
+    pieces = tuple(PPoly.construct_fast(np.array(c).T.copy(), np.array(x), extrapolate=False)
+                   for x, c in zip(breaks, cubics, strict=True))
+    return pieces, times
 
 
 def ruckig_segment(qa: Array, qb: Array, limits: Limits) -> tuple[list[PPoly], float]:
     """Rest-to-rest Ruckig motion from ``qa`` to ``qb``: one PPoly per joint, and its duration."""
-    rows, T = _Ruckig(len(qa), limits).segment(qa, qb)
-    times = np.array([0.0, T])
-    return list(_joint_pieces(*_phases(np.array([rows], dtype=float), times[1:]), times)), T
+    pieces, times = _timed_pieces(np.array([qa, qb], dtype=float), limits)
+    return list(pieces), times[-1]
 
 
 def ruckig_trajectory(Q: Array, limits: Limits, duration: float | None = None) -> Trajectory:
@@ -175,12 +166,8 @@ def ruckig_trajectory(Q: Array, limits: Limits, duration: float | None = None) -
     Raises:
         TrajectoryError: Ruckig failed on a segment.
     """
-    solver = _Ruckig(Q.shape[1], limits)
-    rows, durations = zip(*(solver.segment(qa, qb) for qa, qb in zip(Q[:-1], Q[1:],
-                                                                      strict=True)), strict=True)
-    times = np.concatenate([[0.0], np.cumsum(durations)])
-    pieces = _joint_pieces(*_phases(np.array(rows, dtype=float), np.array(durations)), times)
-    return Trajectory(pieces, limits, "ruckig", Q.copy(), times,
+    pieces, times = _timed_pieces(Q, limits)
+    return Trajectory(pieces, limits, "ruckig", Q.copy(), np.array(times),
                       notes="free Ruckig: rest-to-rest between consecutive waypoints")
 
 
