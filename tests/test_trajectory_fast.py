@@ -98,9 +98,9 @@ def test_ruckig_pieces_equal_the_reference_conversion_bit_for_bit():
     """Same breaks, coefficients (dtype, shape, every bit), duration and waypoint times as
     the per-joint numpy conversion with fresh Ruckig objects per segment.
 
-    Mutations caught: ``j[i] / 6`` -> ``j[i] * (1 / 6)`` (differs in the last bit);
+    Mutations caught: ``x / 6`` -> ``x * (1 / 6)`` (differs in the last bit);
     ``ends[-1] = duration`` dropped (the last break is the phases' sum, not the duration);
-    the segment offset ``t0`` not added; ``c`` left as the transposed (F-ordered) view.
+    the segment offset ``t0`` not added; ``c`` in Fortran order (the values the same).
     """
     for robot, Q, kw in _cases():
         traj = time_parameterize(Q, robot, method="ruckig", **kw)
@@ -126,16 +126,16 @@ def test_ruckig_phases_ending_early_rest_and_ending_late_are_refused():
     of 0.5, 0.5 and 0.2 s in a segment of 0.8 s, 1.2 s + 1e-13 s and 1.25 s.
 
     Mutations caught: _joint_phases without its ``elif ends[-2] > duration`` branch; the
-    rest appended only for a joint that does not move (``not kept`` alone).
+    rest appended only for a joint that does not move (``not ends`` alone).
     """
     t = [0.5, 0.5, 0.0, 0.0, 0.0, 0.0, 0.2]
     prof = SimpleNamespace(t=t, j=[1.0] * 7, a=[0.0] * 8, v=[0.0] * 8, p=[0.0] * 8)
     with pytest.raises(TrajectoryError, match=r"phases end at 1\.0 s, after its duration 0\.8"):
         _joint_phases(prof, 0.8)
-    ends, cubics = _joint_phases(prof, 1.2 + 1e-13)  # the last end becomes the duration
-    assert ends == [0.5, 1.0, 1.2 + 1e-13] and len(cubics) == 3
-    ends, cubics = _joint_phases(prof, 1.25)  # ends early: rests at the target
-    assert ends == [0.5, 1.0, 1.2, 1.25] and cubics[-1] == (0.0, 0.0, 0.0, 0.0)
+    *cubic, ends = _joint_phases(prof, 1.2 + 1e-13)  # the last end becomes the duration
+    assert ends == [0.5, 1.0, 1.2 + 1e-13] and [len(row) for row in cubic] == [3] * 4
+    *cubic, ends = _joint_phases(prof, 1.25)  # ends early: rests at the target
+    assert ends == [0.5, 1.0, 1.2, 1.25] and [row[-1] for row in cubic] == [0.0] * 4
 
 
 # --------------------------------------------------------------- the limits' fast path

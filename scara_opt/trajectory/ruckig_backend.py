@@ -21,7 +21,7 @@ acceleration limit is reached in 0.1 s).
 
 from __future__ import annotations
 
-from itertools import accumulate
+from itertools import accumulate, chain, compress
 
 import numpy as np
 from numpy.typing import NDArray
@@ -33,8 +33,6 @@ from scara_opt.trajectory.methods import TimingMethod
 from scara_opt.trajectory.trajectory import Trajectory
 
 Array = NDArray[np.float64]
-#: one cubic piece's coefficients, highest power first: (j/6, a/2, v, p) of a phase
-Cubic = tuple[float, float, float, float]
 
 #: phases shorter than this are dropped when building the piecewise cubic [s]
 _MIN_PHASE = 1e-14
@@ -42,8 +40,8 @@ _MIN_PHASE = 1e-14
 _EARLY = 1e-12
 
 
-def _joint_phases(prof: object, duration: float) -> tuple[list[float], list[Cubic]]:
-    """One joint's constant-jerk phases of one segment: where its pieces end, and their cubics.
+def _joint_phases(prof: object, duration: float) -> list[list[float]]:
+    """One joint's constant-jerk phases of one segment, as the pieces of a cubic.
 
     Args:
         prof: Ruckig's ``Profile`` of the joint: ``t``, ``j`` (7,) phase durations [s] and
@@ -52,8 +50,9 @@ def _joint_phases(prof: object, duration: float) -> tuple[list[float], list[Cubi
         duration: the segment's duration [s].
 
     Returns:
-        ``(ends, cubics)``: the end [s] of each piece in the segment's time (the last one
-        exactly ``duration``), and each piece's cubic in its local time. Phases up to
+        Five lists, one entry per piece: its cubic's coefficients in its local time,
+        highest power first (``j/6``, ``a/2``, ``v``, ``p`` at its start), then where it
+        ends [s] in the segment's time (the last one exactly ``duration``). Phases up to
         :data:`_MIN_PHASE` are dropped; a joint whose phases end early (or that does not
         move) rests at its target until ``duration``.
 
@@ -61,18 +60,37 @@ def _joint_phases(prof: object, duration: float) -> tuple[list[float], list[Cubi
         TrajectoryError: the phases end after ``duration``.
     """
     t, j, a, v, p = prof.t, prof.j, prof.a, prof.v, prof.p
-    kept = [i for i in range(7) if t[i] > _MIN_PHASE]
-    ends = list(accumulate(t[i] for i in kept))
-    cubics = [(j[i] / 6, a[i] / 2, v[i], p[i]) for i in kept]
-    if not kept or ends[-1] < duration - _EARLY:
-        ends.append(duration)
-        cubics.append((0.0, 0.0, 0.0, p[-1]))
+    kept = [ti > _MIN_PHASE for ti in t]  # (7,): a, v, p at the phases' starts
+    ends = list(accumulate(compress(t, kept)))
+    rows = [[x / 6 for x in compress(j, kept)], [x / 2 for x in compress(a, kept)],
+            list(compress(v, kept)), list(compress(p, kept)), ends]
+    if not ends or ends[-1] < duration - _EARLY:
+        for row, rest in zip(rows, (0.0, 0.0, 0.0, p[-1], duration), strict=True):
+            row.append(rest)
     elif len(ends) > 1 and ends[-2] > duration:
         raise TrajectoryError(f"ruckig's phases end at {ends[-2]!r} s, after its duration "
                               f"{duration!r} s; this should not happen, please report it")
     else:
         ends[-1] = duration
-    return ends, cubics
+    return rows
+
+
+def _ppolys(joints: list[list[list[float]]]) -> tuple[PPoly, ...]:
+    """One PPoly per joint from its four coefficient rows (m,) and breaks (m + 1,).
+
+    Every joint's numbers go through one numpy call; each PPoly's ``c`` (4, m) and ``x``
+    are C-contiguous views of that array (a numpy call per joint costs ~1 µs more).
+    """
+    flat = np.fromiter(chain.from_iterable(chain.from_iterable(joints)), dtype=float)
+    pieces, start = [], 0
+    for rows in joints:
+        m = len(rows[0])
+        c = flat[start:start + 4 * m].reshape(4, m)
+        x = flat[start + 4 * m:start + 5 * m + 1]
+        start += 5 * m + 1
+        # from checked parts (increasing breaks, finite coefficients): skip PPoly's checks
+        pieces.append(PPoly.construct_fast(c, x, extrapolate=False))
+    return tuple(pieces)
 
 
 class _Ruckig:
@@ -132,21 +150,19 @@ def _timed_pieces(Q: Array, limits: Limits) -> tuple[tuple[PPoly, ...], list[flo
     """
     nq = Q.shape[1]
     solver = _Ruckig(nq, limits)
-    breaks: list[list[float]] = [[0.0] for _ in range(nq)]
-    cubics: list[list[Cubic]] = [[] for _ in range(nq)]
+    # per joint: the coefficient rows j/6, a/2, v, p of its pieces, then its breaks [s]
+    joints: list[list[list[float]]] = [[[], [], [], [], [0.0]] for _ in range(nq)]
     times = [0.0]
-    for qa, qb in zip(Q[:-1], Q[1:], strict=True):
-        profiles, T = solver.segment(qa, qb)
+    for i in range(len(Q) - 1):
+        profiles, T = solver.segment(Q[i], Q[i + 1])
         t0 = times[-1]
-        for k, prof in enumerate(profiles):
-            ends, joint_cubics = _joint_phases(prof, T)
-            breaks[k] += [end + t0 for end in ends]
-            cubics[k] += joint_cubics
+        for rows, prof in zip(joints, profiles, strict=True):
+            *cubic, ends = _joint_phases(prof, T)
+            for row, new in zip(rows, cubic, strict=False):
+                row += new
+            rows[4] += [end + t0 for end in ends]
         times.append(T + t0)
-    # from checked parts (increasing breaks, finite coefficients): skip PPoly's checks
-    pieces = tuple(PPoly.construct_fast(np.array(c).T.copy(), np.array(x), extrapolate=False)
-                   for x, c in zip(breaks, cubics, strict=True))
-    return pieces, times
+    return _ppolys(joints), times
 
 
 def ruckig_segment(qa: Array, qb: Array, limits: Limits) -> tuple[list[PPoly], float]:
