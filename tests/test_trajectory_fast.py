@@ -19,7 +19,13 @@ from scipy.interpolate import PPoly
 import scara_opt as so
 from scara_opt import paths
 from scara_opt.errors import TrajectoryError
-from scara_opt.trajectory import ik_path, resolve_limits, time_parameterize
+from scara_opt.trajectory import (
+    ik_path,
+    registry,
+    resolve_limits,
+    ruckig_point_to_point,
+    time_parameterize,
+)
 from scara_opt.trajectory import limits as limits_mod
 from scara_opt.trajectory import waypoints as waypoints_mod
 from scara_opt.trajectory.limits import LIMIT_RANGES, _per_joint
@@ -261,3 +267,37 @@ def test_waypoint_fast_path_agrees_with_the_full_check(monkeypatch, robots, name
     assert fast == [outcome(p) for p in inputs]
     plain = {0, 1, 4, 11} | ({2, 10, 20} if robot is None else set())  # 2: no limits
     assert taken == [k in plain for k in range(len(inputs))]
+
+
+# ------------------------------------------------------------ ruckig_point_to_point's pair
+@pytest.mark.parametrize("case", ["plain", "same", "outside", "short", "ints", "list",
+                                  "float32", "rows", "big-endian"])
+def test_point_to_point_pair_agrees_with_the_list(monkeypatch, robots, case):
+    """ruckig_point_to_point stacks two float64 (nq,) arrays itself (then the waypoints'
+    fast path takes them): the same trajectory, bit for bit, or the same error (type and
+    message) as from the list ``[q_start, q_goal]`` it passed before.
+
+    Mutations caught: the pair stacked in the wrong order; stacked without comparing the
+    shapes (numpy's ValueError instead of the InputError for a (4,) and a (3,) array).
+    """
+    fang = robots["fang"]
+    a, b = (row.copy() for row in FANG_MOVES[0] * FANG_UNITS)
+    args = {"plain": (a, b), "same": (a, a.copy()), "outside": (a, b + [0, 10, 0, 0]),
+            "short": (a, b[:3]), "ints": (a.astype(int), b.astype(int)), "list": (list(a), b),
+            "float32": (a, b.astype(np.float32)), "rows": (a[None], b[None]),
+            "big-endian": (a.astype(">f8"), b.astype(">f8"))}[case]
+
+    def outcome():
+        try:
+            traj = ruckig_point_to_point(*args, fang)
+        except Exception as exc:  # noqa: BLE001 - compared by type and message
+            return type(exc), str(exc)
+        return (traj.waypoints.tobytes(), traj.waypoint_times.tobytes(),
+                [(p.x.tobytes(), p.c.tobytes()) for p in traj.pieces])
+
+    stacked = registry._pair(*args)
+    assert isinstance(stacked, np.ndarray) == (case in ("plain", "same", "outside"))
+    fast = outcome()
+    assert (type(fast[0]) is bytes) == (case in ("plain", "ints", "list", "float32", "big-endian"))
+    monkeypatch.setattr(registry, "_pair", lambda q_start, q_goal: [q_start, q_goal])
+    assert fast == outcome()
