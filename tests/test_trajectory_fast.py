@@ -29,7 +29,7 @@ from scara_opt.trajectory import (
 from scara_opt.trajectory import limits as limits_mod
 from scara_opt.trajectory import waypoints as waypoints_mod
 from scara_opt.trajectory.limits import LIMIT_RANGES, _per_joint
-from scara_opt.trajectory.ruckig_backend import _joint_phases, ruckig_segment
+from scara_opt.trajectory.ruckig_backend import _add_phases, ruckig_segment
 from scara_opt.trajectory.trajectory import concatenate
 from scara_opt.trajectory.waypoints import DUPLICATE_TOL, LIMIT_SLACK, prepare_waypoints
 
@@ -106,7 +106,7 @@ def test_ruckig_pieces_equal_the_reference_conversion_bit_for_bit():
 
     Mutations caught: ``x / 6`` -> ``x * (1 / 6)`` (differs in the last bit);
     ``ends[-1] = duration`` dropped (the last break is the phases' sum, not the duration);
-    the segment offset ``t0`` not added; ``c`` in Fortran order (the values the same).
+    the segment start not added to the breaks; ``c`` in Fortran order (the values the same).
     """
     for robot, Q, kw in _cases():
         traj = time_parameterize(Q, robot, method="ruckig", **kw)
@@ -131,17 +131,23 @@ def test_ruckig_phases_ending_early_rest_and_ending_late_are_refused():
     fang and random moves above never reach these branches), so a made-up profile: phases
     of 0.5, 0.5 and 0.2 s in a segment of 0.8 s, 1.2 s + 1e-13 s and 1.25 s.
 
-    Mutations caught: _joint_phases without its ``elif ends[-2] > duration`` branch; the
+    Mutations caught: _add_phases without its ``elif ends[-2] > duration`` branch; the
     rest appended only for a joint that does not move (``not ends`` alone).
     """
     t = [0.5, 0.5, 0.0, 0.0, 0.0, 0.0, 0.2]
-    prof = SimpleNamespace(t=t, j=[1.0] * 7, a=[0.0] * 8, v=[0.0] * 8, p=[0.0] * 8)
+    prof = SimpleNamespace(t=t, j=[1.0] * 7, a=[0.0] * 8, v=[0.0] * 8, p=[0.0] * 7 + [2.0])
+
+    def pieces(duration):
+        rows = [[], [], [], [], [0.0]]
+        _add_phases(rows, prof, 0.0, duration)
+        return rows
+
     with pytest.raises(TrajectoryError, match=r"phases end at 1\.0 s, after its duration 0\.8"):
-        _joint_phases(prof, 0.8)
-    *cubic, ends = _joint_phases(prof, 1.2 + 1e-13)  # the last end becomes the duration
-    assert ends == [0.5, 1.0, 1.2 + 1e-13] and [len(row) for row in cubic] == [3] * 4
-    *cubic, ends = _joint_phases(prof, 1.25)  # ends early: rests at the target
-    assert ends == [0.5, 1.0, 1.2, 1.25] and [row[-1] for row in cubic] == [0.0] * 4
+        pieces(0.8)
+    *cubic, breaks = pieces(1.2 + 1e-13)  # the last end becomes the duration
+    assert breaks == [0.0, 0.5, 1.0, 1.2 + 1e-13] and cubic[0] == [1 / 6] * 3
+    *cubic, breaks = pieces(1.25)  # ends early: rests at the target
+    assert breaks == [0.0, 0.5, 1.0, 1.2, 1.25] and [row[-1] for row in cubic] == [0, 0, 0, 2]
 
 
 # --------------------------------------------------------------- the limits' fast path

@@ -40,21 +40,21 @@ _MIN_PHASE = 1e-14
 _EARLY = 1e-12
 
 
-def _joint_phases(prof: object, duration: float) -> list[list[float]]:
-    """One joint's constant-jerk phases of one segment, as the pieces of a cubic.
+def _add_phases(rows: list[list[float]], prof: object, start: float, duration: float) -> None:
+    """Append one joint's constant-jerk phases of one segment to its pieces.
 
     Args:
+        rows: the joint's pieces so far, five lists: the coefficients of each piece's cubic
+            in its local time, highest power first (``j/6``, ``a/2``, ``v``, ``p`` at its
+            start), then the breaks [s] (one more: the first is 0).
         prof: Ruckig's ``Profile`` of the joint: ``t``, ``j`` (7,) phase durations [s] and
             jerks; ``a``, ``v``, ``p`` (8,) acceleration, velocity and position at the phase
             boundaries.
-        duration: the segment's duration [s].
+        start: when the segment starts [s].
+        duration: the segment's duration [s]; its last piece ends exactly there.
 
-    Returns:
-        Five lists, one entry per piece: its cubic's coefficients in its local time,
-        highest power first (``j/6``, ``a/2``, ``v``, ``p`` at its start), then where it
-        ends [s] in the segment's time (the last one exactly ``duration``). Phases up to
-        :data:`_MIN_PHASE` are dropped; a joint whose phases end early (or that does not
-        move) rests at its target until ``duration``.
+    Phases up to :data:`_MIN_PHASE` are dropped; a joint whose phases end early (or that
+    does not move) rests at its target until ``duration``.
 
     Raises:
         TrajectoryError: the phases end after ``duration``.
@@ -62,17 +62,25 @@ def _joint_phases(prof: object, duration: float) -> list[list[float]]:
     t, j, a, v, p = prof.t, prof.j, prof.a, prof.v, prof.p
     kept = [ti > _MIN_PHASE for ti in t]  # (7,): a, v, p at the phases' starts
     ends = list(accumulate(compress(t, kept)))
-    rows = [[x / 6 for x in compress(j, kept)], [x / 2 for x in compress(a, kept)],
-            list(compress(v, kept)), list(compress(p, kept)), ends]
-    if not ends or ends[-1] < duration - _EARLY:
-        for row, rest in zip(rows, (0.0, 0.0, 0.0, p[-1], duration), strict=True):
-            row.append(rest)
+    rest = not ends or ends[-1] < duration - _EARLY
+    if rest:
+        ends.append(duration)
     elif len(ends) > 1 and ends[-2] > duration:
         raise TrajectoryError(f"ruckig's phases end at {ends[-2]!r} s, after its duration "
                               f"{duration!r} s; this should not happen, please report it")
     else:
         ends[-1] = duration
-    return rows
+    jerk, acc, vel, pos, breaks = rows
+    jerk += [x / 6 for x in compress(j, kept)]
+    acc += [x / 2 for x in compress(a, kept)]
+    vel += compress(v, kept)
+    pos += compress(p, kept)
+    breaks += [end + start for end in ends]
+    if rest:
+        jerk.append(0.0)
+        acc.append(0.0)
+        vel.append(0.0)
+        pos.append(p[-1])
 
 
 def _ppolys(joints: list[list[list[float]]]) -> tuple[PPoly, ...]:
@@ -157,10 +165,7 @@ def _timed_pieces(Q: Array, limits: Limits) -> tuple[tuple[PPoly, ...], list[flo
         profiles, T = solver.segment(Q[i], Q[i + 1])
         t0 = times[-1]
         for rows, prof in zip(joints, profiles, strict=True):
-            *cubic, ends = _joint_phases(prof, T)
-            for row, new in zip(rows, cubic, strict=False):
-                row += new
-            rows[4] += [end + t0 for end in ends]
+            _add_phases(rows, prof, t0, T)
         times.append(T + t0)
     return _ppolys(joints), times
 
