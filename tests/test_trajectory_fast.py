@@ -10,6 +10,7 @@ reference) and the full checks (the fast path switched off).
 from __future__ import annotations
 
 import math
+from concurrent.futures import ThreadPoolExecutor
 from types import SimpleNamespace
 
 import numpy as np
@@ -29,7 +30,7 @@ from scara_opt.trajectory import (
 from scara_opt.trajectory import limits as limits_mod
 from scara_opt.trajectory import waypoints as waypoints_mod
 from scara_opt.trajectory.limits import LIMIT_RANGES, _per_joint
-from scara_opt.trajectory.ruckig_backend import _add_phases, ruckig_segment
+from scara_opt.trajectory.ruckig_backend import _add_phases, _Ruckig, ruckig_segment
 from scara_opt.trajectory.trajectory import concatenate
 from scara_opt.trajectory.waypoints import DUPLICATE_TOL, LIMIT_SLACK, prepare_waypoints
 
@@ -104,11 +105,17 @@ def test_ruckig_pieces_equal_the_reference_conversion_bit_for_bit():
     """Same breaks, coefficients (dtype, shape, every bit), duration and waypoint times as
     the per-joint numpy conversion with fresh Ruckig objects per segment.
 
-    Mutations caught: ``x / 6`` -> ``x * (1 / 6)`` (differs in the last bit);
+    Each after a timing of the same joints under other limits (most fail: -101), which
+    leaves this thread's kept Ruckig set as it may. Mutations caught: the limits set only
+    when the set is made; ``x / 6`` -> ``x * (1 / 6)`` (differs in the last bit);
     ``ends[-1] = duration`` dropped (the last break is the phases' sum, not the duration);
     the segment start not added to the breaks; ``c`` in Fortran order (the values the same).
     """
     for robot, Q, kw in _cases():
+        try:  # this thread's kept Ruckig set, left by a failure under other limits
+            time_parameterize(Q, robot, method="ruckig", **{**kw, "vmax": 1e-6, "jmax": 1e3})
+        except TrajectoryError:
+            pass
         traj = time_parameterize(Q, robot, method="ruckig", **kw)
         limits = resolve_limits(robot, Q.shape[1], need_jerk=True, **kw)
         pieces, times = _reference_trajectory(Q, limits)
@@ -122,6 +129,31 @@ def test_ruckig_pieces_equal_the_reference_conversion_bit_for_bit():
             assert T == times[-1]
             assert all(_same_bits(s.x, r.x) and _same_bits(s.c, r.c)
                        for s, r in zip(seg, pieces, strict=True))
+
+
+def test_each_thread_keeps_its_own_ruckig_set(robots):
+    """The same set within a thread, another in another thread; four threads timing fang's
+    two moves at once get the serial answer, bit for bit.
+
+    Mutation: one set for all threads (``_LOCAL = threading``) -> fails.
+    """
+    fang = robots["fang"]
+    limits = resolve_limits(fang, 4, need_jerk=True)
+    mine = _Ruckig(4, limits).otg
+    assert _Ruckig(4, limits).otg is mine
+    with ThreadPoolExecutor(1) as pool:
+        assert pool.submit(lambda: _Ruckig(4, limits).otg).result() is not mine
+
+    moves = [Q * FANG_UNITS for Q in FANG_MOVES] * 2
+
+    def bits(Q):
+        traj = time_parameterize(Q, fang, method="ruckig")
+        return [(p.x.tobytes(), p.c.tobytes()) for p in traj.pieces]
+
+    serial = [bits(Q) for Q in moves]
+    with ThreadPoolExecutor(4) as pool:
+        for _ in range(50):
+            assert list(pool.map(bits, moves)) == serial
 
 
 def test_ruckig_phases_ending_early_rest_and_ending_late_are_refused():
