@@ -71,6 +71,14 @@ class JointChecks:
                 return False
         return True
 
+    def limit_pairs(self) -> tuple[tuple[float, float], ...]:
+        """``(lower, upper)`` per joint as floats, ``∓inf`` as ``∓`` the largest float (made once).
+
+        For Python-loop fast paths over a few values (see :meth:`fits_limits`): ``v`` is
+        finite and within a joint's limits iff ``lower <= v <= upper`` for its pair.
+        """
+        return (self.__dict__.get("_fit_table_cached") or self._fit_table())[0]
+
     def _fit_table(self) -> tuple[tuple[tuple[float, float], ...], tuple[tuple[int, float], ...]]:
         """For :meth:`fits_limits`, made once (a robot's limits never change).
 
