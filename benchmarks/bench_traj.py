@@ -8,7 +8,9 @@ Prints, in one run:
   segment of the 100-waypoint path;
 * the wrappers against the raw libraries on the same input, in the same run (issue 18):
   ``time_parameterize(method="ruckig")`` against Ruckig's own ``calculate`` on fang's
-  moves (goal <= 3x), ``method="toppra"`` against raw toppra (spline, the same two
+  moves (goal <= 3x; and the floor through Ruckig's Python binding, objects made
+  beforehand: positions set, ``calculate``, the phases read), ``method="toppra"`` against
+  raw toppra (spline, the same two
   constraints and grid, ``compute_trajectory``) on the 100-waypoint arc (goal <= 1.2x);
 * the durations of toppra and ruckig divided by the shortest quintic's (the baseline,
   computed in the same run under the same limits) on fang's moves (Tables 2-3), the
@@ -56,6 +58,25 @@ def raw_ruckig(qa: np.ndarray, qb: np.ndarray, limits) -> object:
     inp.max_jerk = list(limits.jmax)
     inp.synchronization = ruckig.Synchronization.Time
     return lambda: otg.calculate(inp, traj)
+
+
+def binding_floor(qa: np.ndarray, qb: np.ndarray, limits) -> object:
+    """The least a wrapper must do through Ruckig's Python binding, objects made beforehand:
+    set the two positions, ``calculate``, read every joint's phases (``t, j, a, v, p``)."""
+    import ruckig
+
+    nq = len(qa)
+    otg, inp, traj = ruckig.Ruckig(nq), ruckig.InputParameter(nq), ruckig.Trajectory(nq)
+    inp.max_velocity, inp.max_acceleration = list(limits.vmax), list(limits.amax)
+    inp.max_jerk = list(limits.jmax)
+    inp.synchronization = ruckig.Synchronization.Time
+    a, b = qa.tolist(), qb.tolist()
+
+    def run() -> object:
+        inp.current_position, inp.target_position = a, b
+        otg.calculate(inp, traj)
+        return [(p.t, p.j, p.a, p.v, p.p) for p in traj.profiles[0]]
+    return run
 
 
 def raw_toppra(Q: np.ndarray, limits) -> object:
@@ -127,10 +148,12 @@ def main() -> None:
         robot, Q = table[name]
         limits = resolve_limits(robot, robot.nq, need_jerk=True)
         raw = best_ms(raw_ruckig(Q[0], Q[1], limits))
+        floor = best_ms(binding_floor(Q[0], Q[1], limits))
         ours = best_ms(time_parameterize, Q, robot, method="ruckig")
         print(f"ruckig, {name}: {ours:.3f} ms through time_parameterize, {raw:.4f} ms "
               f"Ruckig's calculate: {ours / raw:.0f}x (goal <= 3x: "
-              f"{'met' if ours <= 3 * raw else 'NOT met'})")
+              f"{'met' if ours <= 3 * raw else 'NOT met'}); the binding's floor (positions "
+              f"set, calculate, phases read) {floor / raw:.1f}x")
 
     print(f"\n{'path':<26}{'quintic [s]':>12}{'toppra [s]':>12}{'ruckig [s]':>12}"
           f"{'toppra/quintic':>16}{'ruckig/quintic':>16}")
