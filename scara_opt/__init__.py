@@ -35,12 +35,14 @@ _EXPORTS = {
     "Target": "scara_opt.target",
     **dict.fromkeys(("JointPath", "Trajectory", "ik_path", "time_parameterize",
                      "timing_methods"), "scara_opt.trajectory"),
-    **dict.fromkeys(("Footprint", "Workspace", "workspace"), "scara_opt.workspace_analysis"),
+    "Footprint": "scara_opt.footprint",
+    **dict.fromkeys(("Workspace", "workspace"), "scara_opt.workspace_analysis"),
 }
 
 #: public submodules, imported at first attribute access
-_LAZY = ("cli", "comparison", "dh", "ik", "metaheuristics", "model", "motion", "paths", "plots",
-         "pose", "reports", "robot", "trajectory", "view", "workspace_analysis")
+_LAZY = ("cli", "comparison", "dh", "footprint", "ik", "metaheuristics", "model", "motion",
+         "paths", "plots", "pose", "reports", "robot", "trajectory", "view",
+         "workspace_analysis")
 
 __all__ = [
     "__version__", "BatchResult", "BranchError", "CIRC", "LIN", "MotionTrajectory", "MoveError",
@@ -88,6 +90,7 @@ if TYPE_CHECKING:  # for type checkers and IDEs: the same names, imported eagerl
         UnknownSolverError,
         URDFError,
     )
+    from scara_opt.footprint import Footprint
     from scara_opt.ik import (
         IKResult,
         Reason,
@@ -109,4 +112,4 @@ if TYPE_CHECKING:  # for type checkers and IDEs: the same names, imported eagerl
         time_parameterize,
         timing_methods,
     )
-    from scara_opt.workspace_analysis import Footprint, Workspace, workspace
+    from scara_opt.workspace_analysis import Workspace, workspace

@@ -47,8 +47,8 @@ depends on its planar position, an over-approximation (a box in height over the 
 region).
 
 **Exclusion zone.** A robot file may declare the base footprint as a ``[footprint]`` table
-(see :class:`Footprint`): samples where a checked link segment, projected on the plane,
-passes through it are dropped (peng2025 Fig. 5–6).
+(see :class:`~scara_opt.footprint.Footprint`): samples where a checked link segment,
+projected on the plane, passes through it are dropped (peng2025 Fig. 5–6).
 
 peng2025's file declares a circle of radius :math:`R = L_1 \sin 120° ≈ 190.53` mm about the
 shoulder axis J1 (at :math:`(L_0, 0) = (120, 0)` mm, so it also covers the base centre) and
@@ -74,14 +74,14 @@ from scara_opt.checks import (
     check_memory,
     count_text,
     describe,
-    float_array,
     is_real,
     memory_guard,
 )
-from scara_opt.errors import InputError, URDFError
+from scara_opt.errors import InputError
+from scara_opt.footprint import Footprint
 from scara_opt.ik.analytic import NotScaraError, scara_geometry, solve_batch
 from scara_opt.ik.base import check_seed, default_q0
-from scara_opt.model.dh import LENGTH_UNITS
+from scara_opt.model import batch_fk
 from scara_opt.model.robot import Array, Robot, check_robot
 
 #: average samples per grid cell when the cell size is chosen automatically
@@ -193,227 +193,6 @@ def workspace_plane(robot: Robot) -> Plane:
     if revolute:
         origin = robot.joint_origins(default_q0(robot)[None])[0, revolute[0]]
     return Plane(e1=e1, e2=e2, n=n, origin=origin, labels=labels)
-
-
-# ---------------------------------------------------------------------- the footprint
-@dataclass(frozen=True, eq=False)
-class Footprint:
-    """An exclusion zone in the plane of motion (a circle or a polygon) that links must clear.
-
-    Declared in a robot file as a ``[footprint]`` table, lengths in the file's
-    ``length_unit``, coordinates ``(u, v)`` of the plane (world x, y for a vertical SCARA)::
-
-        [footprint]
-        shape = "circle"         # or "polygon" with vertices = [[u, v], ...]
-        center = [120, 0]
-        radius = 190.53
-        links_from = "theta2"    # check the segments from this joint's origin to the tip
-
-    The checked segments join consecutive points of :meth:`Robot.joint_origins
-    <scara_opt.Robot.joint_origins>` from joint ``links_from`` on (every joint when absent),
-    projected on the plane. A segment blocks when it passes through the zone's interior
-    (touching the boundary is allowed).
-
-    Attributes:
-        shape: ``"circle"`` or ``"polygon"``.
-        center: (2,) circle centre [m]; ``radius`` [m].
-        vertices: (k, 2) polygon vertices [m], in order (either sense).
-        links_from: name of the first joint whose outgoing segment is checked, or ``None``.
-    """
-
-    shape: str
-    center: Array | None = None
-    radius: float = 0.0
-    vertices: Array | None = None
-    links_from: str | None = None
-
-    def __post_init__(self) -> None:
-        if self.links_from is not None and not isinstance(self.links_from, str):
-            raise InputError(f"footprint links_from must be a joint name (a str) or None; got "
-                             f"{describe(self.links_from)}")
-        if self.shape == "circle":
-            if self.vertices is not None:
-                raise InputError("a circle footprint takes center and radius, not vertices; "
-                                 "drop vertices or use shape='polygon'")
-            c = _finite(self.center, (2,), "footprint center")
-            r = _finite(self.radius, (), "footprint radius")
-            if not r > 0:
-                raise InputError(f"footprint radius must be a positive length [m]; got "
-                                 f"{self.radius!r}")
-            object.__setattr__(self, "center", c)
-            object.__setattr__(self, "radius", float(r))
-        elif self.shape == "polygon":
-            if self.center is not None or self.radius != 0.0:
-                raise InputError("a polygon footprint takes vertices, not center or radius; "
-                                 "drop them or use shape='circle'")
-            v = _finite(self.vertices, (None, 2), "footprint vertices")
-            if v.shape[0] < 3:
-                raise InputError(f"a footprint polygon needs at least 3 vertices [[u, v], ...]; "
-                                 f"got {v.shape[0]}")
-            object.__setattr__(self, "vertices", v)
-        else:
-            raise InputError(f"footprint shape must be 'circle' or 'polygon'; got "
-                             f"{describe(self.shape)}")
-
-    @classmethod
-    def from_robot(cls, robot: Robot) -> Footprint | None:
-        """The footprint a robot file declares (its ``[footprint]`` table), or ``None``.
-
-        Raises:
-            URDFError: the table is malformed (the message names the entry and the rule).
-        """
-        table = robot.metadata.get("footprint")
-        if table is None:
-            return None
-        where = f"robot {robot.name!r}: [footprint]"
-        length_unit = robot.metadata.get("length_unit")
-        unit = LENGTH_UNITS.get(length_unit) if isinstance(length_unit, str) else None
-        if not isinstance(table, dict) or unit is None:
-            raise URDFError(f"{where} must be a table in a robot file with a length_unit "
-                            f"({', '.join(LENGTH_UNITS)})")
-        unknown = set(table) - {"shape", "center", "radius", "vertices", "links_from"}
-        if unknown:
-            raise URDFError(f"{where} has unknown keys {sorted(unknown)}; accepted: shape, "
-                            "center, radius (circle), vertices (polygon), links_from")
-        try:
-            lengths = {key: float_array(table[key], f"footprint {key}") * unit
-                       for key in ("center", "radius", "vertices") if key in table}
-            fp = cls(shape=table.get("shape", ""), center=lengths.get("center"),
-                     radius=lengths.get("radius", 0.0), vertices=lengths.get("vertices"),
-                     links_from=table.get("links_from"))
-            fp.first_origin(robot)
-        except InputError as exc:
-            raise URDFError(f"{where}: {exc}; fix the robot file") from None
-        return fp
-
-    def first_origin(self, robot: Robot) -> int:
-        """Index into ``robot.joint_origins`` of the first checked point.
-
-        Raises:
-            InputError: ``links_from`` is not a joint of ``robot`` (lists the joints).
-        """
-        if self.links_from is None:
-            return 0
-        if self.links_from not in robot.joint_names:
-            raise InputError(f"footprint links_from = {self.links_from!r} is not a joint of "
-                             f"robot {robot.name!r}; joints: {robot.joint_names}")
-        return robot.joint_names.index(self.links_from)
-
-    def blocks_arms(self, robot: Robot, plane: Plane, chain: Array) -> NDArray[np.bool_]:
-        """:meth:`blocks` of world chains: (n,) True where an arm passes through the zone.
-
-        ``chain``: (n, k, 3) [m] joint origins and tip (:meth:`Robot.joint_origins
-        <scara_opt.Robot.joint_origins>`); only the checked points, from
-        :meth:`first_origin` on, are put into ``plane``'s coordinates (for a circle as
-        :meth:`Plane.columns`, point by point).
-        """
-        first = self.first_origin(robot)
-        if self.shape == "circle":
-            return self._circle_hits([plane.columns(chain[:, k])
-                                      for k in range(first, chain.shape[1])])
-        return self.blocks(plane.coords(chain[:, first:]))
-
-    def blocks(self, chain_uv: Array, first: int = 0) -> NDArray[np.bool_]:
-        """Which arms pass through the zone.
-
-        Args:
-            chain_uv: (n, k, 2) plane coordinates [m] of each arm's joint origins and tip.
-            first: index of the first checked point (see :meth:`first_origin`).
-
-        Returns:
-            (n,) True where a segment between consecutive checked points enters the zone.
-        """
-        pts = chain_uv[:, first:]
-        if self.shape == "circle":
-            return self._circle_hits([(pts[:, k, 0], pts[:, k, 1]) for k in range(pts.shape[1])])
-        A, B = (pts, pts) if pts.shape[1] == 1 else (pts[:, :-1], pts[:, 1:])  # (n, m, 2)
-        hit = _segments_hit_polygon(A.reshape(-1, 2), B.reshape(-1, 2), self.vertices)
-        return hit.reshape(chain_uv.shape[0], -1).any(axis=1)
-
-    def _circle_hits(self, ends: list[tuple[Array, Array]]) -> NDArray[np.bool_]:
-        """(n,) True where a segment between consecutive ``ends`` enters the circle.
-
-        ``ends``: the checked points' (u, v) columns (n,) [m]. Segment by segment, on (n,)
-        columns: no (n, m, 2) copies.
-        """
-        pairs = list(zip(ends[:-1], ends[1:], strict=True)) or [(ends[0], ends[0])]
-        hit = np.zeros(len(ends[0][0]), dtype=bool)
-        for a, b in pairs:  # one checked point: the segment from it to itself
-            hit |= _segment_within(*a, *b, self.center, self.radius)
-        return hit
-
-    def outline(self) -> Array:
-        """Closed outline (m, 2) [m] of the zone, for plots."""
-        if self.shape == "circle":
-            t = np.linspace(0.0, 2 * np.pi, 181)
-            return self.center + self.radius * np.column_stack([np.cos(t), np.sin(t)])
-        return np.vstack([self.vertices, self.vertices[:1]])
-
-
-def _finite(value: object, shape: tuple[int | None, ...], what: str) -> Array:
-    try:
-        arr = float_array(value, what)
-    except InputError:
-        arr = np.array(np.nan)
-    ok = arr.ndim == len(shape) and all(s is None or s == d
-                                        for s, d in zip(shape, arr.shape, strict=True))
-    if not ok or not np.isfinite(arr).all():
-        want = {(): "() (a number)", (2,): "(2,) [u, v]"}.get(shape, "(k, 2) [[u, v], ...]")
-        raise InputError(f"{what} must be finite numbers of shape {want} [m]; got {value!r}")
-    return arr
-
-
-def _segment_within(ax: Array, ay: Array, bx: Array, by: Array, c: Array,
-                    radius: float) -> NDArray[np.bool_]:
-    """Which segments (ax, ay)–(bx, by), columns (n,), pass nearer than ``radius`` to ``c``.
-
-    The squared distance against the squared radius (no square root), coordinate by
-    coordinate on 1-D columns, in place after the first differences (issue 18: no
-    (n, m, 2) copies, no per-row reductions; the same operations in the same order).
-    """
-    ax, ay = ax - c[0], ay - c[1]  # relative to the centre
-    dx, dy = bx - c[0], by - c[1]
-    dx -= ax
-    dy -= ay
-    L2 = dx * dx
-    L2 += dy * dy
-    t = ax * dx
-    t += ay * dy
-    np.negative(t, out=t)
-    t /= np.where(L2 > 0, L2, 1.0)
-    np.clip(t, 0.0, 1.0, out=t)
-    dx *= t  # then the nearest point: e = a + t d, in place
-    dx += ax
-    dy *= t
-    dy += ay
-    dx *= dx
-    dy *= dy
-    dx += dy
-    return dx < radius * radius
-
-
-def _cross(a: Array, b: Array) -> Array:
-    return a[..., 0] * b[..., 1] - a[..., 1] * b[..., 0]
-
-
-def _inside_polygon(P: Array, V: Array) -> NDArray[np.bool_]:
-    """Even-odd rule: which points P (s, 2) lie inside polygon V (k, 2)."""
-    W = np.roll(V, -1, axis=0)
-    y = P[:, 1:2]
-    spans = (V[:, 1] > y) != (W[:, 1] > y)  # (s, k): the edge crosses the horizontal line
-    dy = np.where(W[:, 1] != V[:, 1], W[:, 1] - V[:, 1], 1.0)
-    x_cross = V[:, 0] + (y - V[:, 1]) * (W[:, 0] - V[:, 0]) / dy
-    return (spans & (P[:, 0:1] < x_cross)).sum(axis=1) % 2 == 1
-
-
-def _segments_hit_polygon(A: Array, B: Array, V: Array) -> NDArray[np.bool_]:
-    """Which segments A[i]–B[i] (s, 2) enter polygon V (k, 2): an end inside or a crossing."""
-    C, D = V[None], np.roll(V, -1, axis=0)[None]
-    d = (B - A)[:, None]
-    o1, o2 = _cross(d, C - A[:, None]), _cross(d, D - A[:, None])
-    o3, o4 = _cross(D - C, A[:, None] - C), _cross(D - C, B[:, None] - C)
-    crossing = ((o1 * o2) < 0) & ((o3 * o4) < 0)
-    return _inside_polygon(A, V) | _inside_polygon(B, V) | crossing.any(axis=1)
 
 
 # ---------------------------------------------------------------------- the grid
@@ -724,6 +503,22 @@ def _closed_form_contains(robot: Robot, P: Array, plane: Plane,
     return valid.any(axis=1)
 
 
+def _tips_clear_of(robot: Robot, zone: Footprint, plane: Plane,
+                   Q: Array) -> tuple[Array, NDArray[np.bool_]]:
+    """Tip positions (n, 3) [m] of ``Q`` (n, nq) and (n,) True where the arm clears ``zone``.
+
+    A circle is tested in its compiled kernel with the FK
+    (:meth:`~scara_opt.footprint.Footprint.kernel`); a polygon on the chains of joint
+    origins (:meth:`~scara_opt.footprint.Footprint.blocks_arms`).
+    """
+    kernel = zone.kernel(robot, plane)
+    if kernel is not None:
+        rows = batch_fk.evaluate_function(robot, kernel, robot.check_q_batch(Q))
+        return rows[:, :3], rows[:, 3] == 0.0
+    chain = robot.joint_origins(Q)
+    return chain[:, -1], ~zone.blocks_arms(robot, plane, chain)
+
+
 # ---------------------------------------------------------------------- the entry point
 def bytes_per_sample(robot: Robot) -> int:
     """Estimated peak memory of one workspace sample [bytes].
@@ -789,13 +584,12 @@ def workspace(robot: Robot, n: int = 60_000, seed: int | np.random.Generator | N
             P = robot.positions(Q)
             uv = plane.coords(P)
         else:
-            chain = robot.joint_origins(Q)
-            keep = ~zone.blocks_arms(robot, plane, chain)
+            P, keep = _tips_clear_of(robot, zone, plane, Q)
             if not keep.any():
                 raise InputError(f"the footprint blocks all {n} samples of robot "
                                  f"{robot.name!r}; check its center/vertices, radius and "
                                  "links_from")
-            Q, P = Q[keep], chain[keep, -1]
+            Q, P = Q[keep], P[keep]
             uv = plane.coords(P)  # (2, m) rows for the reductions
     span = float(np.ptp(uv, axis=0).max())
     if grid is not None and 0.0 < span < grid:

@@ -20,7 +20,7 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 import scara_opt as so
-from scara_opt.workspace_analysis import Footprint
+from scara_opt.footprint import Footprint
 
 from .conftest import BUNDLED, DATA, ROOT
 

@@ -9,8 +9,9 @@ import numpy as np
 import pytest
 
 import scara_opt as so
+from scara_opt.footprint import Footprint
 from scara_opt.model.dh import DHJoint, DHRobot
-from scara_opt.workspace_analysis import Footprint, Workspace, workspace
+from scara_opt.workspace_analysis import Workspace, workspace
 
 L = 0.2  # link lengths of the planar test arm [m]
 SHOULDER = math.radians(90)  # |theta1| <= 90 deg: span D = 180 deg
@@ -169,7 +170,11 @@ def test_samples_are_within_limits_and_match_fk(robots):
 
 # ---------------------------------------------------------------------- footprint (peng2025)
 def test_peng2025_footprint_limits_the_elbow_to_120_degrees(robots):
-    """The base footprint drops exactly the samples with |theta2| > 120 deg (Fig. 5-6)."""
+    """The base footprint drops exactly the samples with |theta2| > 120 deg (Fig. 5-6).
+
+    Mutation caught: the segment test's squared distance compared with the radius, not its
+    square (``_segment_within``, shared by the kernel and the chain test).
+    """
     robot = robots["peng2025"]
     free = workspace(robot, n=60_000, seed=0, footprint=False)
     calibrated = workspace(robot, n=60_000, seed=0)
@@ -230,6 +235,39 @@ def test_footprint_columns_give_the_plane_coordinates_answers(robots):
         expected = zone.blocks(p.coords(chain), zone.first_origin(robot))
         assert 100 < expected.sum() < 4900  # both answers occur
         np.testing.assert_array_equal(zone.blocks_arms(robot, p, chain), expected)
+
+
+@pytest.mark.parametrize("links_from", ["theta2", None])  # None: a circle off the base
+def test_the_circle_kernel_answers_as_the_chain_test(robots, links_from):
+    """``Footprint.kernel`` (the circle's test compiled with the FK, which ``workspace``
+    uses) gives ``robot.positions`` bit for bit and ``blocks_arms``' verdict on the chains
+    of joint origins, on 20,000 peng2025 samples, in its plane and in a tilted one.
+
+    Mutations caught: the kernel's first rows the last joint origin instead of the tip;
+    the clip of the nearest point dropped from the casadi ops; the checked
+    points from one later (``[first:]`` -> ``[first + 1:]``); the world-axis shortcut of
+    ``_sx_along`` taking the next entry.
+    """
+    from scara_opt.model import batch_fk
+    from scara_opt.workspace_analysis import Plane, workspace_plane
+
+    robot = robots["peng2025"]
+    own = Footprint.from_robot(robot)
+    zone = own if links_from else Footprint("circle", center=[0.35, 0.1], radius=0.08)
+    plane = workspace_plane(robot)
+    s = math.sqrt(0.5)
+    tilted = Plane(np.array([s, 0.0, s]), plane.e2, np.array([-s, 0.0, s]), plane.origin,
+                   ("u", "v", "h"))
+    Q = np.random.default_rng(8).uniform(robot.sampling_lower, robot.sampling_upper,
+                                         (20_000, robot.nq))
+    chain = robot.joint_origins(Q)
+    for p in (plane, tilted):
+        rows = batch_fk.evaluate_function(robot, zone.kernel(robot, p), Q)
+        np.testing.assert_array_equal(rows[:, :3], robot.positions(Q))
+        expected = zone.blocks_arms(robot, p, chain)
+        assert 100 < expected.sum() < 19_900  # both answers occur
+        np.testing.assert_array_equal(rows[:, 3] == 1.0, expected)
+    assert Footprint("polygon", vertices=[[0, 0], [1, 0], [0, 1]]).kernel(robot, plane) is None
 
 
 def test_polygon_footprint_blocks_crossing_segments():

@@ -17,6 +17,7 @@ from __future__ import annotations
 
 import hashlib
 import threading
+from collections.abc import Callable
 from pathlib import Path
 from typing import TYPE_CHECKING
 
@@ -98,18 +99,41 @@ def fk_arrays(robot: Robot, output: str, n: int) -> FunctionArrays:
 
 def evaluate(robot: Robot, output: str, Q: Array) -> Array:
     """Rows (n, rows) of ``output`` for checked configurations ``Q`` (n, nq)."""
+    return _evaluate(lambda size: _arrays(robot, output, size),
+                     ROWS.get(output, 3 * (len(robot.chain) + 1)), Q)
+
+
+def evaluate_function(robot: Robot, f: ca.Function, Q: Array) -> Array:
+    """Rows (n, k) of a one-configuration Function ``f`` for checked ``Q`` (n, nq).
+
+    ``f``: ``q (nq,) -> rows (k,)`` (those names); mapped, padded and chunked as
+    :func:`evaluate`. For kernels that compute more than the FK with it (the workspace's
+    footprint test, :meth:`scara_opt.footprint.Footprint.kernel`). Buffers per robot,
+    Function name, size and thread.
+    """
+    def arrays(size: int) -> FunctionArrays:
+        cache: dict[tuple, FunctionArrays] = robot.__dict__.setdefault("_batch_fk_fn", {})
+        key = (f.name(), size, threading.get_ident())
+        if key not in cache:
+            cache[key] = FunctionArrays(f.map(size), size)
+        return cache[key]
+
+    return _evaluate(arrays, f.size1_out(0), Q)
+
+
+def _evaluate(arrays: Callable[[int], FunctionArrays], rows: int, Q: Array) -> Array:
+    """:func:`evaluate` on the buffers ``arrays(size)`` of a mapped Function of ``rows``."""
     n = Q.shape[0]
     if 0 < n <= CHUNK:  # one chunk (every population): no loop, one copy out
-        f = _arrays(robot, output, max(8, 1 << (n - 1).bit_length()))
+        f = arrays(max(8, 1 << (n - 1).bit_length()))
         f.arg["q"][:n] = Q
         f()
         return f.res["rows"][:n].copy()
-    rows = ROWS.get(output, 3 * (len(robot.chain) + 1))
     out = np.empty((n, rows))
     for start in range(0, n, CHUNK):
         part = Q[start:start + CHUNK]
         size = max(8, 1 << (len(part) - 1).bit_length()) if len(part) else 8
-        f = _arrays(robot, output, size)
+        f = arrays(size)
         f.arg["q"][:len(part)] = part
         f()
         out[start:start + len(part)] = f.res["rows"][:len(part)]
