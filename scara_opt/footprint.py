@@ -160,7 +160,7 @@ class Footprint:
         ``chain``: (n, k, 3) [m] joint origins and tip (:meth:`Robot.joint_origins
         <scara_opt.Robot.joint_origins>`); only the checked points, from
         :meth:`first_origin` on, are put into ``plane``'s coordinates (for a circle as
-        :meth:`Plane.columns`, point by point).
+        ``Plane.columns``, point by point).
         """
         first = self.first_origin(robot)
         if self.shape == "circle":
@@ -267,8 +267,8 @@ def _segment_within(ax: Any, ay: Any, bx: Any, by: Any, c: Array, radius: float,
 def _sx_along(point: ca.SX, e: Array) -> ca.SX:
     """The coordinate of a symbolic point (3,) along ``e`` (3,).
 
-    Its entry where ``e`` is a world axis (as :meth:`Plane.columns
-    <scara_opt.workspace_analysis.Plane.columns>`), else the dot product.
+    Its entry where ``e`` is a world axis (as ``workspace_analysis.Plane.columns``), else
+    the dot product.
     """
     k = np.flatnonzero(e)
     if len(k) == 1 and e[k[0]] == 1.0:
