@@ -29,22 +29,20 @@ Usage: ``python benchmarks/bench_ik_arms.py [--quick]`` (``--quick``: 100 target
 
 from __future__ import annotations
 
-import math
 import subprocess
 import sys
-import time
 from collections.abc import Callable
 from pathlib import Path
 
 import numpy as np
 import pinocchio as pin
+from timing import PASSES, best_time_and_result, least_per_call
 
 import scara_opt as so
 from scara_opt.model.dh_file import load_dh
 
 DATA = Path(__file__).resolve().parent.parent / "tests" / "data"
 N = 100 if "--quick" in sys.argv else 500
-PASSES = 3  # timed passes over the targets: each target's least time counts
 RTB_TOL = 1e-19  # their E = ½eᵀWe: 1e-19 reaches 1e-9 m on every SCARA target (1e-13: ~40 %)
 
 
@@ -66,19 +64,10 @@ def check(robot: so.Robot, q: np.ndarray | None, T: np.ndarray) -> tuple[float, 
 
 
 def timed(solve: Callable[[int], tuple[np.ndarray | None, bool]], n: int) -> dict:
-    """Per-target wall time [s] (the least of ``PASSES`` passes over the targets, so a pause
-    of the shared machine does not land in one method's row), answer and the library's own
-    success flag (of the last pass; every library here is deterministic)."""
-    times = np.full(n, np.inf)
-    for _ in range(PASSES):
-        answers, flags = [], []
-        for k in range(n):
-            t = time.perf_counter()
-            q, flag = solve(k)
-            times[k] = min(times[k], time.perf_counter() - t)
-            answers.append(q)
-            flags.append(flag)
-    return {"t": times, "q": answers, "flag": flags}
+    """Per-target wall time [s] (:func:`timing.least_per_call`), answer and the library's
+    own success flag."""
+    times, out = least_per_call(solve, n)
+    return {"t": times, "q": [q for q, _ in out], "flag": [flag for _, flag in out]}
 
 
 #: our rows: label -> (method, options); "nearest=False" stops at the first solution
@@ -101,13 +90,12 @@ def ours(robot: so.Robot, poses: list[np.ndarray], q0: np.ndarray) -> dict[str, 
         rows[f"scara_opt {label}"] = timed(solve, len(targets))
     for suffix, nearest in (("", True), (" nearest=False", False)):
         so.solve_many(robot, targets[:4], q0s=q0, nearest=nearest)
-        per = math.inf
-        for _ in range(PASSES):  # the least of the passes, as for the single calls
-            t = time.perf_counter()
-            batch = so.solve_many(robot, targets, q0s=q0, nearest=nearest)
-            per = min(per, (time.perf_counter() - t) / len(targets))
+        # the least of the passes' whole batches, as for the single calls
+        t, batch = best_time_and_result(so.solve_many, robot, targets, q0s=q0,
+                                        nearest=nearest, repeats=PASSES)
         rows[f"scara_opt solve_many{suffix} (per target)"] = {
-            "t": np.full(len(targets), per), "q": list(batch.q), "flag": list(batch.success)}
+            "t": np.full(len(targets), t / len(targets)), "q": list(batch.q),
+            "flag": list(batch.success)}
     return rows
 
 

@@ -33,12 +33,12 @@ Usage: ``python benchmarks/bench_ik_peers.py [--quick]`` (``--quick``: 200 targe
 from __future__ import annotations
 
 import sys
-import time
 from collections.abc import Callable
 from itertools import chain
 
 import casadi as ca
 import numpy as np
+from timing import PASSES, best_time_and_result, least_per_call
 
 import scara_opt as so
 from scara_opt.ik.base import default_q0
@@ -48,7 +48,6 @@ from scara_opt.ik.problem import ik_objective, nlp_params
 from scara_opt.model.dh_file import bundled_dir, load_dh
 
 N = 200 if "--quick" in sys.argv else 1000
-PASSES = 3  # timed passes over the targets: each target's least time counts
 ROBOTS = ["zavar2024", "fang", "peng2025"]
 RTB_TOL = 1e-19  # their E = ½eᵀWe: 1e-19 reaches 1e-9 m on every SCARA target (1e-13: ~40 %)
 GOAL_MEDIAN, GOAL_CERTIFY = 1e-4, 1.5e-3  # [s]
@@ -71,15 +70,8 @@ def rtb_robot(name: str):
 
 
 def timed(solve: Callable[[int], np.ndarray], n: int) -> tuple[np.ndarray, np.ndarray]:
-    """Per-target wall times [s] (the least of ``PASSES`` passes: a pause of the shared
-    machine does not land in one method's row) and the last pass's answers (n, nq)."""
-    times = np.full(n, np.inf)
-    for _ in range(PASSES):
-        qs = []
-        for k in range(n):
-            t = time.perf_counter()
-            qs.append(solve(k))
-            times[k] = min(times[k], time.perf_counter() - t)
+    """Per-target wall times [s] (:func:`timing.least_per_call`) and answers (n, nq)."""
+    times, qs = least_per_call(solve, n)
     return times, np.array(qs)
 
 
@@ -114,12 +106,9 @@ def ours(robot: so.Robot, P: np.ndarray) -> dict[str, tuple[np.ndarray, np.ndarr
         if jit and "lm jit=True" not in rows:
             continue
         solve_many(robot, P[:8], jit=jit)
-        per = np.inf
-        for _ in range(PASSES):  # the least of the passes, as for the single calls
-            t = time.perf_counter()
-            batch = solve_many(robot, P, jit=jit)
-            per = min(per, (time.perf_counter() - t) / len(P))
-        rows[label] = (np.full(len(P), per), batch.q)
+        # the least of the passes' whole batches, as for the single calls
+        t, batch = best_time_and_result(solve_many, robot, P, jit=jit, repeats=PASSES)
+        rows[label] = (np.full(len(P), t / len(P)), batch.q)
     rows["auto"] = timed(lambda k: so.solve_ik(robot, P[k], method="auto").q, len(P))
     rows["ipopt cold"] = timed(lambda k: so.solve_ik(robot, P[k], method="ipopt").q, len(P))
     fast = rows["lm"][1]
