@@ -264,16 +264,23 @@ def _segment_within(ax: Any, ay: Any, bx: Any, by: Any, c: Array, radius: float,
     return ex * ex + ey * ey < radius * radius
 
 
+def world_axis(e: Array) -> int | None:
+    """The index of the world axis that the unit vector ``e`` (3,) is (+x, +y or +z), or None.
+
+    Along it a point's coordinate is its own entry, no arithmetic
+    (``workspace_analysis.Plane.columns``, :func:`_sx_along`).
+    """
+    k = np.flatnonzero(e)
+    return int(k[0]) if len(k) == 1 and e[k[0]] == 1.0 else None
+
+
 def _sx_along(point: ca.SX, e: Array) -> ca.SX:
     """The coordinate of a symbolic point (3,) along ``e`` (3,).
 
-    Its entry where ``e`` is a world axis (as ``workspace_analysis.Plane.columns``), else
-    the dot product.
+    Its entry on :func:`world_axis`, else the dot product.
     """
-    k = np.flatnonzero(e)
-    if len(k) == 1 and e[k[0]] == 1.0:
-        return point[int(k[0])]
-    return ca.dot(ca.DM(e), point)
+    axis = world_axis(e)
+    return ca.dot(ca.DM(e), point) if axis is None else point[axis]
 
 
 #: the source the kernels are built from: part of the compiled cache's key

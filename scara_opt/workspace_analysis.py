@@ -78,7 +78,7 @@ from scara_opt.checks import (
     memory_guard,
 )
 from scara_opt.errors import InputError
-from scara_opt.footprint import Footprint
+from scara_opt.footprint import Footprint, world_axis
 from scara_opt.ik.analytic import NotScaraError, scara_geometry, solve_batch
 from scara_opt.ik.base import check_seed, default_q0
 from scara_opt.model import batch_fk
@@ -148,8 +148,8 @@ class Plane:
 
 def _along(points: Array, e: Array) -> Array:
     """``points @ e`` (...,); a view of one column where ``e`` is a world axis."""
-    k = np.flatnonzero(e)
-    return points[..., k[0]] if len(k) == 1 and e[k[0]] == 1.0 else points @ e
+    axis = world_axis(e)
+    return points @ e if axis is None else points[..., axis]
 
 
 def _uniform(rng: np.random.Generator, lo: Array, hi: Array, n: int) -> Array:

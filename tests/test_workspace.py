@@ -218,7 +218,7 @@ def test_footprint_columns_give_the_plane_coordinates_answers(robots):
     tilted one.
 
     Mutations caught: u and v swapped in ``Plane.columns``; the view taken for a reversed
-    axis too (``e[k[0]] == 1.0`` -> ``abs(e[k[0]]) == 1.0``).
+    axis too (``world_axis``: ``e[k[0]] == 1.0`` -> ``abs(e[k[0]]) == 1.0``).
     """
     from scara_opt.workspace_analysis import Plane, workspace_plane
 
@@ -246,7 +246,7 @@ def test_the_circle_kernel_answers_as_the_chain_test(robots, links_from):
     Mutations caught: the kernel's first rows the last joint origin instead of the tip;
     the clip of the nearest point dropped from the casadi ops; the checked
     points from one later (``[first:]`` -> ``[first + 1:]``); the world-axis shortcut of
-    ``_sx_along`` taking the next entry.
+    ``_sx_along`` taking another entry (``point[axis - 1]``).
     """
     from scara_opt.model import batch_fk
     from scara_opt.workspace_analysis import Plane, workspace_plane
