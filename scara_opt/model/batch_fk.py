@@ -17,7 +17,6 @@ from __future__ import annotations
 
 import hashlib
 import threading
-from collections.abc import Callable
 from pathlib import Path
 from typing import TYPE_CHECKING
 
@@ -36,8 +35,6 @@ Array = NDArray[np.float64]
 
 #: the largest mapped batch; bigger batches are evaluated chunk by chunk
 CHUNK = 4096
-#: the outputs: rows per configuration (pose: p then R row by row)
-ROWS = {"pose": 12, "position": 3}
 
 
 def kinematic_key(robot: Robot) -> str:
@@ -78,11 +75,12 @@ def function(robot: Robot, output: str) -> ca.Function:
     return cache[output]
 
 
-def _arrays(robot: Robot, output: str, size: int) -> FunctionArrays:
+def _arrays(robot: Robot, f: ca.Function, size: int) -> FunctionArrays:
+    """This thread's buffers of ``f`` mapped over ``size`` columns (made once per robot)."""
     cache: dict[tuple, FunctionArrays] = robot.__dict__.setdefault("_batch_fk_arrays", {})
-    key = (output, size, threading.get_ident())
+    key = (f.name(), size, threading.get_ident())
     if key not in cache:
-        cache[key] = FunctionArrays(function(robot, output).map(size), size)
+        cache[key] = FunctionArrays(f.map(size), size)
     return cache[key]
 
 
@@ -94,46 +92,34 @@ def fk_arrays(robot: Robot, output: str, n: int) -> FunctionArrays:
     the same size again and again (a population). Unpadded, 100 rows take ~8 µs instead
     of the ~10 µs of a map of 128; a new size costs ~40 µs once per robot and thread.
     """
-    return _arrays(robot, output, n)
+    return _arrays(robot, function(robot, output), n)
 
 
 def evaluate(robot: Robot, output: str, Q: Array) -> Array:
     """Rows (n, rows) of ``output`` for checked configurations ``Q`` (n, nq)."""
-    return _evaluate(lambda size: _arrays(robot, output, size),
-                     ROWS.get(output, 3 * (len(robot.chain) + 1)), Q)
+    return evaluate_function(robot, function(robot, output), Q)
 
 
-def evaluate_function(robot: Robot, f: ca.Function, Q: Array) -> Array:
-    """Rows (n, k) of a one-configuration Function ``f`` for checked ``Q`` (n, nq).
+def evaluate_function(robot: Robot, kernel: ca.Function, Q: Array) -> Array:
+    """Rows (n, k) of a one-configuration Function ``kernel`` for checked ``Q`` (n, nq).
 
-    ``f``: ``q (nq,) -> rows (k,)`` (those names); mapped, padded and chunked as
-    :func:`evaluate`. For kernels that compute more than the FK with it (the workspace's
-    footprint test, :meth:`scara_opt.footprint.Footprint.kernel`). Buffers per robot,
+    ``kernel``: ``q (nq,) -> rows (k,)`` (those names), padded and chunked as the module
+    docstring says. :func:`evaluate` runs it on the FK outputs' Functions; kernels that
+    compute more than the FK with it (the workspace's footprint test,
+    :meth:`scara_opt.footprint.Footprint.kernel`) call it directly. Buffers per robot,
     Function name, size and thread.
     """
-    def arrays(size: int) -> FunctionArrays:
-        cache: dict[tuple, FunctionArrays] = robot.__dict__.setdefault("_batch_fk_fn", {})
-        key = (f.name(), size, threading.get_ident())
-        if key not in cache:
-            cache[key] = FunctionArrays(f.map(size), size)
-        return cache[key]
-
-    return _evaluate(arrays, f.size1_out(0), Q)
-
-
-def _evaluate(arrays: Callable[[int], FunctionArrays], rows: int, Q: Array) -> Array:
-    """:func:`evaluate` on the buffers ``arrays(size)`` of a mapped Function of ``rows``."""
     n = Q.shape[0]
     if 0 < n <= CHUNK:  # one chunk (every population): no loop, one copy out
-        f = arrays(max(8, 1 << (n - 1).bit_length()))
+        f = _arrays(robot, kernel, max(8, 1 << (n - 1).bit_length()))
         f.arg["q"][:n] = Q
         f()
         return f.res["rows"][:n].copy()
-    out = np.empty((n, rows))
+    out = np.empty((n, kernel.size1_out(0)))
     for start in range(0, n, CHUNK):
         part = Q[start:start + CHUNK]
         size = max(8, 1 << (len(part) - 1).bit_length()) if len(part) else 8
-        f = arrays(size)
+        f = _arrays(robot, kernel, size)
         f.arg["q"][:len(part)] = part
         f()
         out[start:start + len(part)] = f.res["rows"][:len(part)]
