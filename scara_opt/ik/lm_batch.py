@@ -185,7 +185,7 @@ class _Batch:
     e_tol: Array
     max_iter: int
     jit: bool
-    nearest: bool = True
+    nearest: bool
 
     def descend(self, rows: NDArray[np.intp], Q: Array,
                 used: NDArray[np.int64]) -> tuple[Array, Array, NDArray[np.bool_], Array]:
