@@ -444,6 +444,16 @@ def residual_tol(weights: Sequence[float], tol: float) -> float:
     return (TOL_FACTOR * tol * float(min(weights))) ** 2
 
 
+def within_tol(e_tol: float) -> float:
+    """‖r‖² at which the residual is within the caller's ``tol`` (``e_tol``: :func:`residual_tol`).
+
+    Each row of r is a weighted error (position [m], the wrapped yaw or the rotation
+    angle [rad]), so ‖r‖ <= tol·min(weights) bounds each error by ``tol``. A search
+    stops at a start that ends there, converged or not: the answer is a solution.
+    """
+    return e_tol / TOL_FACTOR**2
+
+
 # ---------------------------------------------------------------------- one target
 @dataclass
 class _Run:
@@ -537,6 +547,7 @@ class Search:
     Attributes:
         q: (nq,) the best configuration found; ``e`` its ‖r‖² [weighted m², rad²].
         converged: ``e`` is at the convergence threshold.
+        within: ``e`` is within the caller's tol (:func:`within_tol`), converged or not.
         iterations: iterations over all starts and phases; ``evaluations`` FK evaluations.
         starts: the starts used.
         history: √‖r‖² (the task cost), best so far, after each Function call
@@ -546,6 +557,7 @@ class Search:
     q: Array
     e: float
     converged: bool
+    within: bool
     iterations: int
     evaluations: int
     starts: int
@@ -555,7 +567,7 @@ class Search:
 def lm_search(robot: Robot, target: Target, q_ref: Array, starts: Iterable[Array], *,
               tol: float, max_iter: int, jit: bool = True, box: Array | None = None,
               c_loop: bool = True, nearest: bool = True) -> Search:
-    """The three phases from each start in turn until one converges.
+    """The three phases from each start in turn, until one converges or ends within tol.
 
     Args:
         robot: the robot.
@@ -594,16 +606,17 @@ def search_filled(robot: Robot, kind: str, e_tol: float, q_ref: Array,
     run = _Run(phase_arrays(robot, kind, 1, jit), e_tol, nearest) if driver is None \
         else driver.reset(e_tol, max_iter, nearest)
     best_q, best_e, n = q_ref, math.inf, 0
+    e_within = within_tol(e_tol)
     for start in starts:
         n += 1
         run.budget = max_iter
         q, e = run.start(np.asarray(start, dtype=float))
         if e < best_e:
             best_q, best_e = q, e
-        if best_e <= e_tol:
+        if best_e <= e_within:
             break
-    return Search(best_q, best_e, best_e <= e_tol, run.iterations, run.evaluations, n,
-                  run.history)
+    return Search(best_q, best_e, best_e <= e_tol, best_e <= e_within, run.iterations,
+                  run.evaluations, n, run.history)
 
 
 def random_starts(robot: Robot, rng: np.random.Generator, n: int) -> Iterator[Array]:
@@ -621,7 +634,7 @@ def random_starts(robot: Robot, rng: np.random.Generator, n: int) -> Iterator[Ar
 
 def search_output(found: Search, message: str = "") -> SolverOutput:
     """The :class:`SolverOutput` of a :class:`Search` (the base judges its residual)."""
-    if not message and not found.converged:
+    if not message and not found.within:
         message = f"Levenberg–Marquardt missed from {found.starts} starts"
     return SolverOutput(q=found.q, iterations=found.iterations, evaluations=found.evaluations,
                         history=np.asarray(found.history), message=message)

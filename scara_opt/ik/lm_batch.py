@@ -48,6 +48,7 @@ from scara_opt.ik.lm import (
     random_starts,
     residual_tol,
     search_filled,
+    within_tol,
 )
 from scara_opt.ik.problem import nlp_params
 from scara_opt.ik.task import check_task, errors_from_poses
@@ -306,7 +307,7 @@ def solve_many(robot: Robot, targets: object, q0s: object | None = None, *,
         starts[rows] += 1
         better = e < best_e[rows]
         best_Q[rows[better]], best_e[rows[better]] = Q[better], e[better]
-        rows = rows[best_e[rows] > batch.e_tol[rows]]
+        rows = rows[best_e[rows] > within_tol(batch.e_tol[rows])]  # as search_filled
         if not rows.size:
             break
     return _result(robot, stacked, best_Q, iterations, starts, time.perf_counter() - clock, tol)
