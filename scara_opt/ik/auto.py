@@ -12,6 +12,12 @@
    ``q`` is then the closer of the two solvers' answers, judged by the verdict
    (:mod:`scara_opt.ik.verdict`: ``unreachable`` only with a certificate).
 
+**Complete where IPOPT is.** Step 4 is the ``ipopt`` method's own run: the same options
+(``ipopt_restarts`` defaults to its ``restarts``), ``q0`` and a generator seeded anew with
+the caller's ``seed`` (the draws of steps 1–3 do not shift its starts). So whenever
+``solve_ik(..., method="ipopt", seed=s)`` reaches a target, ``method="auto"`` with the same
+``seed`` and ``q0`` does too: its answer is at least as close.
+
 On reachable targets step 1 decides almost always (see ``benchmarks/bench_ik_peers.py``),
 so the cost is that of the fast solver; IPOPT runs only for the rare misses and for
 targets out of reach.
@@ -19,13 +25,20 @@ targets out of reach.
 
 from __future__ import annotations
 
+import math
 from collections.abc import Iterator
 from itertools import chain
 from typing import Any, ClassVar
 
 import numpy as np
 
-from scara_opt.ik.base import MAX_RESTARTS, Solver, SolverOutput, check_number
+from scara_opt.ik.base import (
+    MAX_RESTARTS,
+    LazyGenerator,
+    Solver,
+    SolverOutput,
+    check_number,
+)
 from scara_opt.ik.closed_form import solve_all
 from scara_opt.ik.geometry import NotScaraError
 from scara_opt.ik.ipopt import IpoptSolver
@@ -47,13 +60,33 @@ from scara_opt.target import Target
 def closed_form_starts(robot: Robot, target: Target, q_ref: Array) -> Iterator[Array]:
     """Closed-form branches within the limits, nearest to ``q_ref`` first (lazily).
 
-    Nothing for robots that are not SCARA-type or for rotation targets.
+    A full rotation on a robot whose tool only turns about one axis starts from the
+    branches of its yaw (:func:`as_yaw`). Nothing for robots that are not SCARA-type.
     """
+    if target.kind == "rotation" and (target := as_yaw(robot, target)) is None:
+        return
     try:
         branches = solve_all(robot, target, q_ref)
     except NotScaraError:
         return
     yield from sorted(branches, key=lambda q: float(np.linalg.norm(q - q_ref)))
+
+
+def as_yaw(robot: Robot, target: Target) -> Target | None:
+    """The yaw target of a full rotation, for a robot whose revolute axes are all parallel.
+
+    The yaw of ``target.rotation``'s x axis about :attr:`~scara_opt.Robot.yaw_axis`: the
+    same target where the rotation does not tilt that axis (else a start, not a solution).
+    ``None`` without a yaw axis, or where the x axis lies along it.
+    """
+    if robot.yaw_axis is None:
+        return None
+    e1, e2 = robot.yaw_basis()
+    x = target.rotation[:, 0]
+    u, v = float(x @ e1), float(x @ e2)
+    if math.hypot(u, v) < 1e-6:
+        return None
+    return Target(target.position, yaw=math.atan2(v, u), weights=target.weights)
 
 
 @register_solver("auto")
@@ -66,15 +99,17 @@ class AutoSolver(Solver):
             7-joint arm took up to 40).
         max_iter: fast-solver iterations per start (default 100).
         ipopt_restarts: IPOPT's further random starts when the fast solver misses
-            (default 20: after the fast solver's 51 starts).
+            (default: the ``ipopt`` method's ``restarts``, 50, so that ``auto`` reaches
+            every target ``ipopt`` reaches with the same seed).
         jit: the fast solver's iterations compiled to C, cached per machine (default True;
             see :class:`~scara_opt.ik.lm.LevenbergMarquardtSolver`).
     """
 
     name = "auto"
     label = "auto (LM + IPOPT)"
-    defaults: ClassVar[dict[str, Any]] = {"restarts": 50, "max_iter": 100,
-                                          "ipopt_restarts": 20, "jit": True}
+    defaults: ClassVar[dict[str, Any]] = {
+        "restarts": 50, "max_iter": 100, "jit": True,
+        "ipopt_restarts": IpoptSolver.defaults["restarts"]}
 
     def check_options(self) -> None:
         """restarts, ipopt_restarts >= 0 and max_iter >= 1 (integers), jit a bool."""
@@ -91,8 +126,8 @@ class AutoSolver(Solver):
                        random_starts(robot, rng, int(opts["restarts"])))
         found = lm_search(robot, target, q_ref, starts, tol=tol, max_iter=int(opts["max_iter"]),
                           jit=bool(opts["jit"]), box=box)
-        if found.converged:
-            return search_output(found)
+        if found.converged or (found.within and _error(robot, target, found.q) <= tol):
+            return search_output(found)  # within tol: judged by the FK, as the base will
         return self._fallback(robot, target, q0, rng, tol, found)
 
     def prepare(self, robot: Robot, kind: str) -> None:
@@ -105,10 +140,15 @@ class AutoSolver(Solver):
 
     def _fallback(self, robot: Robot, target: Target, q0: Array | None,
                  rng: np.random.Generator, tol: float, found: Search) -> SolverOutput:
-        """IPOPT's multi-start after the fast solver missed; the closer answer is kept."""
+        """IPOPT's multi-start after the fast solver missed; the closer answer is kept.
+
+        The ``ipopt`` method's run with this call's seed (a generator seeded anew: see the
+        module docstring), not the draws left over from the fast solver's starts.
+        """
         ipopt = IpoptSolver(restarts=int(self.options["ipopt_restarts"]))
         setup = ipopt.timed_prepare(robot, target.kind)
-        out = ipopt._solve(robot, target, q0, rng, tol)  # the template's hook: no re-judging
+        fresh = rng.fresh() if isinstance(rng, LazyGenerator) else rng
+        out = ipopt._solve(robot, target, q0, fresh, tol)  # the template's hook: no re-judging
         fast = search_output(found)
         closer = out if _error(robot, target, out.q) <= _error(robot, target, found.q) else fast
         message = f"fast solver missed from {found.starts} starts"

@@ -182,6 +182,10 @@ class LazyGenerator:
             self._rng = np.random.default_rng(self._seed)
         return self._rng
 
+    def fresh(self) -> np.random.Generator:
+        """A new generator for the same seed, at its first draw (as a new solve has)."""
+        return cast(np.random.Generator, LazyGenerator(self._seed))
+
     def __getattr__(self, name: str) -> Any:
         if name.startswith("__"):
             raise AttributeError(name)
