@@ -133,8 +133,8 @@ def test_certificates_are_sound_and_complete_on_random_targets(robots, name):
     solver reaches the target within tol.
 
     Mutations caught: a certificate whose bound omits a stroke (claims too much: the search
-    beats it); the "no branch" search without the widened limits (a target 1e-10 m outside
-    the workspace is certified although it is within tol); a reach interval that ignores
+    beats it); the joint-limit argument with its tool-angle band not widened by tol (a yaw
+    target within tol of the workspace is certified); a reach interval that ignores
     the elbow's limits (certifies nothing inside the hole: the exact solver then misses).
     """
     robot = robots[name]

@@ -16,11 +16,13 @@ configuration reaches the target (with the limits widened by a tol-equivalent ma
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 
 import numpy as np
 
-from scara_opt.ik.closed_form import Box, make_task, range_of_sum, search_solutions
+from scara_opt.ik.closed_form import range_of_sum
 from scara_opt.ik.geometry import NotScaraError, ScaraGeometry, scara_geometry
+from scara_opt.ik.planar_distance import ANGLE_SLACK, Domain, distance, link_ranges
 from scara_opt.ik.result import Certificate, Reason
 from scara_opt.ik.task import default_q0
 from scara_opt.model.robot import Array, Robot
@@ -77,14 +79,18 @@ def scara_certificate(robot: Robot, target: Target, tol: float) -> Certificate |
        range (the arm stretched, or folded as far as the elbow allows); the target's
        distance from the shoulder axis (over the rail's range) is outside it by more than
        ``tol``: beyond reach, or inside the hole around the base;
-    3. **no branch**: the closed form over the whole range of every redundant joint, with
-       every joint limit widened so that a target within ``tol`` of a reachable one would
-       be found (by ``2 tol / min(l1, l2, 1 m)`` rad and ``2 tol`` m), finds no branch.
+    3. **joint limits**: the least distance in the plane from the target to every tip
+       position the shoulder, elbow (and rail) limits allow, among the configurations
+       whose tool angle is within ``tol`` of a yaw target's (the wrists' range taken
+       whole), exceeds ``√(tol² − Δh²)``, ``Δh`` the least height error. Computed
+       exactly by :mod:`scara_opt.ik.planar_distance` (its docstring gives the argument),
+       less a round-off margin (:func:`_margin`). Then every configuration misses by more
+       than ``tol``: in the plane and height together, or in the tool angle.
 
     Returns:
         The :class:`Certificate`, or ``None`` where no proof exists (the target is
-        reachable, the robot is not SCARA-type, the target is a full rotation, or a
-        search would be incomplete: several rail joints).
+        reachable, the robot is not SCARA-type, the target is a full rotation, or several
+        rail joints).
     """
     try:
         geom = scara_geometry(robot)
@@ -105,7 +111,8 @@ def scara_certificate(robot: Robot, target: Target, tol: float) -> Certificate |
             f"[{geom.h0 + hmin:.6g}, {geom.h0 + hmax:.6g}] m whatever the other joints do; "
             f"the target's is {geom.h0 + h:.6g} m, {dz:.4g} m away"))
     rmin, rmax = _reach(geom, float(lo[geom.elbow]), float(hi[geom.elbow]))
-    near, far = _shoulder_distances(geom, geom.plane(p) - geom.base, lo, hi)
+    uv = geom.plane(p) - geom.base
+    near, far = _shoulder_distances(geom, uv, lo, hi)
     rail = " (over the rail's range)" if geom.rails else ""
     if near - rmax > tol:
         return Certificate(Reason.BEYOND_REACH, near - rmax, (
@@ -116,20 +123,101 @@ def scara_certificate(robot: Robot, target: Target, tol: float) -> Certificate |
         return Certificate(Reason.INSIDE_HOLE, rmin - far, (
             f"the elbow's range keeps the tip at least {rmin:.6g} m from the shoulder axis; "
             f"the target is {far:.6g} m from it{rail}, {rmin - far:.4g} m inside that hole"))
-    box = Box.of(robot, geom, tol)
-    movable = np.zeros(robot.nq, dtype=bool)
-    movable[list(geom.redundant)] = True
-    sols = search_solutions(make_task(robot, geom, target, default_q0(robot), movable, box))
-    if sols is None or sols:
+    return _limits_certificate(robot, geom, target, tol, uv, dz)
+
+
+def _margin(geom: ScaraGeometry, uv: Array, rail: float) -> float:
+    """What round-off can take from a distance the planar model computes [m].
+
+    64 ulps of the lengths involved, plus the planar model's own disagreement with the
+    robot's FK (:attr:`~scara_opt.ik.geometry.ScaraGeometry.fk_error`, measured when the
+    geometry was read).
+    """
+    scale = geom.l1 + geom.l2 + float(np.abs(uv).sum()) + rail
+    return 64.0 * np.finfo(float).eps * scale + 4.0 * geom.fk_error
+
+
+def yaw_domains(geom: ScaraGeometry, arm_lo: Array, arm_hi: Array, lo: Array, hi: Array,
+                yaw: float | None, beta: float) -> list[Domain]:
+    """The link angles the limits allow with the tool angle within ``beta`` [rad] of ``yaw``.
+
+    One :class:`Domain` per turn of the band; the whole rectangle when the wrists' range,
+    widened by ``beta``, covers a turn, or for ``yaw=None``.
+
+    ``arm_lo``, ``arm_hi``: the shoulder's and elbow's ranges (one turn where continuous);
+    ``lo``, ``hi``: the wrists' (``inf`` where continuous: any angle).
+    """
+    a_lo, a_hi, g_lo, g_hi = link_ranges(geom, arm_lo, arm_hi)
+    wrists = geom.wrists
+    w_lo, w_hi = range_of_sum(geom.s[wrists], lo[wrists], hi[wrists]) if wrists else (0, 0)
+    if yaw is None or w_hi - w_lo + 2 * beta >= 2 * math.pi:
+        return [Domain(a_lo, a_hi, g_lo, g_hi)]
+    # yaw(q) = yaw0 + α + γ − φ2 + Σ s_k q_k (wrists): within beta of the target's when
+    # α + γ lies in [c − w_hi − beta, c − w_lo + beta] modulo 2π
+    c = yaw - geom.yaw0 + geom.phi2
+    s_lo, s_hi = c - w_hi - beta - ANGLE_SLACK, c - w_lo + beta + ANGLE_SLACK
+    k0 = math.ceil((a_lo + g_lo - s_hi) / (2 * math.pi))
+    k1 = math.floor((a_hi + g_hi - s_lo) / (2 * math.pi))
+    return [Domain(a_lo, a_hi, g_lo, g_hi, s_lo + 2 * math.pi * k, s_hi + 2 * math.pi * k)
+            for k in range(k0, k1 + 1)]
+
+
+def _limits_certificate(robot: Robot, geom: ScaraGeometry, target: Target, tol: float,
+                        uv: Array, dz: float) -> Certificate | None:
+    """Argument 3 of :func:`scara_certificate` (``dz``: the least height error [m])."""
+    rails = geom.rails
+    lo, hi = robot.lower, robot.upper
+    if len(rails) > 1 or not np.isfinite(lo[rails]).all() or not np.isfinite(hi[rails]).all():
+        return None  # several rails: a parallelogram of shoulder positions; or no end
+    if rails:
+        d = geom.rail[rails[0]]
+        x0, x1 = uv - lo[rails[0]] * d, uv - hi[rails[0]] * d
+        extent = float(np.abs(d).sum()) * float(hi[rails[0]] - lo[rails[0]])
+    else:
+        x0 = x1 = uv
+        extent = 0.0
+    margin = _margin(geom, uv, extent)
+    dz_low = max(dz - margin, 0.0)
+
+    arm_lo, arm_hi = robot.sampling_lower, robot.sampling_upper  # continuous: one turn
+
+    def planar(beta: float) -> float:  # least planar distance with the angle within beta
+        domains = yaw_domains(geom, arm_lo, arm_hi, lo, hi, target.yaw, beta)
+        return distance(geom, domains, x0, x1) - margin
+
+    dist = planar(tol)
+    if math.hypot(max(dist, 0.0), dz_low) <= tol:
         return None
-    names = [robot.joint_names[k] for k in geom.redundant]
-    over = f" over the whole range of {', '.join(names)}" if names else ""
-    return Certificate(Reason.NO_BRANCH, 0.0, (
-        f"the closed form{over} finds no branch within the joint limits, even with them "
-        f"widened by {box.upper[geom.elbow] - robot.sampling_upper[geom.elbow]:.2g} rad for "
-        f"tol {tol:g}: the shoulder, elbow or wrist limits exclude the target"))
+    bound = _residual_bound(planar, dz_low, tol) if target.yaw is not None \
+        else math.hypot(dist, dz_low)
+    names = [robot.joint_names[k] for k in (*rails, geom.shoulder, geom.elbow)]
+    angle = (" with the tool angle within tol of the target's (the wrists' whole range)"
+             if target.yaw is not None else "")
+    return Certificate(Reason.NO_BRANCH, bound, (
+        f"every configuration within the limits of {', '.join(names)}{angle} keeps the tip "
+        f"at least {dist:.6g} m from the target in the plane (exact: the distance to the "
+        f"arcs that bound what the limits reach), and {dz_low:.4g} m along the tool axis: "
+        f"a residual of at least {math.hypot(dist, dz_low):.4g} > tol {tol:g}"))
 
 
+def _residual_bound(planar: Callable[[float], float], dz: float, tol: float) -> float:
+    """A lower bound [m, rad] on max(|Δp|, |Δangle|) over every configuration, > tol.
+
+    For any β, a configuration either misses the angle by more than β or keeps the tip
+    ``planar(β)`` from the target in the plane: the residual exceeds β wherever
+    ``hypot(planar(β), dz) > β``. The largest such β is found to ~9 % by bisection in
+    log(β) between tol (true: the certificate) and π.
+    """
+    def holds(beta: float) -> bool:
+        return math.hypot(max(planar(beta), 0.0), dz) > beta
+
+    if holds(math.pi):
+        return max(math.pi, math.hypot(max(planar(math.pi), 0.0), dz))
+    lo, hi = math.log(tol), math.log(math.pi)
+    for _ in range(8):
+        mid = 0.5 * (lo + hi)
+        lo, hi = (mid, hi) if holds(math.exp(mid)) else (lo, mid)
+    return math.exp(lo)
 
 
 def reach_bound(robot: Robot) -> tuple[Array, float]:

@@ -51,13 +51,13 @@ from scara_opt.target import Target
 # ---------------------------------------------------------------------- the search box
 @dataclass(frozen=True)
 class Box:
-    """Joint ranges the closed form searches: the limits, widened by a slack.
+    """Joint ranges the closed form searches: the limits, with round-off slacks.
 
     Attributes:
         lower, upper: (nq,) finite ranges [rad or m] (continuous joints: one turn, ±π).
         slack: a joint value this far outside [lower, upper] is round-off, accepted and
             clipped [rad or m]; values the search sets itself stay within the range.
-        cos_slack: how far |cos γ| may exceed 1 (round-off, or a reach slack).
+        cos_slack: how far |cos γ| may exceed 1 (round-off).
         height_slack: a height mismatch accepted when no joint moves the tip along n [m].
         angle_slack: a tool-angle mismatch accepted when no wrist turns the tool [rad].
     """
@@ -70,21 +70,9 @@ class Box:
     angle_slack: float = COS_SLACK
 
     @classmethod
-    def of(cls, robot: Robot, geom: ScaraGeometry, tol: float | None = None) -> Box:
-        """The robot's box, widened with ``tol`` [m, rad] (see :mod:`.certificates`).
-
-        Widened, a target within ``tol`` of an exactly reachable one is exactly reachable.
-        """
-        reach = min(geom.l1, geom.l2, 1.0)
-        rad = 0.0 if tol is None else 2.0 * tol / reach
-        lin = 0.0 if tol is None else 2.0 * tol
-        widen = np.where(np.array(robot.joint_types) == "revolute", rad, lin)
-        cos_slack = COS_SLACK if tol is None else COS_SLACK + 2.0 * tol * (
-            geom.l1 + geom.l2 + 2.0 * tol) / (geom.l1 * geom.l2)
-        height = HEIGHT_SLACK if tol is None else max(HEIGHT_SLACK, 2.0 * tol)
-        angle = COS_SLACK if tol is None else max(COS_SLACK, 2.0 * tol)
-        return cls(robot.sampling_lower - widen, robot.sampling_upper + widen, LIMIT_SLACK,
-                   cos_slack, height, angle)
+    def of(cls, robot: Robot) -> Box:
+        """The robot's box: its limits (one turn for continuous joints), round-off slacks."""
+        return cls(robot.sampling_lower, robot.sampling_upper)
 
     def outer(self, k: int | list[int]) -> tuple[Array, Array]:
         """The range of joints ``k`` with the round-off slack: what a solution may touch."""
@@ -414,7 +402,7 @@ def solve_all(robot: Robot, target: Target, q_ref: Array,
     names = set(fixed or {})
     for k in geom.redundant:
         movable[k] = robot.joint_names[k] not in names
-    box = Box.of(robot, geom)
+    box = Box.of(robot)
     sols = search_solutions(make_task(robot, geom, target, held, movable, box))
     if sols is None:  # several movable rails: only the held values are searched
         sols = make_task(robot, geom, target, held, np.zeros_like(movable), box).at_rail(
