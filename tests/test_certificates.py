@@ -94,9 +94,9 @@ def test_no_certificate_within_tol_of_a_reachable_target(name):
     """2,000-3,000 targets per robot, each within 0.99 tol of an in-limit configuration at
     limits and singular poses, tol 1e-12 to 1e-3: no certificate at all.
 
-    Before: 163 of 17,600 such targets (this construction, 200 per robot and tol) were
-    "proved" unreachable by the old "no branch within the widened limits" argument; after:
-    0 (counts from runs of this construction at the fix).
+    Before: 197 of these 22,000 targets were "proved" unreachable by the old "no branch
+    within the widened limits" argument (inverted5 102, peng2025 38, zavar2024 23, fang 16,
+    irb910sc_like 14, nguyen 4); after: 0 (runs of this construction at the fix).
     Mutations caught: the old argument (the closed form with the limits widened by
     2 tol / min(l1, l2, 1 m) rad: fails on all six SCARAs); the singular arcs (γ = kπ) left
     out; the tool-angle band not widened by tol; the reach test of a rail's segment at its
