@@ -253,7 +253,8 @@ def test_lm_never_takes_a_half_turn_for_a_solution():
 def test_rotation_residual_norm_is_the_angle_up_to_a_half_turn():
     """‖θu‖ of the LM residual equals the rotation angle, from 0 to π, exact half turns too.
 
-    Mutation caught: the small-angle series at θ = π (the residual vanishes: 0 for 3.14).
+    Mutations caught: the small-angle series at θ = π (the residual vanishes: 0 for 3.14);
+    no fallback for an exactly symmetric half turn (``v`` = 0: the residual is 0).
     """
     import casadi as ca
 

@@ -77,11 +77,11 @@ def rotation_vector(R_err: ca.SX) -> ca.SX:
 
     :math:`v = \operatorname{vee}(R - R^T)/2 = \sin θ\, u` and :math:`c = (\operatorname{tr}
     R - 1)/2 = \cos θ`; :math:`θ u = \operatorname{atan2}(|v|, c)\, v / |v|`, with the series
-    :math:`1 + |v|^2/6` for the factor near :math:`θ = 0` (no 0/0). Near :math:`θ = π`
-    (``c < 0`` and ``|v|`` at round-off) ``v`` loses ``u``; it is read from the symmetric
-    part instead, :math:`(R + R^T)/2 - c I = (1 - c)\, u u^T` (its column of largest
-    diagonal, signed along ``v``), so the residual's norm is θ there too: a start at a
-    half-turn error is never taken for a solution.
+    :math:`1 + |v|^2/6` for the factor near :math:`θ = 0` only (no 0/0). Near :math:`θ = π`
+    ``v`` is small too, but its direction is still ``u``'s: the factor θ/|v| keeps the norm
+    θ, so a half-turn error is never taken for a solution. Where ``v`` is exactly zero at a
+    half turn (a symmetric ``R``, no direction left in it) the residual is θ along x: its
+    norm is right, and the first step leaves that point.
     """
     v = 0.5 * ca.vertcat(R_err[2, 1] - R_err[1, 2], R_err[0, 2] - R_err[2, 0],
                          R_err[1, 0] - R_err[0, 1])
@@ -89,16 +89,9 @@ def rotation_vector(R_err: ca.SX) -> ca.SX:
     s2 = ca.sumsqr(v)
     s = ca.sqrt(ca.fmax(s2, 1e-300))
     theta = ca.atan2(s, c)
-    B = 0.5 * (R_err + R_err.T) - c * ca.SX.eye(3)
-    d0, d1, d2 = B[0, 0], B[1, 1], B[2, 2]
-    col = ca.if_else(ca.logic_and(d0 >= d1, d0 >= d2), B[:, 0],
-                     ca.if_else(d1 >= d2, B[:, 1], B[:, 2]))
-    dk = ca.fmax(ca.fmax(d0, d1), d2)
-    u = col / ca.sqrt(ca.fmax(dk * (1.0 - c), 1e-20))  # the floor: no inf in its Hessian
-    u = ca.if_else(ca.dot(u, v) < 0, -u, u)
-    small = s2 <= 1e-12
-    return ca.if_else(ca.logic_not(small), theta / s * v,
-                      ca.if_else(c > 0, (1.0 + s2 / 6.0) * v, theta * u))
+    series = ca.logic_and(s2 <= 1e-12, c > 0)
+    rv = ca.if_else(series, 1.0 + s2 / 6.0, theta / s) * v
+    return ca.if_else(ca.logic_and(s2 == 0, c < 0), ca.vertcat(theta, 0.0, 0.0), rv)
 
 
 def task_residual(robot: Robot, kind: str, q: ca.SX, par: ca.SX) -> ca.SX:
