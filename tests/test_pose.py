@@ -8,7 +8,7 @@ import pytest
 
 import scara_opt as so
 from scara_opt import pose
-from tests.conftest import BUNDLED
+from tests.conftest import BUNDLED, paper_fk
 
 
 def _rx(a):
@@ -32,18 +32,26 @@ def _random_q(robot, seed):
     return lo + (hi - lo) * (0.1 + 0.8 * rng.random(robot.nq))
 
 
-def test_fk_se3_is_the_pinocchio_se3_of_fk(robots, arm6):
-    """fk_se3 returns a pinocchio.SE3 whose matrix is fk's 4×4 (which fk keeps returning).
+def test_fk_se3_is_the_papers_pose(robots):
+    """fk_se3 returns a pinocchio.SE3 equal to the pose each paper's own FK gives
+    (conftest.paper_fk, typed in from the papers: an independent reference), at 20
+    configurations per robot; fk keeps returning the same pose as a 4×4 array.
 
-    Mutation caught: fk_se3 returning ``pin.SE3(self.fk(q)).inverse()``.
+    Mutations caught: fk_se3 returning ``pin.SE3(self.fk(q)).inverse()``; its rotation
+    transposed. (Before, this test compared fk_se3 with the fk it is built from.)
     """
-    for robot in [*robots.values(), arm6]:
-        q = _random_q(robot, 1)
-        M = robot.fk_se3(q)
-        assert isinstance(M, pin.SE3)
-        T = robot.fk(q)
-        assert isinstance(T, np.ndarray) and T.shape == (4, 4)
-        np.testing.assert_allclose(M.homogeneous, T, atol=1e-15)
+    for name, robot in robots.items():
+        for k in range(20):
+            q = _random_q(robot, k)
+            M = robot.fk_se3(q)
+            assert isinstance(M, pin.SE3)
+            p, R = paper_fk(name, q)
+            np.testing.assert_allclose(M.translation, p, atol=1e-12)
+            np.testing.assert_allclose(M.rotation, R, atol=1e-12)
+            T = robot.fk(q)
+            assert isinstance(T, np.ndarray) and T.shape == (4, 4)
+            np.testing.assert_allclose(T[:3, :3], R, atol=1e-12)
+            np.testing.assert_allclose(T[:3, 3], p, atol=1e-12)
 
 
 @pytest.mark.parametrize("name", [*BUNDLED, "arm6"])
