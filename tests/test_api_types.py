@@ -14,10 +14,12 @@ import logging
 import math
 
 import numpy as np
+import pandas as pd
 import pytest
 
 import scara_opt as so
 from scara_opt import paths
+from scara_opt.workspace_analysis import Workspace
 
 from .conftest import DATA
 
@@ -96,24 +98,65 @@ def _cases():
                                    marks=marks)
 
 
+def _quoted(arg: str, value: object, message: str) -> bool:
+    """Whether an error message names the argument or quotes the value it was given."""
+    words = {arg, arg.replace("_", " "), arg.removesuffix("s"), arg.split("_")[0]}
+    shown = {str(value)[:12], repr(value)[:12]}
+    if isinstance(value, (int, float)) and not isinstance(value, bool):
+        shown.add(f"{float(value):g}")
+    return any(w in message for w in words | shown) or "got" in message
+
+
+def _no_nan(result: object) -> bool:
+    """A float array result holds no NaN (a wrong value must never come back as NaN)."""
+    return not (isinstance(result, np.ndarray) and result.dtype.kind == "f"
+                and np.isnan(result).any())
+
+
 @pytest.mark.parametrize("call, good, arg, value", list(_cases()))
 def test_a_wrong_value_is_a_result_or_a_scara_opt_error(call, good, arg, value):
-    """One argument replaced by a wrong type: a result or a ScaraOptError, nothing else.
+    """One argument replaced by a wrong type: a result (not None, no NaN) or a ScaraOptError
+    whose message names the argument or quotes the value, nothing else.
 
-    Mutation: compare without its executor check (AttributeError: 'str' object has no
-    attribute 'submit'), or paths.circle without checking start/sweep (TypeError from
-    math.isfinite) -> fails.
+    Mutations caught: compare without its executor check (AttributeError: 'str' object has
+    no attribute 'submit'), or paths.circle without checking start/sweep (TypeError from
+    math.isfinite); a payload mass without an upper bound (1e308 kg: check_torque returned
+    NaN ratios); an InputError without its message.
     """
     logging.disable(logging.WARNING)
     try:
-        call(**{**good, arg: value})
-    except so.ScaraOptError:
-        pass
+        result = call(**{**good, arg: value})
+    except so.ScaraOptError as exc:
+        assert _quoted(arg, value, str(exc)), str(exc)
+    else:
+        assert result is not None and _no_nan(result), result
     finally:
         logging.disable(logging.NOTSET)
 
 
+#: what each call returns with its good arguments
+RETURNS = {"fk": np.ndarray, "jacobian": np.ndarray, "fk_batch": np.ndarray,
+           "within_limits": (bool, np.bool_), "with_limits": so.Robot, "Target": so.Target,
+           "Target_rotation": so.Target, "load_robot": so.Robot, "from_urdf": so.Robot,
+           "circle": list, "line": list, "point_to_point": list, "rounded_rectangle": list,
+           "zavar2024_circle": list, "nguyen_contour": list, "as_targets": list,
+           "solve_ik": so.IKResult, "ik_all": list, "solve_many": so.BatchResult,
+           "ik_path": so.JointPath, "time_parameterize": so.Trajectory,
+           "time_parameterize_torque": so.Trajectory, "check_torque": np.ndarray,
+           "workspace": Workspace, "compare": pd.DataFrame, "Footprint": so.Footprint}
+
+
 @pytest.mark.parametrize("name, call, good", API, ids=[a[0] for a in API])
 def test_the_good_arguments_work(name, call, good):
-    """The baseline of the matrix: every call works with its good arguments."""
-    call(**good)
+    """The baseline of the matrix: every call works with its good arguments and returns
+    what it documents (type; arrays without NaN).
+
+    Mutation caught: fk_batch returning the list of poses instead of an array.
+    """
+    result = call(**good)
+    assert isinstance(result, RETURNS[name]), (name, type(result))
+    assert _no_nan(result)
+    if name == "fk_batch":
+        assert result.shape == (2, 4, 4)
+    if name in ("fk", "jacobian"):
+        assert result.shape == ((4, 4) if name == "fk" else (6, 4))

@@ -56,6 +56,12 @@ class Payload:
     frame: str
 
 
+#: the heaviest payload [kg], farthest centre of mass [m] and largest inertia entry [kg·m²]
+#: taken: far beyond any robot's, and small enough that the torques stay finite numbers
+#: (a payload of 1e308 kg gave NaN torques)
+MAX_PAYLOAD, MAX_COM, MAX_INERTIA = 1e6, 1e3, 1e9
+
+
 def _bad(what: str, value: object) -> InputError:
     return InputError(f"payload {what}; got {describe(value)}: pass payload=mass [kg], "
                       "(mass, com (3,) [m]) or (mass, com, inertia (3, 3) [kg·m²]), the centre "
@@ -73,8 +79,9 @@ def as_payload(value: object, robot: Robot, frame: str | None = None) -> Payload
         frame: the frame it is fixed to; default ``robot.tip``.
 
     Raises:
-        InputError: a negative, NaN or infinite mass, a misshaped or non-finite com or
-            inertia, an inertia no body has (not symmetric positive semi-definite).
+        InputError: a negative, NaN or infinite mass or one above :data:`MAX_PAYLOAD`, a
+            misshaped, non-finite or huge com or inertia, an inertia no body has (not
+            symmetric positive semi-definite).
         FrameNotFoundError: ``frame`` is not a frame of the robot's model.
     """
     if value is None:
@@ -93,13 +100,14 @@ def as_payload(value: object, robot: Robot, frame: str | None = None) -> Payload
         inertia = float_array(parts[2] if len(parts) > 2 else np.zeros((3, 3)), "payload inertia")
     except (InputError, TypeError):
         raise _bad("entries must be numbers", value) from None
-    if not (math.isfinite(mass) and mass >= 0):
-        raise _bad(f"mass must be a finite number >= 0 [kg], not {mass!r}", value)
+    if not (math.isfinite(mass) and 0 <= mass <= MAX_PAYLOAD):
+        raise _bad(f"mass must be a number in [0, {MAX_PAYLOAD:g}] kg, not {mass!r}", value)
     if com.shape != (3,) or inertia.shape != (3, 3):
         raise _bad(f"com must have shape (3,) and inertia (3, 3), not {com.shape} and "
                    f"{inertia.shape}", value)
-    if not (np.isfinite(com).all() and np.isfinite(inertia).all()):
-        raise _bad("com and inertia must be finite", value)
+    if not (np.abs(com).max() <= MAX_COM and np.abs(inertia).max() <= MAX_INERTIA):
+        raise _bad(f"com must be finite, within ±{MAX_COM:g} m, and inertia within "
+                   f"±{MAX_INERTIA:g} kg·m²", value)
     if (not np.allclose(inertia, inertia.T, atol=INERTIA_SLACK)
             or np.linalg.eigvalsh(inertia).min() < -INERTIA_SLACK):
         raise _bad("inertia must be symmetric positive semi-definite", value)
