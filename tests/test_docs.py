@@ -2,7 +2,9 @@
 
 from __future__ import annotations
 
+import contextlib
 import importlib.util
+import io
 import os
 import re
 import subprocess
@@ -26,14 +28,78 @@ def _roles():
     return module
 
 
+_NUMBER = r"[-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?"
+
+
+def _tokens(line: str) -> list[str]:
+    """Numbers and single non-space characters of a printed line."""
+    return re.findall(rf"{_NUMBER}|\S", line)
+
+
+def _same_number(shown: str, got: str) -> bool:
+    """``got`` is what ``shown`` prints as, within its printed rounding; round-off (at most
+    1e-9 in magnitude) shows as any other round-off."""
+    e, a = float(shown), float(got)
+    if abs(e) <= 1e-9:
+        return abs(a) <= 1e-9
+    mantissa, _, exponent = shown.lower().partition("e")
+    decimals = len(mantissa.partition(".")[2])
+    step = 10.0 ** (int(exponent or 0) - decimals)
+    return abs(a - e) <= 0.5 * step * 1.001 + 1e-12 * abs(e)
+
+
+def output_matches(shown: str, printed: str) -> bool:
+    """Whether ``printed`` is the output a guide ``shown``: line by line, the same text, the
+    same numbers to their printed rounding; ``…`` ends a line's comparison (a time)."""
+    want, got = shown.strip().splitlines(), printed.strip().splitlines()
+    if len(want) != len(got):
+        return False
+    for w, g in zip(want, got, strict=True):
+        cut = "…" in w
+        wt, gt = _tokens(w.split("…")[0]), _tokens(g)
+        if (len(gt) < len(wt)) if cut else (len(gt) != len(wt)):
+            return False
+        for x, y in zip(wt, gt[: len(wt)], strict=True):
+            numeric = re.fullmatch(_NUMBER, x) and re.fullmatch(_NUMBER, y)
+            if not (_same_number(x, y) if numeric else x == y):
+                return False
+    return True
+
+
+def test_output_matching_rules():
+    """The guides' output rule: rounding, round-off, the cut at "…"; a changed number fails.
+
+    Mutation caught: numbers compared as text (0.969 against 0.9692 fails).
+    """
+    assert output_matches("toppra 0.969 0.995", "toppra 0.9692 0.99500000031")
+    assert not output_matches("toppra 0.969", "toppra 0.975")
+    assert output_matches("error=4.16e-17, time=…", "error=2.2e-16, time=1.96 ms")
+    assert not output_matches("solved", "failed")
+    assert not output_matches("a\nb", "a")
+
+
 @pytest.mark.parametrize("page", GUIDES)
-def test_every_guide_code_block_runs(page, monkeypatch):
-    """Each guide's Python blocks run in order, from the repository root, as printed."""
+def test_every_guide_code_block_runs_and_prints_what_it_shows(page, monkeypatch):
+    """Each guide's Python blocks run in order, from the repository root, as printed; a
+    block that prints is followed by a ``text`` block showing its output, which must match
+    (:func:`output_matches`).
+
+    Mutations caught: the getting-started IK target moved out of reach (prints
+    ``unreachable``, the guide shows ``solved``); a guide block whose output is not shown.
+    """
     monkeypatch.chdir(ROOT)
     text = (ROOT / "docs" / page).read_text()
     scope: dict = {}
-    for k, code in enumerate(re.findall(r"```python\n(.*?)```", text, re.S)):
-        exec(compile(code, f"docs/{page} block {k + 1}", "exec"), scope)  # noqa: S102
+    pattern = r"```python\n(.*?)```(?:\s*(?:It prints:)?\s*```text\n(.*?)```)?"
+    for k, (code, shown) in enumerate(re.findall(pattern, text, re.S)):
+        out = io.StringIO()
+        with contextlib.redirect_stdout(out):
+            exec(compile(code, f"docs/{page} block {k + 1}", "exec"), scope)  # noqa: S102
+        printed = out.getvalue()
+        if printed.strip() or shown:
+            assert shown, f"docs/{page} block {k + 1} prints but shows no output:\n{printed}"
+            assert output_matches(shown, printed), (
+                f"docs/{page} block {k + 1} shows:\n{shown}\nbut prints:\n{printed}")
 
 
 def test_readme_quickstart_runs_without_a_flip(monkeypatch):
