@@ -1,0 +1,248 @@
+"""A program planned in a cell: goals clear of it, PTPs around it, every section proven clear.
+
+:func:`~scara_opt.motion.plan` with ``cell=`` hands each move here:
+
+* **Start and goals.** The start, and every PTP goal, must be clear of the cell:
+  :class:`~scara_opt.errors.CollisionError` / :class:`~scara_opt.errors.MoveCollisionError`
+  name the bodies and the depth. A PTP to a :class:`~scara_opt.Target` without ``elbow``
+  takes the nearest IK solution that is clear (a SCARA's other elbow branch or wrist turn).
+* **PTP.** The straight joint segment when the conservative rule proves it clear, else a
+  path around the obstacles by :func:`scara_opt.planning.plan_path` (OMPL's RRTConnect and
+  PathSimplifier, every edge proven); "no path found within the time limit" is a
+  :class:`~scara_opt.errors.NoPathFoundError` with what was tried.
+* **Timing, then the proof again.** Each stop-to-stop section is timed by toppra as without
+  a cell, and the timed trajectory is proven clear (:mod:`scara_opt.collision.continuous`):
+  toppra's spline through a planned path's waypoints is not the polyline that was
+  proven. A planned path is handed to toppra with extra points near its corners
+  (:func:`hugging`), so the spline follows the polyline closely; when the timed trajectory
+  still is not proven clear, or leaves the joint limits, the points are doubled and the
+  section timed again (up to :data:`RETRIES` times).
+* **LIN / CIRC** keep their tool path: one that hits the cell is refused
+  (:class:`~scara_opt.errors.MoveCollisionError`, naming the move, the time and the bodies).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+
+import numpy as np
+from numpy.typing import NDArray
+
+from scara_opt.checks import check_int, check_real
+from scara_opt.collision.checker import CollisionChecker
+from scara_opt.collision.continuous import CollisionReport, collision_report, make_checker
+from scara_opt.errors import (
+    CollisionError,
+    InputError,
+    MoveCollisionError,
+    MoveError,
+    NoPathFoundError,
+    TrajectoryError,
+)
+from scara_opt.ik.analytic import ik_all
+from scara_opt.model.robot import Robot
+from scara_opt.motion import branch
+from scara_opt.motion.moves import PTP, Move, goal_point
+from scara_opt.planning.planner import PathPlan, check_clear, plan_path
+from scara_opt.target import Target
+from scara_opt.trajectory.limits import Limits
+from scara_opt.trajectory.trajectory import Trajectory
+from scara_opt.trajectory.waypoints import LIMIT_SLACK
+
+Array = NDArray[np.float64]
+
+__all__ = ["CellPlanning", "hugging", "in_cell"]
+
+#: times a planned section is timed again with twice the points near its corners
+RETRIES = 3
+
+#: joint-space points added near each inner corner of a planned path (fractions of the
+#: adjoining segments, from the corner)
+NEAR = (0.25, 0.1, 0.03)
+
+
+def hugging(Q: Array, level: int = 0) -> Array:
+    """The polyline ``Q`` (n, nq) with points added so a spline through them follows it.
+
+    Each segment gets points at the fractions :data:`NEAR` (halved ``level`` times) from each
+    of its inner ends, and its middle; the spline's bulge at a corner then spans only the
+    short pieces beside it.
+    """
+    if len(Q) < 3:
+        return Q
+    near = np.array(NEAR) / 2**level
+    rows = [Q[:1]]
+    for k in range(len(Q) - 1):
+        a, b = Q[k], Q[k + 1]
+        f = [0.5]
+        if k > 0:
+            f += list(near)
+        if k < len(Q) - 2:
+            f += list(1 - near)
+        f = np.unique(np.array(f))
+        rows += [a + f[:, None] * (b - a), b[None, :]]
+    return np.vstack(rows)
+
+
+class CellPlanning:
+    """The cell-aware steps of :func:`~scara_opt.motion.plan` (see the module docstring).
+
+    Args:
+        checker: the robot in its cell.
+        time_limit: each PTP's planning limit [s].
+        seed: the planner's seed (move ``i`` plans with ``seed + i``).
+    """
+
+    def __init__(self, checker: CollisionChecker, time_limit: float, seed: int) -> None:
+        self.checker = checker
+        self.time_limit = time_limit
+        self.seed = seed
+        self.plans: dict[int, PathPlan] = {}
+
+    def check_start(self, q: Array) -> None:
+        """Refuse a start in collision (bodies and depth named)."""
+        check_clear(self.checker, q, "start")
+
+    def goal(self, index: int, move: PTP, robot: Robot, q_prev: Array) -> Array:
+        """The PTP's joint goal, clear of the cell (another IK solution if need be).
+
+        Raises:
+            MoveCollisionError: the goal (every IK solution of a Target) in collision.
+            MoveError: as without a cell (unreachable, off-branch, outside the limits).
+        """
+        goal = goal_point(index, move.goal, robot.nq, "goal")
+        q = branch.ptp_goal(index, robot, goal, q_prev, move.elbow)
+        if not self.checker.collides(q):
+            return q
+        if isinstance(goal, Target) and branch.geometry(robot) is not None:
+            for res in ik_all(robot, goal, q0=q_prev):
+                signs = branch.elbow_signs(robot, res.q)
+                if move.elbow is not None and signs[0] != branch.SIGN[move.elbow]:
+                    continue
+                if not self.checker.collides(res.q):
+                    return res.q
+        try:
+            check_clear(self.checker, q, "goal")
+        except CollisionError as exc:
+            other = " (and so is every other IK solution)" if isinstance(goal, Target) else ""
+            raise MoveCollisionError(index, f"PTP {exc}{other}", exc.bodies,
+                                     exc.depth) from None
+        return q  # pragma: no cover - collides() and check_clear agree
+
+    def joints(self, index: int, move: Move, robot: Robot, q_prev: Array, step: float,
+               straight: object) -> Array:
+        """The move's joint path: a PTP planned around the cell, a LIN/CIRC as without one.
+
+        ``straight``: :func:`~scara_opt.motion.plan.move_joints`, for LIN and CIRC.
+
+        Raises:
+            MoveCollisionError: a PTP goal in collision. NoPathFoundError: nothing found
+                in time. MoveError: as without a cell.
+        """
+        if not isinstance(move, PTP):
+            return straight(index, move, robot, q_prev, step)  # type: ignore[operator]
+        q1 = self.goal(index, move, robot, q_prev)
+        if np.abs(q1 - q_prev).max() <= 1e-9:
+            raise MoveError(index, "PTP goal is where the robot already is: drop the move")
+        result = plan_path(self.checker, q_prev, q1, time_limit=self.time_limit,
+                           seed=self.seed + index)
+        self.plans[index] = result
+        if not result.success:
+            raise NoPathFoundError(index, f"PTP: {result.message}", result.time_s,
+                                   self.time_limit, result.tree_states, result.checks)
+        return result.path
+
+    def planned(self, index: int) -> bool:
+        """Whether move ``index`` is a PTP planned around obstacles (more than one edge)."""
+        plan = self.plans.get(index)
+        return plan is not None and len(plan.path) > 2
+
+    def prove(self, traj: object) -> CollisionReport:
+        """The timed section proven clear, or its first contact."""
+        return collision_report(self.checker, traj)
+
+    def refuse(self, index: int, kind: str, report: CollisionReport, t0: float) -> None:
+        """Raise the MoveCollisionError of a section that hits the cell.
+
+        Raises:
+            MoveCollisionError: always; the move, the time from the program's start, the
+                bodies, the depth.
+        """
+        a, b = report.bodies
+        t = t0 + report.time
+        how = (f"{report.depth * 1e3:.3f} mm deep" if report.touching else
+               "not proven clear (they graze)")
+        raise MoveCollisionError(
+            index, f"{kind} hits the cell at t = {t:.4f} s: {a} and {b}, {how}; a "
+                   f"{kind} keeps its path: move its points away from {b}, or reach the "
+                   "goal with a PTP (planned around the cell)", (a, b), report.depth, t)
+
+    def timed_clear(self, run: list[tuple[int, Move]], Q: Array, owner: list[int],
+                    timed: Callable, limits: Limits, method: str, t0: float) -> tuple:
+        """``timed(Q, owner)`` of a section, proven clear (and a planned one within limits).
+
+        A planned PTP is timed through :func:`hugging` points, doubled up to
+        :data:`RETRIES` times while the timed trajectory is not proven clear or leaves the
+        joint limits; any other section that is not clear is refused.
+
+        Returns:
+            What ``timed`` returns, the note saying the proof.
+
+        Raises:
+            MoveCollisionError: a LIN/CIRC (or a blended run) that hits the cell.
+            TrajectoryError: a planned path whose timing stays not proven after the retries.
+        """
+        index = run[0][0]
+        planned = len(run) == 1 and self.planned(index)
+        robot = self.checker.robot
+        rows = Q
+        for level in range(RETRIES + 1 if planned else 1):
+            if planned:
+                rows = hugging(Q, level)
+                owner = [index] * len(rows)
+            part, note, knots, profile = timed(rows, owner)
+            traj = Trajectory(part, limits, method, rows, knots)
+            report = self.prove(traj)
+            lo, hi = traj.position_range()
+            inside = bool((lo >= robot.lower - LIMIT_SLACK).all()
+                          and (hi <= robot.upper + LIMIT_SLACK).all())
+            if report.clear and inside:
+                note += (f", proven clear (clearance >= {report.clearance * 1e3:.3g} mm, "
+                         f"{report.evaluations} checks)")
+                if planned:
+                    plan = self.plans[index]
+                    note += (f"; planned around the cell: {len(Q)} waypoints "
+                             f"({plan.time_s * 1e3:.1f} ms, {plan.states} states)")
+                return part, note, knots, profile
+            if not planned:
+                k = int(np.clip(np.searchsorted(knots, report.time, side="right") - 1, 0,
+                                len(owner) - 1))
+                kind = "+".join(m.kind for _, m in run)
+                self.refuse(owner[k], kind, report, t0)
+        what = ("not proven clear: " + repr(report)) if not report.clear else \
+            "outside the joint limits between its waypoints"
+        raise TrajectoryError(f"move {index} (PTP): the path planned around the cell is proven "
+                              f"clear, but toppra's spline through it is {what}, even with "
+                              f"{RETRIES} times more points near its corners; raise margin= "
+                              "(the planner then keeps farther from the obstacles)")
+
+
+def in_cell(robot: Robot, cell: object, margin: float, time_limit: float, seed: int
+            ) -> CellPlanning | None:
+    """The :class:`CellPlanning` of :func:`~scara_opt.motion.plan`'s ``cell=`` (None: none).
+
+    Raises:
+        InputError: a checker of another robot, a bad margin, time limit or seed.
+    """
+    time_limit = check_real("time_limit", time_limit, 0.0, 3600.0, low_open=True, unit="s")
+    seed = check_int("seed", seed, 0)
+    if cell is None:
+        return None
+    if isinstance(cell, CollisionChecker):
+        if cell.robot is not robot and cell.robot.joint_names != robot.joint_names:
+            raise InputError(f"the checker is for robot {cell.robot.name!r}, not "
+                             f"{robot.name!r}: build CollisionChecker(robot, cell)")
+        checker = cell
+    else:
+        checker = make_checker(cell, robot, margin, robot.nq)
+    return CellPlanning(checker, time_limit, seed)

@@ -1,0 +1,247 @@
+"""OMPL's RRTConnect and PathSimplifier, with every state and edge checked by our proof.
+
+OMPL (the ``ompl`` wheel, nanobind bindings) samples and connects; it never decides what
+is free. The state validity checker and the motion validator are :class:`EdgeProver`: a
+state is valid when every pair of bodies is farther than the margin, an edge when the
+conservative rule of :mod:`scara_opt.collision.continuous` proves the straight joint
+segment clear. OMPL's own discrete motion validator (states every ``resolution`` of the
+space's extent) is not used: it steps over thin obstacles.
+
+The OMPL objects of one query are made and dropped inside :func:`rrt_connect`, and the
+Python callbacks hold no reference back to them: no reference cycle through C++ survives
+the call (nanobind would report the leak at exit). OMPL's console output is silenced during
+the call and its global random seed set from ``seed`` (OMPL wants a seed > 0: ``seed + 1``);
+a lock keeps concurrent queries from interleaving their seeds.
+"""
+
+from __future__ import annotations
+
+import math
+import threading
+import time
+from collections import deque
+from collections.abc import Callable
+from dataclasses import dataclass
+from operator import itemgetter
+
+import numpy as np
+from numpy.typing import NDArray
+
+from scara_opt.collision.checker import CollisionChecker
+from scara_opt.collision.continuous import DISTANCE_TOL, RESOLUTION
+
+Array = NDArray[np.float64]
+
+__all__ = ["EdgeProver", "OmplRun", "import_ompl", "rrt_connect"]
+
+_LOCK = threading.Lock()
+
+#: install hint when the wheel is missing
+OMPL_HINT = "pip install ompl (OMPL's Python wheel, 2.0 or later)"
+
+
+def import_ompl() -> tuple:
+    """``(ompl.base, ompl.geometric, ompl.util)``, or ModuleNotFoundError naming the wheel."""
+    try:
+        from ompl import base as ob
+        from ompl import geometric as og
+        from ompl import util as ou
+    except ImportError as exc:
+        raise ModuleNotFoundError(f"planning around obstacles needs OMPL ({exc}); "
+                                  f"{OMPL_HINT}", name="ompl") from None
+    return ob, og, ou
+
+
+class EdgeProver:
+    """States and straight joint edges checked by the conservative rule, with counts.
+
+    Distances are cached per configuration (OMPL asks for the same states many times) and
+    kept as Python floats: with a few pairs, plain loops beat numpy's per-call overhead.
+
+    Attributes:
+        states: configurations whose distances were computed.
+        edges: edges asked about; ``proven``: those proven clear.
+    """
+
+    def __init__(self, checker: CollisionChecker) -> None:
+        self.checker = checker
+        self.shift = checker.margin + DISTANCE_TOL
+        self.W = checker.weights
+        self.cache: dict[tuple[float, ...], list[float]] = {}
+        self.states = 0
+        self.edges = 0
+        self.proven = 0
+        self._data = checker._data()
+        self._model = checker.robot.model
+
+    def distances(self, key: tuple[float, ...]) -> list[float]:
+        """Signed distances minus margin and tolerance (npairs,) at ``key`` (cached)."""
+        D = self.cache.get(key)
+        if D is None:
+            D = self.cache[key] = self._compute(np.array(key))
+        return D
+
+    def _compute(self, q: Array) -> list[float]:
+        import pinocchio as pin
+
+        data, gdata, results = self._data
+        pin.computeDistances(self._model, data, self.checker.model, gdata, q)
+        self.states += 1
+        shift = self.shift
+        return [r.min_distance - shift for r in results]
+
+    def valid(self, key: tuple[float, ...]) -> bool:
+        """Whether every pair is farther than the margin at ``key``."""
+        return min(self.distances(key), default=1.0) > 0
+
+    def edge(self, a: tuple[float, ...], b: tuple[float, ...]) -> bool:
+        """Whether the straight segment from ``a`` to ``b`` is proven clear.
+
+        The rule of :mod:`scara_opt.collision.continuous` on one segment, its intervals
+        taken middle first (a collision is found early): an interval of length ``w`` (a
+        fraction of the segment) passes when ``w M < D0 + D1`` for every pair, else its
+        middle is checked (a contact there ends it) and both halves are queued.
+        """
+        self.edges += 1
+        Da, Db = self.distances(a), self.distances(b)
+        if min(Da, default=1.0) <= 0 or min(Db, default=1.0) <= 0:
+            return False
+        qa = np.array(a)
+        dq = np.array(b) - qa
+        M = (self.W @ np.abs(dq)).tolist()
+        top = max(M, default=0.0)
+        queue = deque([(1.0, Da, Db, 0.0)])
+        while queue:
+            w, D0, D1, s0 = queue.popleft()
+            if all(w * m < d0 + d1 for m, d0, d1 in zip(M, D0, D1, strict=True)):
+                continue
+            if w * top < RESOLUTION:
+                return False  # grazing: not proven
+            h = w / 2
+            Dm = self._compute(qa + (s0 + h) * dq)
+            if min(Dm) <= 0:
+                return False
+            queue.append((h, D0, Dm, s0))
+            queue.append((h, Dm, D1, s0 + h))
+        self.proven += 1
+        return True
+
+    def path(self, Q: Array) -> bool:
+        """Whether every edge of the polyline ``Q`` (n, nq) is proven clear."""
+        keys = [tuple(q) for q in Q.tolist()]
+        return all(self.edge(a, b) for a, b in zip(keys, keys[1:], strict=False))
+
+
+@dataclass(frozen=True)
+class OmplRun:
+    """What one OMPL query did.
+
+    Attributes:
+        path: (n, nq) the simplified path's vertices, or ``None`` when none was found.
+        raw: (m, nq) the planner's path before simplification (``None`` likewise).
+        planner_states: states in the planner's two trees.
+        plan_s, simplify_s: time spent planning and simplifying [s].
+    """
+
+    path: Array | None
+    raw: Array | None
+    planner_states: int
+    plan_s: float
+    simplify_s: float
+
+
+def rrt_connect(prover: EdgeProver, start: Array, goal: Array, lower: Array, upper: Array,
+                time_limit: float, seed: int, simplify: bool = True,
+                range_: float | None = None) -> OmplRun:
+    """OMPL RRTConnect from ``start`` to ``goal``, then OMPL's PathSimplifier.
+
+    Every state and edge, the simplifier's too, is checked through ``prover``.
+
+    Args:
+        prover: the state and edge checks.
+        start: (nq,) the first configuration (valid).
+        goal: (nq,) the last configuration (valid).
+        lower: (nq,) the lower corner of the joint box sampled [rad or m].
+        upper: (nq,) its upper corner [rad or m].
+        time_limit: wall-clock limit for planning and simplifying together [s].
+        seed: OMPL's random seed is ``seed + 1``.
+        simplify: run the simplifier.
+        range_: RRTConnect's longest extension (OMPL's default: 20 % of the box's extent).
+    """
+    ob, og, ou = import_ompl()
+    nq = len(start)
+    get = itemgetter(*range(nq)) if nq > 1 else (lambda s: (s[0],))
+    with _LOCK:
+        level = ou.getLogLevel()
+        ou.setLogLevel(ou.LOG_NONE)
+        try:
+            return _solve(ob, og, ou, prover, get, start, goal, lower, upper, time_limit,
+                          seed, simplify, range_)
+        finally:
+            ou.setLogLevel(level)
+
+
+def _solve(ob: object, og: object, ou: object, prover: EdgeProver,
+           get: Callable, start: Array, goal: Array, lower: Array, upper: Array,
+           time_limit: float, seed: int, simplify: bool, range_: float | None) -> OmplRun:
+    nq = len(start)
+    ou.RNG.setSeed(int(seed) + 1)
+    space = ob.RealVectorStateSpace(nq)
+    bounds = ob.RealVectorBounds(nq)
+    for k in range(nq):
+        bounds.setLow(k, float(lower[k]))
+        bounds.setHigh(k, float(upper[k]))
+    space.setBounds(bounds)
+    si = ob.SpaceInformation(space)
+    valid, edge = prover.valid, prover.edge
+
+    class Motion(ob.MotionValidator):
+        def checkMotion(self, s1: object, s2: object) -> bool:  # noqa: N802 (OMPL's name)
+            return edge(get(s1), get(s2))
+
+    si.setStateValidityChecker(lambda s: valid(get(s)))
+    si.setMotionValidator(Motion(si))
+    si.setup()
+    a, b = space.allocState(), space.allocState()
+    for k in range(nq):
+        a[k], b[k] = float(start[k]), float(goal[k])
+    pdef = ob.ProblemDefinition(si)
+    pdef.setStartAndGoalStates(a, b)
+    planner = og.RRTConnect(si)
+    if range_ is not None:
+        planner.setRange(float(range_))
+    planner.setProblemDefinition(pdef)
+    planner.setup()
+    begin = time.perf_counter()
+    status = planner.solve(ob.timedPlannerTerminationCondition(time_limit))
+    plan_s = time.perf_counter() - begin
+    pd = ob.PlannerData(si)
+    planner.getPlannerData(pd)
+    states = pd.numVertices()
+    if str(status) != "Exact solution":
+        return OmplRun(None, None, states, plan_s, 0.0)
+    path = pdef.getSolutionPath()
+    raw = np.array([get(path.getState(i)) for i in range(path.getStateCount())])
+    begin = time.perf_counter()
+    if simplify:
+        simplify_path(og, si, path, simplify)
+    vertices = np.array([get(path.getState(i)) for i in range(path.getStateCount())])
+    return OmplRun(vertices, raw, states, plan_s, time.perf_counter() - begin)
+
+
+def simplify_path(og: object, si: object, path: object, how: object) -> None:
+    """Shorten ``path`` in place with OMPL's PathSimplifier (its checks are ours)."""
+    ps = og.PathSimplifier(si)
+    if how == "full":
+        ps.simplify(path, 1.0)
+        return
+    ps.reduceVertices(path)
+    for _ in range(3):
+        if not ps.partialShortcutPath(path):
+            break
+    ps.reduceVertices(path)
+
+
+def extent(lower: Array, upper: Array) -> float:
+    """The box's diagonal (OMPL's maximum extent of a real vector space) [rad or m]."""
+    return float(math.sqrt(float(np.sum((np.asarray(upper) - np.asarray(lower)) ** 2))))
