@@ -5,7 +5,9 @@ from __future__ import annotations
 import logging
 import math
 
+import coal
 import numpy as np
+import pinocchio as pin
 import pytest
 
 import scara_opt as so
@@ -281,8 +283,6 @@ def test_motion_bound_holds_for_sampled_motions(name):
     Mutation caught: the bound halved (each weight x 0.5), or the distance from axis j
     measured to o_j instead of o_{j+1} (the link length left out), fails.
     """
-    import pinocchio as pin
-
     robot = so.load_robot(name)
     geom = robot_geometry(robot)
     rng = np.random.default_rng(3)
@@ -305,3 +305,38 @@ def test_motion_bound_holds_for_sampled_motions(name):
                 i += 1
     assert worst <= 1.0 + 1e-9  # round-off when only a prismatic joint moves (exact bound)
     assert worst > 0.5  # the bound is not wildly loose on these chains
+
+
+def test_pairs_out_of_reach_along_the_scara_axis_are_not_checked():
+    """A table 27 mm below the tool's lowest reach and a shelf above the arms are never
+    checked against the SCARA's bodies (their height ranges never meet); sampled over the
+    joint box, those pairs' distances indeed never fall below the gap stated.
+
+    Mutation caught: the prismatic stroke left out of the height range (the quill's
+    reference height taken as its only one): the table is then pruned even when it is
+    within the tool's reach (the second cell), and that pair's collisions are missed.
+    """
+    robot = so.load_robot("zavar2024")
+    cell = so.Cell([so.Box("table", (0.9, 0.9, 0.02), xyz=(0.1, 0.0, -0.15)),
+                    so.Box("shelf", (0.2, 0.2, 0.02), xyz=(0.3, 0.0, 0.08))])
+    checker = so.CollisionChecker(robot, cell)
+    pruned = [k for k, why in checker.skipped.items() if why.startswith("never")]
+    assert ("link4", "table") in pruned and ("link2", "shelf") in pruned
+    rng = np.random.default_rng(4)
+    Q = rng.uniform(robot.lower, robot.upper, (300, 4))
+    model = checker.model  # every body is in it, checked or not
+    data, gdata = robot.model.createData(), pin.GeometryData(model)
+    names = [o.name for o in model.geometryObjects]
+    for a, b in pruned:
+        i, j = names.index(a), names.index(b)
+        gap = float(checker.skipped[(a, b)].split("at least ")[1].split(" mm")[0]) * 1e-3
+        for q in Q:
+            pin.updateGeometryPlacements(robot.model, data, model, gdata, q)
+            d = coal.distance(model.geometryObjects[i].geometry, gdata.oMg[i],
+                              model.geometryObjects[j].geometry, gdata.oMg[j],
+                              coal.DistanceRequest(), coal.DistanceResult())
+            assert d >= gap - 1e-6
+    lower = so.Cell([so.Box("table", (0.9, 0.9, 0.02), xyz=(0.1, 0.0, -0.11))])
+    reach = so.CollisionChecker(robot, lower)
+    assert ("link4", "table") in reach.pair_names  # within the tool's reach: checked
+    assert reach.collides(np.array([0.3, 0.3, 0.048, 0.0]))

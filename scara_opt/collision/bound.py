@@ -25,14 +25,15 @@ rigidly and leave their distance unchanged: only the joints after :math:`i_1` co
 from __future__ import annotations
 
 import numpy as np
+import pinocchio as pin
 from numpy.typing import NDArray
 
-from scara_opt.collision.geometry import Body
+from scara_opt.collision.geometry import Body, reference_configuration
 from scara_opt.model.robot import Robot
 
 Array = NDArray[np.float64]
 
-__all__ = ["body_weights", "pair_weights"]
+__all__ = ["body_weights", "height_gaps", "height_range", "pair_weights"]
 
 
 def _hop(robot: Robot, k: int) -> Array:
@@ -97,3 +98,80 @@ def pair_weights(robot: Robot, bodies: tuple[Body, ...] | list[Body], pairs: obj
             lo, hi = (a, b) if a.joint <= b.joint else (b, a)
             out[p] = body_weights(robot, hi, after=lo.joint)
     return out
+
+
+def height_range(robot: Robot, body: Body, n: Array, fixed: bool = False
+                 ) -> tuple[float, float]:
+    r"""Smallest and largest :math:`n \cdot p` of ``body`` over all ``q`` within the limits [m].
+
+    For a robot whose revolute axes are all parallel to ``n`` (a SCARA). Rotations about
+    *n* leave every vector's component along *n* unchanged, so
+    :math:`n \cdot p(q) = n \cdot p(q_0) + \sum_j (n \cdot a_j)(v_j - v_{j,0})` over the
+    prismatic joints *j* up to the body's (world axis :math:`a_j`, whose component along
+    *n* is constant too): exact, over the limits, from the reference configuration
+    :math:`q_0`. With ``fixed``, the range at :math:`q_0` alone.
+    """
+    q0 = reference_configuration(robot)
+    data = robot.model.createData()
+    pin.forwardKinematics(robot.model, data, q0)
+    M = data.oMi[body.joint]
+    h = (body.points @ M.rotation.T + M.translation) @ n
+    lo, hi = float(h.min()) - body.pad, float(h.max()) + body.pad
+    k = 0 if fixed else body.joint
+    while k > 0:
+        cj = robot.chain[k - 1]
+        if cj.kind == "prismatic":
+            c = float(n @ (data.oMi[k].rotation @ cj.axis)) * cj.scaling
+            span = (c * (robot.lower[cj.index] - q0[cj.index]),
+                    c * (robot.upper[cj.index] - q0[cj.index]))
+            lo, hi = lo + min(span), hi + max(span)
+        k = robot.model.parents[k]
+    return lo, hi
+
+
+def height_gaps(robot: Robot, bodies: list[Body], pairs: object,
+                obstacles: dict[int, tuple[float, float]]) -> tuple[Array, Array, Array] | None:
+    r"""Each pair's separation along a SCARA's common axis, as affine functions of ``q``.
+
+    For a robot whose revolute axes are all parallel to ``n`` (else ``None``): a robot
+    body's range along *n* moves only with the prismatic joints, linearly
+    (:func:`height_range`), so for a pair (body, obstacle) the gap above the obstacle
+    :math:`g_+(q) = A q + a` and below it :math:`g_-(q) = -A q + b` are exact and affine
+    in ``q``. Where either is positive the pair is apart by at least that much; along a
+    straight joint segment it is positive throughout when it is at both ends.
+
+    Args:
+        robot: the robot.
+        bodies: every body (robot bodies first, obstacles after).
+        pairs: (npairs, 2) body indices.
+        obstacles: ``{body index: (lowest, highest)}`` of each obstacle along *n* [m].
+
+    Returns:
+        ``(A (npairs, nq), a (npairs,), b (npairs,))``; ``a = b = -inf`` for pairs of two
+        robot bodies (both move).
+    """
+    n = robot.yaw_axis
+    if n is None:
+        return None
+    q0 = reference_configuration(robot)
+    data = robot.model.createData()
+    pin.forwardKinematics(robot.model, data, q0)
+    pairs = np.asarray(pairs, dtype=int).reshape(-1, 2)
+    A = np.zeros((len(pairs), robot.nq))
+    a = np.full(len(pairs), -np.inf)
+    b = np.full(len(pairs), -np.inf)
+    for p, (i, j) in enumerate(pairs):
+        if j not in obstacles:
+            continue
+        body = bodies[i]
+        lo, hi = height_range(robot, body, n, fixed=True)
+        k = body.joint
+        while k > 0:
+            cj = robot.chain[k - 1]
+            if cj.kind == "prismatic":
+                A[p, cj.index] += float(n @ (data.oMi[k].rotation @ cj.axis)) * cj.scaling
+            k = robot.model.parents[k]
+        o_lo, o_hi = obstacles[j]
+        a[p] = lo - float(A[p] @ q0) - o_hi
+        b[p] = o_lo - hi + float(A[p] @ q0)
+    return A, a, b

@@ -9,6 +9,12 @@ signed distance for convex shapes; a mesh reports 0 when in contact).
 
 ``margin`` [m] makes the checker demand that much clearance: a configuration collides when
 a pair is closer than the margin.
+
+A robot whose revolute axes are all parallel (a SCARA) keeps every body within a fixed
+range along that axis, whatever the joints do (the prismatic strokes bound it exactly:
+:func:`~scara_opt.collision.bound.height_range`). A robot body and an obstacle whose
+ranges never come within the margin (the arms and a table below the tool's lowest
+reach) are not checked against each other; :attr:`CollisionChecker.skipped` says so.
 """
 
 from __future__ import annotations
@@ -23,9 +29,15 @@ import pinocchio as pin
 from numpy.typing import NDArray
 
 from scara_opt.checks import check_real, describe
-from scara_opt.collision.bound import pair_weights
+from scara_opt.collision.bound import height_gaps, height_range, pair_weights
 from scara_opt.collision.cell import Cell
-from scara_opt.collision.geometry import Body, RobotGeometry, check_pair_names, robot_geometry
+from scara_opt.collision.geometry import (
+    Body,
+    RobotGeometry,
+    check_pair_names,
+    robot_geometry,
+    support_points,
+)
 from scara_opt.errors import InputError
 from scara_opt.model.robot import Robot, check_robot
 
@@ -34,6 +46,35 @@ Array = NDArray[np.float64]
 __all__ = ["Clearance", "CollisionChecker"]
 
 _F64 = np.dtype(np.float64)
+
+
+#: batches go through coal's broad phase above this many pairs per body (measured on the
+#: cells of benchmarks/bench_plan.py: 52 pairs on 13 bodies 2.4x the loop with it, 1.5x
+#: without; 14 on 11, 1.9x without it and 1.7x with)
+BROAD_PHASE = 1.5
+
+#: a robot-obstacle pair is not checked when its bodies' ranges along the common joint
+#: axis of a SCARA-type robot stay this much farther apart than the margin [m]
+GAP_TOL = 1e-4
+
+
+def _heights(robot: Robot, bodies: list[Body]) -> tuple[Array, list] | None:
+    """The common axis of a SCARA-type robot and each body's range along it (else None)."""
+    n = robot.yaw_axis
+    if n is None:
+        return None
+    return n, [height_range(robot, b, n) for b in bodies]
+
+
+def _gap(heights: tuple | None, i: int, obj: pin.GeometryObject) -> float:
+    """How far apart body ``i`` and the obstacle ``obj`` always stay along the axis [m]."""
+    if heights is None:
+        return -math.inf
+    n, ranges = heights
+    points, pad = support_points(obj.geometry, obj.placement)
+    h = points @ n
+    lo, hi = ranges[i]
+    return max(float(h.min()) - pad - hi, lo - float(h.max()) - pad)
 
 
 @dataclass(frozen=True)
@@ -109,10 +150,17 @@ class CollisionChecker:
         n_robot = len(self.geometry.bodies)
         pairs = list(self.geometry.pairs)
         self.skipped = dict(self.geometry.skipped)
+        heights = _heights(self.robot, bodies[:n_robot])
         for i in range(n_robot):
             for j in range(n_robot, len(bodies)):
+                key = (bodies[i].name, bodies[j].name)
                 if any((i in x and j in y) or (j in x and i in y) for x, y in given):
-                    self.skipped[(bodies[i].name, bodies[j].name)] = "allowed"
+                    self.skipped[key] = "allowed"
+                    continue
+                gap = _gap(heights, i, model.geometryObjects[j])
+                if gap > self.margin + GAP_TOL:
+                    self.skipped[key] = (f"never within reach: at least {gap * 1e3:.3g} mm "
+                                         "apart along the joints' common axis")
                 else:
                     pairs.append((i, j))
         for i, j in pairs:
@@ -153,6 +201,22 @@ class CollisionChecker:
         to the other body by more than ``weights @ abs(dq)`` (:mod:`scara_opt.collision.bound`).
         """
         return pair_weights(self.robot, self.bodies, self.pairs)
+
+    @cached_property
+    def gaps(self) -> tuple[Array, Array, Array] | None:
+        """Each pair's gap above and below its obstacle along a SCARA's axis, affine in q.
+
+        ``(A, a, b)``: the gaps are ``A @ q + a`` and ``b - A @ q`` [m] (``-inf`` for self
+        pairs); ``None`` for a robot whose revolute axes are not parallel
+        (:func:`~scara_opt.collision.bound.height_gaps`).
+        """
+        obstacles = {}
+        for j, obj in enumerate(self.model.geometryObjects):
+            if self.bodies[j].joint == 0 and self.robot.yaw_axis is not None:
+                points, pad = support_points(obj.geometry, obj.placement)
+                h = points @ self.robot.yaw_axis
+                obstacles[j] = (float(h.min()) - pad, float(h.max()) + pad)
+        return height_gaps(self.robot, list(self.bodies), self.pairs, obstacles)
 
     @property
     def npairs(self) -> int:
@@ -212,19 +276,25 @@ class CollisionChecker:
         return self.robot.check_q_batch(Q)
 
     def _pool(self, threads: int) -> object:
-        """A broad-phase (AABB tree) pool of ``threads`` copies, kept per thread count."""
+        """A pool of ``threads`` copies of the model and data, kept per thread count.
+
+        A broad-phase pool (coal's dynamic AABB tree) when there are many pairs per body
+        (it skips the pairs whose boxes are apart), else a plain geometry pool (updating
+        the tree costs more than a few narrow-phase tests).
+        """
         pools = self.__dict__.setdefault("_pools", {})
         if threads not in pools:
-            pools[threads] = pin.BroadPhaseManagerPool_DynamicAABBTreeCollisionManager(
-                self.robot.model, self.model, threads)
+            broad = self.npairs > BROAD_PHASE * len(self.bodies)
+            make = (pin.BroadPhaseManagerPool_DynamicAABBTreeCollisionManager if broad
+                    else pin.GeometryPool)
+            pools[threads] = make(self.robot.model, self.model, threads)
         return pools[threads]
 
     def collides_many(self, Q: object, threads: int = 1) -> NDArray[np.bool_]:
         """:meth:`collides` of each row of ``Q`` (n, nq) in one call, (n,) bool.
 
-        Pinocchio's ``computeCollisionsInParallel`` over a broad-phase pool (coal's dynamic
-        AABB tree: pairs whose boxes are apart skip the narrow phase) in ``threads``
-        threads; with a margin, :meth:`distances_many` instead.
+        Pinocchio's ``computeCollisionsInParallel`` over a pool (:meth:`_pool`) in
+        ``threads`` threads; with a margin, :meth:`distances_many` instead.
         """
         Qa = self._batch(Q)
         threads = int(check_real("threads", threads, 1, 256))
@@ -245,6 +315,24 @@ class CollisionChecker:
         for i, q in enumerate(Qa):
             pin.computeDistances(model, data, gmodel, gdata, q)
             out[i] = [r.min_distance for r in results]
+        return out
+
+    def pair_distances(self, Q: Array, pairs: Array | None = None) -> Array:
+        """Signed distances (n, len(pairs)) of some pairs at each row of ``Q`` (n, nq) [m].
+
+        No checks (the proofs' inner loop): ``Q`` a float array, ``pairs`` indices into
+        :attr:`pair_names` (``None``: all, as :meth:`distances_many`).
+        """
+        if pairs is None:
+            return self.distances_many(Q)
+        data, gdata, _ = self._data()
+        model, gmodel = self._robot_model, self.model
+        place, distance = pin.updateGeometryPlacements, pin.computeDistance
+        cols = [int(k) for k in pairs]
+        out = np.empty((len(Q), len(cols)))
+        for i, q in enumerate(Q):
+            place(model, data, gmodel, gdata, q)
+            out[i] = [distance(gmodel, gdata, k).min_distance for k in cols]
         return out
 
     def clearance_many(self, Q: object) -> Array:

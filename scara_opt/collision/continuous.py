@@ -100,13 +100,16 @@ class Proof:
 
 
 def prove(s: Array, D: Array, config: Callable[[Array], Array],
-          bound: Callable[[Array, Array], Array], distances: Callable[[Array], Array],
+          bound: Callable[[Array, Array], Array],
+          distances: Callable[[Array, Array | None], Array],
           names: tuple[tuple[str, str], ...], *, margin: float = 0.0, locate: bool = False,
-          tol: float = 0.0, budget: int = MAX_EVALUATIONS) -> Proof:
+          tol: float = 0.0, budget: int = MAX_EVALUATIONS,
+          apart: Callable[..., Array] | None = None) -> Proof:
     """Prove the motion between the samples ``s`` clear by the rule of the module docstring.
 
-    All intervals are tried at once, level by level: those that pass are done, the others
-    are split at their middle.
+    All intervals are tried at once, level by level: those where every pair passes are
+    done, the others are split at their middle, where only the pairs that failed somewhere
+    are computed (the others are proven on every interval being split).
 
     Args:
         s: (m,) increasing parameters of the first samples (the motion's ends included).
@@ -114,17 +117,22 @@ def prove(s: Array, D: Array, config: Callable[[Array], Array],
         config: parameters (k,) -> configurations (k, nq).
         bound: interval ends (k,), (k,) -> bounds (k, npairs) on each pair's relative motion
             over each interval [m].
-        distances: configurations (k, nq) -> signed distances (k, npairs) [m].
+        distances: configurations (k, nq) and pair indices (or None: all) -> signed
+            distances (k, len) [m].
         names: the pairs' body names.
         margin: clearance to keep [m].
         locate: find the *first* contact to within ``tol`` (else stop at any contact).
         tol: the location tolerance on the parameter.
         budget: most configurations to evaluate; beyond, the rest is not proven.
+        apart: optional ``(lo, hi, Qlo, Qhi) -> (k, npairs)`` proven lower bounds on each
+            pair's distance over each interval by other means [m], less margin and
+            tolerance (> 0: apart there; e.g. a SCARA's height gaps).
     """
     s = np.asarray(s, float)
     shift = margin + DISTANCE_TOL
     D = np.asarray(D, float) - shift
-    if not D.shape[1]:
+    npairs = D.shape[1]
+    if not npairs:
         return Proof(True, None, math.inf, 0)
     contact: Contact | None = None
 
@@ -138,21 +146,27 @@ def prove(s: Array, D: Array, config: Callable[[Array], Array],
         contact = found(s[bad[0]], D[bad[0]])
         if not locate or bad[0] == 0:
             return Proof(False, contact, -math.inf, 0)
-    lo, hi, Dlo, Dhi = s[:-1], s[1:], D[:-1], D[1:]
+    Q = config(s)
+    lo, hi, Dlo, Dhi, Qlo, Qhi = s[:-1], s[1:], D[:-1], D[1:], Q[:-1], Q[1:]
     spare, evals = math.inf, 0
     while lo.size:
         M = bound(lo, hi)
         slack = Dlo + Dhi - M
-        ok = (slack > 0).all(axis=1) & (Dlo > 0).all(axis=1) & (Dhi > 0).all(axis=1)
+        fine = np.where((Dlo > 0) & (Dhi > 0), slack / 2, -math.inf)  # per-pair lower bounds
+        if apart is not None:
+            fine = np.maximum(fine, apart(lo, hi, Qlo, Qhi))
+        passed = fine > 0
+        ok = passed.all(axis=1)
         if ok.any():
-            spare = min(spare, float(slack[ok].min()) / 2)
+            spare = min(spare, float(fine[ok].min()))
         rest = ~ok
         if contact is not None:  # only what lies before the first contact matters
             rest &= (lo < contact.at) & ~((hi >= contact.at) & (hi - lo <= tol))
         if not rest.any():
             break
-        lo, hi, Dlo, Dhi, M = lo[rest], hi[rest], Dlo[rest], Dhi[rest], M[rest]
-        grazing = M.max(axis=1) < RESOLUTION
+        lo, hi, Dlo, Dhi, Qlo, Qhi, M, passed = (x[rest] for x in (
+            lo, hi, Dlo, Dhi, Qlo, Qhi, M, passed))
+        grazing = np.where(passed, 0.0, M).max(axis=1) < RESOLUTION
         if grazing.any() or evals + lo.size > budget:
             k = int(np.argmin(np.where(grazing, lo, np.inf))) if grazing.any() else 0
             c = found(lo[k], np.minimum(Dlo[k], Dhi[k]), sample=False)
@@ -161,11 +175,15 @@ def prove(s: Array, D: Array, config: Callable[[Array], Array],
             if not locate or not grazing.any():
                 break
             keep = ~grazing & (lo < contact.at)
-            lo, hi, Dlo, Dhi = lo[keep], hi[keep], Dlo[keep], Dhi[keep]
+            lo, hi, Dlo, Dhi, Qlo, Qhi, passed = (x[keep] for x in (
+                lo, hi, Dlo, Dhi, Qlo, Qhi, passed))
             if not lo.size:
                 break
         mid = (lo + hi) / 2
-        Dm = distances(config(mid)) - shift
+        Qm = config(mid)
+        cols = np.flatnonzero(~passed.all(axis=0))  # pairs failing somewhere
+        Dm = np.full((len(mid), npairs), math.inf)
+        Dm[:, cols] = distances(Qm, None if len(cols) == npairs else cols) - shift
         evals += mid.size
         hit = np.flatnonzero((Dm <= 0).any(axis=1))
         if hit.size:
@@ -176,6 +194,7 @@ def prove(s: Array, D: Array, config: Callable[[Array], Array],
                 break
         lo, hi = np.concatenate([lo, mid]), np.concatenate([mid, hi])
         Dlo, Dhi = np.concatenate([Dlo, Dm]), np.concatenate([Dm, Dhi])
+        Qlo, Qhi = np.concatenate([Qlo, Qm]), np.concatenate([Qm, Qhi])
     if contact is not None:
         return Proof(False, contact, -math.inf, evals)
     return Proof(True, None, shift + spare, evals)
@@ -200,8 +219,20 @@ def prove_segment(checker: CollisionChecker, qa: object, qb: object, *, locate: 
         return np.outer(hi - lo, M)
 
     D = checker.distances_many(np.array([qa, qb]))
-    p = prove(np.array([0.0, 1.0]), D, config, bound, checker.distances_many,
-              checker.pair_names, margin=checker.margin, locate=locate, tol=1e-6)
+    gaps = checker.gaps
+    apart = None
+    if gaps is not None:
+        A, a, b = gaps
+        shift = checker.margin + DISTANCE_TOL
+        ha, hb = A @ qa, A @ qb  # affine along the segment: the smaller end bounds it
+
+        def apart(lo: Array, hi: Array, Qlo: Array, Qhi: Array) -> Array:
+            h0 = np.outer(1 - lo, ha) + np.outer(lo, hb)
+            h1 = np.outer(1 - hi, ha) + np.outer(hi, hb)
+            return np.maximum(np.minimum(h0, h1) + a, b - np.maximum(h0, h1)) - shift
+
+    p = prove(np.array([0.0, 1.0]), D, config, bound, checker.pair_distances,
+              checker.pair_names, margin=checker.margin, locate=locate, tol=1e-6, apart=apart)
     return replace(p, evaluations=p.evaluations + 2)
 
 
@@ -216,12 +247,15 @@ class VelocityBound:
 
     def __init__(self, traj: object) -> None:
         self.breaks: list[Array] = []
-        self.tables: list[list[Array]] = []
+        self.tables: list[Array] = []  # (levels, pieces): row L the largest over 2**L pieces
         for x, b in traj.speed_bounds():  # type: ignore[attr-defined]
-            table, step = [b], 1  # level L: the largest over windows of 2**L pieces
+            rows, step = [b], 1
             while 2 * step <= len(b):
-                table.append(np.maximum(table[-1][:-step], table[-1][step:]))
+                rows.append(np.maximum(rows[-1][:-step], rows[-1][step:]))
                 step *= 2
+            table = np.zeros((len(rows), len(b)))
+            for level, row in enumerate(rows):
+                table[level, :len(row)] = row
             self.breaks.append(x)
             self.tables.append(table)
 
@@ -229,16 +263,11 @@ class VelocityBound:
         """Bounds (k, nq) on ``|q̇|`` over each interval ``[t0[i], t1[i]]`` [rad/s or m/s]."""
         out = np.empty((len(t0), len(self.tables)))
         for j, (x, table) in enumerate(zip(self.breaks, self.tables, strict=True)):
-            n = len(table[0])
-            a = np.clip(np.searchsorted(x, t0, side="right") - 1, 0, n - 1)
-            b = np.clip(np.searchsorted(x, t1, side="left") - 1, a, n - 1)
-            k = np.minimum(np.floor(np.log2(b - a + 1)).astype(int), len(table) - 1)
-            vals = np.empty(len(t0))
-            for level in np.unique(k):
-                m = k == level
-                row = table[level]
-                vals[m] = np.maximum(row[a[m]], row[b[m] - (1 << level) + 1])
-            out[:, j] = vals
+            n = table.shape[1]
+            a = np.minimum(np.maximum(np.searchsorted(x, t0, side="right") - 1, 0), n - 1)
+            b = np.minimum(np.maximum(np.searchsorted(x, t1, side="left") - 1, a), n - 1)
+            k = np.minimum(np.log2(b - a + 1).astype(int), table.shape[0] - 1)
+            out[:, j] = np.maximum(table[k, a], table[k, b - (1 << k) + 1])
         return out
 
 
@@ -263,13 +292,46 @@ def check_trajectory(checker: CollisionChecker, traj: object, *, locate: bool = 
     D = checker.distances_many(Q)
     vel = VelocityBound(traj)
     W = checker.weights
+    seen: list = [None, None]
+
+    def speeds(lo: Array, hi: Array) -> Array:  # the bound and the gaps ask for the same
+        if seen[0] is not lo:
+            seen[0], seen[1] = lo, vel(lo, hi)
+        return seen[1]
 
     def bound(lo: Array, hi: Array) -> Array:
-        return (hi - lo)[:, None] * (vel(lo, hi) @ W.T)
+        return (hi - lo)[:, None] * (speeds(lo, hi) @ W.T)
 
-    p = prove(t, D, traj.evaluate, bound, checker.distances_many, checker.pair_names,
-              margin=checker.margin, locate=locate, tol=TIME_TOL)
+    p = prove(t, D, traj.evaluate, bound, checker.pair_distances, checker.pair_names,
+              margin=checker.margin, locate=locate, tol=TIME_TOL,
+              apart=_trajectory_gaps(checker, speeds))
     return replace(p, evaluations=p.evaluations + len(t))
+
+
+def _trajectory_gaps(checker: CollisionChecker, vel: Callable[[Array, Array], Array]
+                     ) -> Callable[..., Array] | None:
+    """A SCARA's height gaps over trajectory intervals (None for other robots).
+
+    On ``[t0, t1]`` each joint stays within ``(q0 + q1)/2 ± v̄ (t1 - t0)/2`` (it cannot go
+    farther at speed ``v̄`` and still reach both ends); the gaps are affine in ``q``, so their
+    least over that box bounds them.
+    """
+    gaps = checker.gaps
+    if gaps is None:
+        return None
+    A, a, b = gaps
+    Ap, An = np.maximum(A, 0.0), np.minimum(A, 0.0)
+    shift = checker.margin + DISTANCE_TOL
+
+    def apart(lo: Array, hi: Array, Qlo: Array, Qhi: Array) -> Array:
+        half = vel(lo, hi) * ((hi - lo) / 2)[:, None]
+        mid = (Qlo + Qhi) / 2
+        qmin, qmax = mid - half, mid + half
+        low = qmin @ Ap.T + qmax @ An.T   # least of A q over the box
+        high = qmax @ Ap.T + qmin @ An.T  # largest
+        return np.maximum(low + a, b - high) - shift
+
+    return apart
 
 
 def deepest(checker: CollisionChecker, traj: object, contact: Contact, dt: float = 1e-3

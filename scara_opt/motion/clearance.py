@@ -14,9 +14,9 @@
   a cell, and the timed trajectory is proven clear (:mod:`scara_opt.collision.continuous`):
   toppra's spline through a planned path's waypoints is not the polyline that was
   proven. A planned path is handed to toppra with extra points near its corners
-  (:func:`hugging`), so the spline follows the polyline closely; when the timed trajectory
-  still is not proven clear, or leaves the joint limits, the points are doubled and the
-  section timed again (up to :data:`RETRIES` times).
+  (:func:`hugging`), so the spline follows the polyline closely; while the timed trajectory
+  is not proven clear, or leaves the joint limits, more points are added near the corners
+  and the section timed again (up to :data:`RETRIES` times).
 * **LIN / CIRC** keep their tool path: one that hits the cell is refused
   (:class:`~scara_opt.errors.MoveCollisionError`, naming the move, the time and the bodies).
 """
@@ -53,24 +53,26 @@ Array = NDArray[np.float64]
 
 __all__ = ["CellPlanning", "hugging", "in_cell"]
 
-#: times a planned section is timed again with twice the points near its corners
-RETRIES = 3
+#: joint-space points added near each inner corner of a planned path, per attempt
+#: (fractions of the adjoining segments, from the corner): fewer points time faster and
+#: shorter (measured on benchmarks/bench_plan.py's post cell: 49 ms, 2.11 s without any,
+#: 114 ms, 2.39 s with the last set), more keep the spline on the proven polyline
+NEAR = ((), (0.2,), (0.25, 0.08), (0.25, 0.1, 0.03), (0.12, 0.05, 0.015))
 
-#: joint-space points added near each inner corner of a planned path (fractions of the
-#: adjoining segments, from the corner)
-NEAR = (0.25, 0.1, 0.03)
+#: times a planned section is timed again, with the next set of :data:`NEAR` points
+RETRIES = len(NEAR) - 1
 
 
 def hugging(Q: Array, level: int = 0) -> Array:
     """The polyline ``Q`` (n, nq) with points added so a spline through them follows it.
 
-    Each segment gets points at the fractions :data:`NEAR` (halved ``level`` times) from each
-    of its inner ends, and its middle; the spline's bulge at a corner then spans only the
-    short pieces beside it.
+    Each segment gets its middle and points at the fractions ``NEAR[level]`` from each of
+    its inner ends; the spline's bulge at a corner then spans only the short pieces beside
+    it.
     """
     if len(Q) < 3:
         return Q
-    near = np.array(NEAR) / 2**level
+    near = np.array(NEAR[level], dtype=float)
     rows = [Q[:1]]
     for k in range(len(Q) - 1):
         a, b = Q[k], Q[k + 1]
@@ -181,7 +183,7 @@ class CellPlanning:
                     timed: Callable, limits: Limits, method: str, t0: float) -> tuple:
         """``timed(Q, owner)`` of a section, proven clear (and a planned one within limits).
 
-        A planned PTP is timed through :func:`hugging` points, doubled up to
+        A planned PTP is timed through :func:`hugging` points, more of them up to
         :data:`RETRIES` times while the timed trajectory is not proven clear or leaves the
         joint limits; any other section that is not clear is refused.
 
@@ -212,7 +214,8 @@ class CellPlanning:
                 if planned:
                     plan = self.plans[index]
                     note += (f"; planned around the cell: {len(Q)} waypoints "
-                             f"({plan.time_s * 1e3:.1f} ms, {plan.states} states)")
+                             f"({plan.time_s * 1e3:.1f} ms, {plan.states} states), timed "
+                             f"through {len(rows)} points (attempt {level + 1})")
                 return part, note, knots, profile
             if not planned:
                 k = int(np.clip(np.searchsorted(knots, report.time, side="right") - 1, 0,
@@ -223,8 +226,9 @@ class CellPlanning:
             "outside the joint limits between its waypoints"
         raise TrajectoryError(f"move {index} (PTP): the path planned around the cell is proven "
                               f"clear, but toppra's spline through it is {what}, even with "
-                              f"{RETRIES} times more points near its corners; raise margin= "
-                              "(the planner then keeps farther from the obstacles)")
+                              f"{RETRIES} more points near its corners; raise margin= (the "
+                              "planner then keeps farther from the obstacles), or move the "
+                              "start or goal away from the joint limits")
 
 
 def in_cell(robot: Robot, cell: object, margin: float, time_limit: float, seed: int

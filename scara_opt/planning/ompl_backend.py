@@ -59,7 +59,8 @@ class EdgeProver:
     kept as Python floats: with a few pairs, plain loops beat numpy's per-call overhead.
 
     Attributes:
-        states: configurations whose distances were computed.
+        states: configurations whose distances were all computed (states asked about).
+        midpoints: configurations inside edges where some pairs' distances were computed.
         edges: edges asked about; ``proven``: those proven clear.
     """
 
@@ -68,7 +69,12 @@ class EdgeProver:
         self.shift = checker.margin + DISTANCE_TOL
         self.W = checker.weights
         self.cache: dict[tuple[float, ...], list[float]] = {}
+        gaps = checker.gaps
+        self.gaps: dict[tuple[float, ...], tuple[list[float], list[float]]] = {}
+        self._A = None if gaps is None else gaps[0]
+        self._ab = None if gaps is None else (gaps[1] - self.shift, gaps[2] - self.shift)
         self.states = 0
+        self.midpoints = 0
         self.edges = 0
         self.proven = 0
         self._data = checker._data()
@@ -81,6 +87,19 @@ class EdgeProver:
             D = self.cache[key] = self._compute(np.array(key))
         return D
 
+    def heights(self, key: tuple[float, ...]) -> tuple[list[float], list[float]] | None:
+        """Gaps above and below each pair's obstacle along a SCARA's axis at ``key``.
+
+        Less the margin and tolerance; ``None`` for other robots; cached.
+        """
+        if self._A is None:
+            return None
+        G = self.gaps.get(key)
+        if G is None:
+            h = self._A @ np.array(key)
+            G = self.gaps[key] = ((h + self._ab[0]).tolist(), (self._ab[1] - h).tolist())
+        return G
+
     def _compute(self, q: Array) -> list[float]:
         import pinocchio as pin
 
@@ -90,6 +109,11 @@ class EdgeProver:
         shift = self.shift
         return [r.min_distance - shift for r in results]
 
+    @property
+    def configurations(self) -> int:
+        """Configurations checked: whole states and midpoints of edges."""
+        return self.states + self.midpoints
+
     def valid(self, key: tuple[float, ...]) -> bool:
         """Whether every pair is farther than the margin at ``key``."""
         return min(self.distances(key), default=1.0) > 0
@@ -98,10 +122,13 @@ class EdgeProver:
         """Whether the straight segment from ``a`` to ``b`` is proven clear.
 
         The rule of :mod:`scara_opt.collision.continuous` on one segment, its intervals
-        taken middle first (a collision is found early): an interval of length ``w`` (a
-        fraction of the segment) passes when ``w M < D0 + D1`` for every pair, else its
-        middle is checked (a contact there ends it) and both halves are queued.
+        taken middle first (a collision is found early): for an interval of length ``w`` (a
+        fraction of the segment), the pairs with ``w M < D0 + D1`` are proven on it; for
+        the others, their distances at its middle are computed (a contact there ends it)
+        and both halves are queued with them alone.
         """
+        import pinocchio as pin
+
         self.edges += 1
         Da, Db = self.distances(a), self.distances(b)
         if min(Da, default=1.0) <= 0 or min(Db, default=1.0) <= 0:
@@ -109,20 +136,33 @@ class EdgeProver:
         qa = np.array(a)
         dq = np.array(b) - qa
         M = (self.W @ np.abs(dq)).tolist()
-        top = max(M, default=0.0)
-        queue = deque([(1.0, Da, Db, 0.0)])
-        while queue:
-            w, D0, D1, s0 = queue.popleft()
-            if all(w * m < d0 + d1 for m, d0, d1 in zip(M, D0, D1, strict=True)):
-                continue
-            if w * top < RESOLUTION:
-                return False  # grazing: not proven
-            h = w / 2
-            Dm = self._compute(qa + (s0 + h) * dq)
-            if min(Dm) <= 0:
-                return False
-            queue.append((h, D0, Dm, s0))
-            queue.append((h, Dm, D1, s0 + h))
+        pairs = [k for k, (m, d0, d1) in enumerate(zip(M, Da, Db, strict=True))
+                 if not m < d0 + d1]
+        G = self.heights(a), self.heights(b)
+        if G[0] is None:
+            G = None
+        elif pairs:  # apart along the axis at both ends: all along the segment (affine)
+            pairs = [k for k in pairs if not _apart(G, k, 0.0, 1.0)]
+        if pairs:
+            data, gdata, _ = self._data
+            model, gmodel, shift = self._model, self.checker.model, self.shift
+            distance, place = pin.computeDistance, pin.updateGeometryPlacements
+            queue = deque([(0.5, 0.0, pairs, [Da[k] for k in pairs], [Db[k] for k in pairs])])
+            while queue:
+                h, s0, pairs, D0, D1 = queue.popleft()  # h: half the interval's length
+                if 2 * h * max(M[k] for k in pairs) < RESOLUTION:
+                    return False  # grazing: not proven
+                place(model, data, gmodel, gdata, qa + (s0 + h) * dq)
+                self.midpoints += 1
+                Dm = [distance(gmodel, gdata, k).min_distance - shift for k in pairs]
+                if min(Dm) <= 0:
+                    return False
+                for lo, d_lo, d_hi in ((s0, D0, Dm), (s0 + h, Dm, D1)):
+                    open_ = [i for i, k in enumerate(pairs) if not h * M[k] < d_lo[i] + d_hi[i]
+                             and not (G is not None and _apart(G, k, lo, lo + h))]
+                    if open_:
+                        queue.append((h / 2, lo, [pairs[i] for i in open_],
+                                      [d_lo[i] for i in open_], [d_hi[i] for i in open_]))
         self.proven += 1
         return True
 
@@ -130,6 +170,19 @@ class EdgeProver:
         """Whether every edge of the polyline ``Q`` (n, nq) is proven clear."""
         keys = [tuple(q) for q in Q.tolist()]
         return all(self.edge(a, b) for a, b in zip(keys, keys[1:], strict=False))
+
+
+def _apart(G: tuple, k: int, s0: float, s1: float) -> bool:
+    """Whether pair ``k`` stays apart along the axis on ``[s0, s1]`` of a segment.
+
+    ``G``: the gaps (above, below) at the segment's two ends; they are affine along it.
+    """
+    (up_a, down_a), (up_b, down_b) = G
+    ua, ub = up_a[k], up_b[k]
+    if (1 - s0) * ua + s0 * ub > 0 and (1 - s1) * ua + s1 * ub > 0:
+        return True
+    da, db = down_a[k], down_b[k]
+    return (1 - s0) * da + s0 * db > 0 and (1 - s1) * da + s1 * db > 0
 
 
 @dataclass(frozen=True)

@@ -172,8 +172,8 @@ def plan_path(checker: CollisionChecker, start: object, goal: object, *,
     if prover.edge(ka, kb):
         Q = np.array([qa, qb])
         return PathPlan(PlanStatus.SOLVED, Q, "the straight joint segment is proven clear",
-                        "straight", time.perf_counter() - begin, prover.states, prover.edges,
-                        0, path_length(Q), seed)
+                        "straight", time.perf_counter() - begin, prover.configurations,
+                        prover.edges, 0, path_length(Q), seed)
     robot = checker.robot
     inset = LIMIT_INSET * (robot.sampling_upper - robot.sampling_lower)
     lower = np.minimum(robot.sampling_lower + inset, np.minimum(qa, qb))
@@ -185,11 +185,12 @@ def plan_path(checker: CollisionChecker, start: object, goal: object, *,
         return PathPlan(PlanStatus.NO_PATH, None,
                         f"no path found within the time limit ({time_limit:g} s): RRTConnect "
                         f"grew {run.planner_states} states in {run.plan_s:.3g} s, "
-                        f"{prover.states} configurations and {prover.edges} edges checked; "
+                        f"{prover.configurations} configurations and {prover.edges} edges "
+                        "checked; "
                         "not a proof that none exists: give more time, another seed or a "
                         "smaller margin, or move the goal",
-                        "RRTConnect", elapsed, prover.states, prover.edges, run.planner_states,
-                        math.nan, seed)
+                        "RRTConnect", elapsed, prover.configurations, prover.edges,
+                        run.planner_states, math.nan, seed)
     Q = run.path
     if not prover.path(Q):  # the simplifier's output proven once more, edge by edge
         Q = run.raw
@@ -198,5 +199,5 @@ def plan_path(checker: CollisionChecker, start: object, goal: object, *,
     Q[0], Q[-1] = qa, qb
     return PathPlan(PlanStatus.SOLVED, Q, f"RRTConnect ({run.plan_s * 1e3:.1f} ms) and "
                     f"PathSimplifier ({run.simplify_s * 1e3:.1f} ms), every edge proven",
-                    "RRTConnect", time.perf_counter() - begin, prover.states, prover.edges,
-                    run.planner_states, path_length(Q), seed)
+                    "RRTConnect", time.perf_counter() - begin, prover.configurations,
+                    prover.edges, run.planner_states, path_length(Q), seed)
