@@ -170,3 +170,17 @@ def test_ptp_target_takes_a_clear_ik_branch():
     traj = so.plan(ROBOT, [so.PTP(target)], start=start, cell=cell)
     assert np.allclose(traj.waypoints[-1], far.q)
     assert dense_clear_trajectory(checker, traj)
+
+
+def test_out_of_limits_start_or_goal_refused_with_or_without_a_cell():
+    """A joint goal or a start outside the limits is refused naming the joint, in a cell or
+    not (before, plan() timed a PTP to theta1 = 5.2 rad on a +-2.09 rad joint).
+
+    Mutation caught: the PTP joint goal checked for its shape only (robot.check_q).
+    """
+    far = np.array([5.2, 0.0, 0.0, 0.0])
+    for cell in (None, POST):
+        with pytest.raises(so.MoveError, match="PTP goal: joint 'theta1' = 5.2 rad is outside"):
+            so.plan(ROBOT, [so.PTP(far)], start=QA, cell=cell)
+        with pytest.raises(so.JointLimitError, match="start: joint 'theta1'"):
+            so.plan(ROBOT, [so.PTP(QB)], start=far, cell=cell)

@@ -32,8 +32,9 @@ from collections.abc import Iterable
 from pathlib import Path
 
 from scara_opt.checks import describe
+from scara_opt.collision.geometry import name_pairs
 from scara_opt.collision.obstacles import KINDS, Obstacle
-from scara_opt.errors import CellError
+from scara_opt.errors import CellError, InputError
 from scara_opt.model.dh import ANGLE_UNITS, LENGTH_UNITS
 from scara_opt.model.dh_file import check_keys
 
@@ -78,13 +79,11 @@ class Cell:
                                 "(contacts are reported by name)")
             seen.add(ob.name)
         try:
-            pairs = tuple(tuple(p) for p in allowed)
-        except TypeError:
-            raise CellError(f"allowed must be a list of (body, body) pairs; got "
-                            f"{describe(allowed)}") from None
-        for p in pairs:
-            if len(p) != 2 or not all(isinstance(n, str) for n in p):
-                raise CellError(f"allowed: each entry must be a pair of body names; got {p!r}")
+            pairs = tuple(name_pairs(allowed, "allowed"))
+        except CellError:
+            raise
+        except InputError as exc:
+            raise CellError(str(exc)) from None
         self.obstacles: tuple[Obstacle, ...] = items
         self.allowed: tuple[tuple[str, str], ...] = pairs  # type: ignore[assignment]
         self.name = name

@@ -35,6 +35,7 @@ from scara_opt.collision.geometry import (
     Body,
     RobotGeometry,
     check_pair_names,
+    name_pairs,
     robot_geometry,
     support_points,
 )
@@ -105,9 +106,12 @@ class CollisionChecker:
         robot: the robot.
         cell: its :class:`~scara_opt.collision.cell.Cell` (``None``: self-collision only).
         margin: clearance a configuration must keep to count as free [m] (default 0).
-        radius, srdf, allowed, missing_mesh: passed to
-            :func:`~scara_opt.collision.geometry.robot_geometry` (``allowed`` may also name
-            robot-obstacle pairs, like the cell's own ``allowed``).
+        radius: capsule radius [m] of a robot without ``<collision>`` (see
+            :func:`~scara_opt.collision.geometry.robot_geometry`).
+        srdf: an SRDF (file or text) whose ``<disable_collisions>`` pairs are not checked.
+        allowed: more pairs not to check: two robot bodies, or a robot body and an
+            obstacle (like the cell's own ``allowed``).
+        missing_mesh: ``"error"`` or ``"capsule"`` for a robot mesh that is missing.
         geometry: a :class:`~scara_opt.collision.geometry.RobotGeometry` already built
             (then ``radius``, ``srdf``, ``missing_mesh`` are not used).
 
@@ -129,9 +133,9 @@ class CollisionChecker:
                              f"so.Cell([...])) or None; got {describe(cell)}")
         self.cell = cell
         self.margin = check_real("margin", margin, 0.0, 1.0, unit="m")
-        robot_pairs = [p for p in allowed  # type: ignore[attr-defined]
-                       if not set(p) & set(cell.names)] if allowed else []
-        cell_pairs = [p for p in allowed if set(p) & set(cell.names)] if allowed else []  # type: ignore[attr-defined]
+        given_pairs = name_pairs(allowed, "allowed")
+        robot_pairs = [p for p in given_pairs if not set(p) & set(cell.names)]
+        cell_pairs = [p for p in given_pairs if set(p) & set(cell.names)]
         self.geometry = geometry if geometry is not None else robot_geometry(
             robot, radius=radius, srdf=srdf, allowed=robot_pairs, missing_mesh=missing_mesh)
         model = pin.GeometryModel()

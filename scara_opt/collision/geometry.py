@@ -256,6 +256,9 @@ def _urdf_bodies(robot: Robot, radius: object, missing_mesh: str) -> list[pin.Ge
 
 def _srdf_pairs(srdf: str | Path) -> list[tuple[str, str]]:
     """The ``<disable_collisions link1= link2=/>`` pairs of an SRDF file (or its text)."""
+    if not isinstance(srdf, (str, Path)):
+        raise InputError(f"srdf must be an SRDF file's path or its XML text; got "
+                         f"{describe(srdf)}")
     text = str(srdf)
     if not text.lstrip().startswith("<"):
         path = Path(srdf)
@@ -275,6 +278,29 @@ def _srdf_pairs(srdf: str | Path) -> list[tuple[str, str]]:
     return pairs
 
 
+def name_pairs(pairs: object, where: str) -> list[tuple[str, str]]:
+    """``pairs`` as a list of (str, str).
+
+    Raises:
+        InputError: not a sequence of pairs of names.
+    """
+    if isinstance(pairs, (str, bytes, dict)):
+        items = None
+    else:
+        try:
+            items = [tuple(p) for p in pairs]  # type: ignore[attr-defined]
+        except TypeError:
+            items = None
+    if items is None:
+        raise InputError(f"{where} must be a list of (body, body) pairs; got "
+                         f"{describe(pairs)}")
+    for p in items:
+        if len(p) != 2 or not all(isinstance(n, str) for n in p):
+            raise InputError(f"{where}: each entry must be a pair of body names (str, str); "
+                             f"got {p!r}")
+    return items  # type: ignore[return-value]
+
+
 def check_pair_names(pairs: object, known: dict[str, set[int]], where: str
                      ) -> list[tuple[set[int], set[int]]]:
     """Pairs of body or link names as pairs of body-index sets.
@@ -284,15 +310,7 @@ def check_pair_names(pairs: object, known: dict[str, set[int]], where: str
         UnknownBodyError: a name that is no body or link (the message lists them).
     """
     out = []
-    try:
-        items = [tuple(p) for p in pairs]  # type: ignore[attr-defined]
-    except TypeError:
-        raise InputError(f"{where} must be a list of (body, body) pairs; got "
-                         f"{describe(pairs)}") from None
-    for p in items:
-        if len(p) != 2 or not all(isinstance(n, str) for n in p):
-            raise InputError(f"{where}: each entry must be a pair of body names (str, str); "
-                             f"got {p!r}")
+    for p in name_pairs(pairs, where):
         for n in p:
             if n not in known:
                 raise UnknownBodyError(n, known, where)

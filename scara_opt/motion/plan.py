@@ -22,6 +22,7 @@ from numpy.typing import NDArray
 
 from scara_opt.checks import check_flag, check_real
 from scara_opt.errors import BranchError, InputError, MoveError
+from scara_opt.model.joint_checks import check_within_limits
 from scara_opt.model.robot import Robot, check_robot
 from scara_opt.motion import branch, geometry
 from scara_opt.motion.blend import blended_joints
@@ -218,6 +219,7 @@ def plan(robot: Robot, moves: object, limits: ToolLimits | None = None, *,
             in collision: the move, the time, the bodies, the depth.
         NoPathFoundError: in a cell, no path found for a PTP within ``time_limit``.
         CollisionError: the start in collision.
+        JointLimitError: the start outside the joint limits.
         InputError: bad limits, start or step; torque limits with ``method="ruckig"``.
         DynamicsError: torque limits for a robot without inertias, or a load gravity alone
             makes too heavy.
@@ -253,7 +255,7 @@ def plan(robot: Robot, moves: object, limits: ToolLimits | None = None, *,
         if not program:
             raise InputError("a program of a single PTP without start= does not move")
     else:
-        q, offset = robot.check_q(start, "start"), 0
+        q, offset = check_within_limits(robot, start, "start"), 0
     if cellp is not None:
         cellp.check_start(q)
     pieces, goals, tools, notes, corners, profiles = [], [q], [], [], [], []

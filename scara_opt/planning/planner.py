@@ -28,12 +28,13 @@ from numpy.typing import NDArray
 
 from scara_opt.checks import check_flag, check_int, check_real, describe
 from scara_opt.collision.checker import CollisionChecker
-from scara_opt.errors import CollisionError, InputError, JointLimitError
+from scara_opt.errors import CollisionError, InputError
+from scara_opt.model.joint_checks import check_within_limits
 from scara_opt.planning.ompl_backend import EdgeProver, rrt_connect
 
 Array = NDArray[np.float64]
 
-__all__ = ["PathPlan", "PlanStatus", "check_clear", "check_within_limits", "plan_path"]
+__all__ = ["PathPlan", "PlanStatus", "check_clear", "plan_path"]
 
 #: default wall-clock limit of one query [s]
 TIME_LIMIT = 1.0
@@ -100,24 +101,6 @@ def path_length(Q: Array) -> float:
     return float(np.linalg.norm(np.diff(Q, axis=0), axis=1).sum()) if len(Q) > 1 else 0.0
 
 
-def check_within_limits(checker: CollisionChecker, q: object, what: str) -> Array:
-    """``q`` (nq,) checked, inside the joint limits.
-
-    Raises:
-        InputError: not (nq,) finite numbers. JointLimitError: outside a limit (named).
-    """
-    robot = checker.robot
-    qa = robot.check_q(q, what)
-    for name, kind, v, lo, hi in zip(robot.joint_names, robot.joint_types, qa, robot.lower,
-                                     robot.upper, strict=True):
-        if not lo <= v <= hi:
-            unit = "rad" if kind == "revolute" else "m"
-            raise JointLimitError(f"{what}: joint {name!r} = {v:.6g} {unit} is outside "
-                                  f"[{lo:.6g}, {hi:.6g}] {unit}; pass a {what} inside the "
-                                  "joint limits", joint=name)
-    return qa
-
-
 def check_clear(checker: CollisionChecker, q: Array, what: str) -> None:
     """Refuse a configuration in collision, naming the bodies and the depth.
 
@@ -163,8 +146,8 @@ def plan_path(checker: CollisionChecker, start: object, goal: object, *,
     seed = check_int("seed", seed, 0)
     check_flag("simplify", simplify)
     begin = time.perf_counter()
-    qa = check_within_limits(checker, start, "start")
-    qb = check_within_limits(checker, goal, "goal")
+    qa = check_within_limits(checker.robot, start, "start")
+    qb = check_within_limits(checker.robot, goal, "goal")
     check_clear(checker, qa, "start")
     check_clear(checker, qb, "goal")
     prover = EdgeProver(checker)
