@@ -184,3 +184,27 @@ def test_out_of_limits_start_or_goal_refused_with_or_without_a_cell():
             so.plan(ROBOT, [so.PTP(far)], start=QA, cell=cell)
         with pytest.raises(so.JointLimitError, match="start: joint 'theta1'"):
             so.plan(ROBOT, [so.PTP(QB)], start=far, cell=cell)
+
+
+def test_cycle_time_in_a_cell_plans_around_a_block():
+    """A block on the straight way between the cycle's pick and place: the cycle is planned
+    around it (same placement), proven clear, and takes longer than without it; a cell that
+    blocks every placement is refused saying so.
+
+    Mutation caught: cycle_time ignoring cell= (the straight PTP through the block: the
+    dense check here fails).
+    """
+    from scara_opt.motion.cycle import place_cycle
+
+    A, B, _, _ = place_cycle(ROBOT, 0.025, 0.2, 0.025)
+    mid = (A + B) / 2
+    cell = so.Cell([so.Box("block", (0.04, 0.04, 0.04), xyz=(mid[0], mid[1], -0.075))])
+    free = so.cycle_time(ROBOT, across=0.2)
+    res = so.cycle_time(ROBOT, across=0.2, cell=cell)
+    assert np.allclose(res.pick, A) and np.allclose(res.place, B)
+    checker = so.CollisionChecker(ROBOT, cell)
+    assert dense_clear_trajectory(checker, res.trajectory)
+    assert res.durations["toppra"] > free.durations["toppra"]
+    wall = so.Cell([so.Box("floor", (2, 2, 0.02), xyz=(0, 0, -0.08))])
+    with pytest.raises(so.InputError, match="plans clear of the cell"):
+        so.cycle_time(ROBOT, across=0.2, cell=wall)
