@@ -48,6 +48,7 @@ import pinocchio as pin
 
 import scara_opt as so
 from scara_opt.errors import NoPathFoundError, TrajectoryError
+from scara_opt.planning.ompl_backend import box_space, start_and_goal
 
 TIME_LIMIT = 1.0
 DENSE = 1e-3  # rad or m of joint motion between the independent checks
@@ -170,12 +171,7 @@ def ompl_baseline(robot: so.Robot, checker: so.CollisionChecker, a: np.ndarray,
     ou.setLogLevel(ou.LOG_NONE)
     ou.RNG.setSeed(seed + 1)
     nq = robot.nq
-    space = ob.RealVectorStateSpace(nq)
-    bounds = ob.RealVectorBounds(nq)
-    for k in range(nq):
-        bounds.setLow(k, float(robot.lower[k]))
-        bounds.setHigh(k, float(robot.upper[k]))
-    space.setBounds(bounds)
+    space = box_space(ob, robot.lower, robot.upper)
     si = ob.SpaceInformation(space)
     model, gmodel = robot.model, checker.model
     data, gdata = model.createData(), pin.GeometryData(gmodel)
@@ -191,11 +187,7 @@ def ompl_baseline(robot: so.Robot, checker: so.CollisionChecker, a: np.ndarray,
     si.setStateValidityChecker(valid)
     si.setStateValidityCheckingResolution(0.01)
     si.setup()
-    A, B = space.allocState(), space.allocState()
-    for k in range(nq):
-        A[k], B[k] = float(a[k]), float(b[k])
-    pdef = ob.ProblemDefinition(si)
-    pdef.setStartAndGoalStates(A, B)
+    pdef = start_and_goal(ob, space, si, a, b)
     planner = og.RRTConnect(si)
     planner.setProblemDefinition(pdef)
     planner.setup()

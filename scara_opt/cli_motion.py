@@ -8,9 +8,10 @@ from __future__ import annotations
 
 import argparse
 import json
-import math
 
 from scara_opt.cli_plan import add_cell_arguments, cell_keywords
+from scara_opt.cli_units import nonnegative as _nonnegative
+from scara_opt.cli_units import positive as _positive
 from scara_opt.outputs import FORCE_HELP
 
 #: the files ``cycle`` writes into ``--out`` when asked, by option
@@ -80,20 +81,6 @@ def cmd_cycle(args: argparse.Namespace) -> int:
     if written:
         print("wrote " + ", ".join(written))
     return 0
-
-
-def _positive(text: str) -> float:
-    value = float(text)
-    if not (value > 0 and math.isfinite(value)):
-        raise argparse.ArgumentTypeError(f"must be a finite number > 0; got {text}")
-    return value
-
-
-def _nonnegative(text: str) -> float:
-    value = float(text)
-    if not (value >= 0 and math.isfinite(value)):
-        raise argparse.ArgumentTypeError(f"must be a finite number >= 0; got {text}")
-    return value
 
 
 def add_parser(sub: argparse._SubParsersAction) -> argparse.ArgumentParser:

@@ -10,10 +10,10 @@ from __future__ import annotations
 
 import argparse
 import json
-import math
 
 import numpy as np
 
+from scara_opt.cli_units import nonnegative, positive
 from scara_opt.outputs import FORCE_HELP
 
 #: the files ``plan`` writes into ``--out`` when asked, by option
@@ -21,20 +21,6 @@ FILES = {"csv": "plan.csv", "html": "plan.html"}
 
 #: exit code when no path was found within the time limit (as ``ik`` not solving)
 EXIT_NO_PATH = 1
-
-
-def _positive(text: str) -> float:
-    value = float(text)
-    if not (value > 0 and math.isfinite(value)):
-        raise argparse.ArgumentTypeError(f"must be a finite number > 0; got {text}")
-    return value
-
-
-def _margin(text: str) -> float:
-    value = float(text)
-    if not (value >= 0 and math.isfinite(value)):
-        raise argparse.ArgumentTypeError(f"must be a finite number >= 0 [mm]; got {text}")
-    return value
 
 
 def _seed(text: str) -> int:
@@ -52,9 +38,9 @@ def add_cell_arguments(p: argparse.ArgumentParser, required: bool = False) -> No
     p.add_argument("--cell", metavar="FILE", required=required,
                    help="cell file (TOML: obstacles in stated units); moves are planned "
                         "around its obstacles and proven clear of them")
-    p.add_argument("--margin", type=_margin, default=0.0, metavar="MM",
+    p.add_argument("--margin", type=nonnegative, default=0.0, metavar="MM",
                    help="clearance to keep from the cell [mm] (0)")
-    p.add_argument("--time-limit", type=_positive, default=1.0, metavar="S",
+    p.add_argument("--time-limit", type=positive, default=1.0, metavar="S",
                    help="planning limit of each PTP around obstacles [s] (1)")
     p.add_argument("--seed", type=_seed, default=0, help="the planner's seed (0)")
 
@@ -162,7 +148,7 @@ def add_parser(sub: argparse._SubParsersAction) -> argparse.ArgumentParser:
     p.add_argument("--out", help="folder for the files below")
     p.add_argument("--csv", action="store_true",
                    help=f"write the trajectory as {FILES['csv']} (t, q, qd, qdd)")
-    p.add_argument("--dt", type=_positive, default=0.001, help="CSV sampling step [s] (0.001)")
+    p.add_argument("--dt", type=positive, default=0.001, help="CSV sampling step [s] (0.001)")
     p.add_argument("--html", action="store_true",
                    help=f"save {FILES['html']}: the motion and the cell in 3-D (view extra)")
     p.add_argument("--force", action="store_true", help=FORCE_HELP)

@@ -8,36 +8,7 @@ import sys
 
 import pytest
 
-RACK = """
-name = "rack demo"
-length_unit = "mm"
-angle_unit = "deg"
-
-[[obstacles]]
-name = "rack"
-type = "box"
-size = [12, 500, 30]
-xyz = [250, 0, -90]
-"""
-
-SLOT = """
-name = "slot"
-length_unit = "m"
-
-[[obstacles]]
-name = "left"
-type = "box"
-size = [0.5, 0.01, 0.3]
-xyz = [0.3153, 0.1522, -0.05]
-rpy = [0, 0, 0.45]
-
-[[obstacles]]
-name = "right"
-type = "box"
-size = [0.5, 0.01, 0.3]
-xyz = [0.3153, -0.1522, -0.05]
-rpy = [0, 0, -0.45]
-"""
+from tests.conftest import DATA
 
 
 def run(*args: str, timeout: float = 300) -> subprocess.CompletedProcess:
@@ -46,10 +17,8 @@ def run(*args: str, timeout: float = 300) -> subprocess.CompletedProcess:
 
 
 @pytest.fixture
-def rack(tmp_path):
-    path = tmp_path / "rack.toml"
-    path.write_text(RACK)
-    return str(path)
+def rack():
+    return str(DATA / "rack_cell.toml")
 
 
 def test_plan_over_a_rack_exits_0_with_a_clean_stderr(rack, tmp_path):
@@ -69,8 +38,7 @@ def test_plan_over_a_rack_exits_0_with_a_clean_stderr(rack, tmp_path):
 
 def test_plan_json_and_no_path_exit_code(tmp_path):
     """--json gives the status; a goal in a closed slot gives no_path and exit code 1."""
-    slot = tmp_path / "slot.toml"
-    slot.write_text(SLOT)
+    slot = DATA / "slot_cell.toml"
     out = run("plan", "zavar2024", "--start", "-1.5", "0.3", "0.02", "0", "--goal", "0", "0",
               "0.02", "0", "--cell", str(slot), "--time-limit", "0.2", "--json")
     assert out.returncode == 1, out.stderr

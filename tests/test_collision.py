@@ -340,3 +340,14 @@ def test_pairs_out_of_reach_along_the_scara_axis_are_not_checked():
     reach = so.CollisionChecker(robot, lower)
     assert ("link4", "table") in reach.pair_names  # within the tool's reach: checked
     assert reach.collides(np.array([0.3, 0.3, 0.048, 0.0]))
+
+
+def test_cell_file_that_is_missing_a_folder_or_not_text(tmp_path):
+    """A missing cell file, a folder and a binary file each get a CellError saying so."""
+    with pytest.raises(so.CellError, match="does not exist"):
+        so.load_cell(tmp_path / "nope.toml")
+    with pytest.raises(so.CellError, match="cannot be read"):
+        so.load_cell(tmp_path)
+    (tmp_path / "bin.toml").write_bytes(b"\xff\xfe\x00name")
+    with pytest.raises(so.CellError, match="not UTF-8 text"):
+        so.load_cell(tmp_path / "bin.toml")

@@ -27,7 +27,6 @@ refused with :class:`~scara_opt.errors.CellError` naming the obstacle and the ke
 
 from __future__ import annotations
 
-import tomllib
 from collections.abc import Iterable
 from pathlib import Path
 
@@ -36,7 +35,7 @@ from scara_opt.collision.geometry import name_pairs
 from scara_opt.collision.obstacles import KINDS, Obstacle
 from scara_opt.errors import CellError, InputError
 from scara_opt.model.dh import ANGLE_UNITS, LENGTH_UNITS
-from scara_opt.model.dh_file import check_keys
+from scara_opt.model.dh_file import check_keys, read_toml
 
 __all__ = ["CELL_KEYS", "Cell", "OBSTACLE_KEYS", "load_cell"]
 
@@ -174,14 +173,7 @@ def load_cell(path: str | Path) -> Cell:
         raise CellError(f"a cell file path must be a str or Path; got {describe(path)}")
     path = Path(path)
     where = f"cell file {str(path)!r}"
-    try:
-        data = tomllib.loads(path.read_text(encoding="utf-8"))
-    except FileNotFoundError:
-        raise CellError(f"{where} does not exist; check the path") from None
-    except (UnicodeDecodeError, IsADirectoryError):
-        raise CellError(f"{where} is not a UTF-8 text file; pass a TOML cell file") from None
-    except tomllib.TOMLDecodeError as exc:
-        raise CellError(f"{where} is not valid TOML: {exc}") from None
+    data = read_toml(path, where, "a TOML cell file", CellError)
     check_keys(data, CELL_KEYS, where, CellError)
     lu, au = data.get("length_unit"), data.get("angle_unit", "rad")
     if lu not in LENGTH_UNITS or au not in ANGLE_UNITS:

@@ -29,7 +29,28 @@ from scara_opt.model.dh import (
 )
 from scara_opt.model.inertial import check_inertial, inertia_matrix
 
-__all__ = ["bundled_dir", "collision_radii", "load_dh", "main", "regenerate"]
+__all__ = ["bundled_dir", "check_keys", "collision_radii", "load_dh", "main", "read_toml",
+           "regenerate"]
+
+
+def read_toml(path: Path, where: str, what: str, error: type[Exception] = URDFError) -> dict:
+    """The parsed TOML file at ``path``.
+
+    Raises:
+        URDFError: (or ``error``) a missing or unreadable file, not UTF-8, not valid TOML;
+            ``where`` names the file, ``what`` what to pass instead.
+    """
+    try:
+        return tomllib.loads(path.read_text(encoding="utf-8"))
+    except FileNotFoundError:
+        raise error(f"{where} does not exist; check the path") from None
+    except UnicodeDecodeError as exc:
+        raise error(f"{where} is not UTF-8 text ({exc.reason} at byte {exc.start}); pass "
+                    f"{what}") from None
+    except OSError as exc:
+        raise error(f"{where} cannot be read ({exc.strerror}); pass {what}") from None
+    except tomllib.TOMLDecodeError as exc:
+        raise error(f"{where} is not valid TOML: {exc}") from None
 
 
 def check_keys(table: dict, accepted: tuple[str, ...], where: str,
@@ -132,18 +153,7 @@ def load_dh(path: str | Path) -> DHRobot:
     """
     path = Path(path)
     where = f"robot file {str(path)!r}"
-    try:
-        data = tomllib.loads(path.read_text(encoding="utf-8"))
-    except FileNotFoundError:
-        raise URDFError(f"{where} does not exist; check the path") from None
-    except UnicodeDecodeError as exc:
-        raise URDFError(f"{where} is not UTF-8 text ({exc.reason} at byte {exc.start}); pass a "
-                        "TOML robot file") from None
-    except OSError as exc:
-        raise URDFError(f"{where} cannot be read ({exc.strerror}); pass a TOML robot "
-                        "file") from None
-    except tomllib.TOMLDecodeError as exc:
-        raise URDFError(f"{where} is not valid TOML: {exc}") from None
+    data = read_toml(path, where, "a TOML robot file")
     check_keys(data, FILE_KEYS, where)
     lu, au = data.get("length_unit"), data.get("angle_unit")
     if not (isinstance(lu, str) and lu in LENGTH_UNITS and isinstance(au, str)

@@ -32,7 +32,7 @@ from scara_opt.collision.continuous import DISTANCE_TOL, RESOLUTION
 
 Array = NDArray[np.float64]
 
-__all__ = ["EdgeProver", "OmplRun", "import_ompl", "rrt_connect"]
+__all__ = ["EdgeProver", "OmplRun", "box_space", "import_ompl", "rrt_connect", "start_and_goal"]
 
 _LOCK = threading.Lock()
 
@@ -243,17 +243,33 @@ def rrt_connect(prover: EdgeProver, start: Array, goal: Array, lower: Array, upp
             ou.setLogLevel(level)
 
 
-def _solve(ob: object, og: object, ou: object, prover: EdgeProver,
-           get: Callable, start: Array, goal: Array, lower: Array, upper: Array,
-           time_limit: float, seed: int, simplify: bool, range_: float | None) -> OmplRun:
-    nq = len(start)
-    ou.RNG.setSeed(int(seed) + 1)
+def box_space(ob: object, lower: Array, upper: Array) -> object:
+    """OMPL's ``RealVectorStateSpace`` of the joint box [lower, upper] (nq,) each."""
+    nq = len(lower)
     space = ob.RealVectorStateSpace(nq)
     bounds = ob.RealVectorBounds(nq)
     for k in range(nq):
         bounds.setLow(k, float(lower[k]))
         bounds.setHigh(k, float(upper[k]))
     space.setBounds(bounds)
+    return space
+
+
+def start_and_goal(ob: object, space: object, si: object, start: Array, goal: Array) -> object:
+    """OMPL's ``ProblemDefinition`` from ``start`` to ``goal`` (nq,) each."""
+    a, b = space.allocState(), space.allocState()
+    for k in range(len(start)):
+        a[k], b[k] = float(start[k]), float(goal[k])
+    pdef = ob.ProblemDefinition(si)
+    pdef.setStartAndGoalStates(a, b)
+    return pdef
+
+
+def _solve(ob: object, og: object, ou: object, prover: EdgeProver,
+           get: Callable, start: Array, goal: Array, lower: Array, upper: Array,
+           time_limit: float, seed: int, simplify: bool, range_: float | None) -> OmplRun:
+    ou.RNG.setSeed(int(seed) + 1)
+    space = box_space(ob, lower, upper)
     si = ob.SpaceInformation(space)
     valid, edge = prover.valid, prover.edge
 
@@ -264,11 +280,7 @@ def _solve(ob: object, og: object, ou: object, prover: EdgeProver,
     si.setStateValidityChecker(lambda s: valid(get(s)))
     si.setMotionValidator(Motion(si))
     si.setup()
-    a, b = space.allocState(), space.allocState()
-    for k in range(nq):
-        a[k], b[k] = float(start[k]), float(goal[k])
-    pdef = ob.ProblemDefinition(si)
-    pdef.setStartAndGoalStates(a, b)
+    pdef = start_and_goal(ob, space, si, start, goal)
     planner = og.RRTConnect(si)
     planner.setRange(float(range_) if range_ is not None else RANGE * extent(lower, upper))
     planner.setProblemDefinition(pdef)
