@@ -303,8 +303,9 @@ def main() -> None:
             rows = [run[peer](robot, checker, a, b, seed) for seed, (a, b) in enumerate(pairs)]
             everything[peer] += rows
             s = summary(rows)
-            plan = np.median([r.get("plan", math.nan) for r in rows]) * 1e3
-            rest = np.median([r.get("simplify", math.nan) for r in rows]) * 1e3
+            solved = [r for r in rows if r["solved"]]
+            plan = np.median([r["plan"] for r in solved]) * 1e3 if solved else math.nan
+            rest = np.median([r["simplify"] for r in solved]) * 1e3 if solved else math.nan
             per = s["per_check_us"] / raw
             print(f"{name:<7}{peer:<12}{s['solved']:>5}/{s['n']:<3}{s['colliding']:>11}"
                   f"{s['deepest_mm']:>8.2f}mm{s['time_ms']:>8.1f}{plan:>8.1f}{rest:>8.1f}"
@@ -319,9 +320,9 @@ def main() -> None:
               f"{s['deepest_mm']:>8.2f}mm{s['time_ms']:>8.1f}{'':16}{s['length']:>8.3f}")
     o, b = everything["ours"], everything["ompl"]
     ompl_solved = [(x, y) for x, y in zip(o, b, strict=True) if y["solved"]]
-    print(f"\nwhere OMPL solves ({len(ompl_solved)}): ours solves "
-          f"{sum(x['solved'] for x, _ in ompl_solved)}; ours solves "
-          f"{sum(x['solved'] for x in o)} of {len(o)} pairs, OMPL {len(ompl_solved)}")
+    print(f"\nsolved: ours {sum(x['solved'] for x in o)} of {len(o)} pairs, OMPL "
+          f"{len(ompl_solved)}; of the {len(ompl_solved)} OMPL solves, ours solves "
+          f"{sum(x['solved'] for x, _ in ompl_solved)}")
     t_o = np.median([x["time"] for x in o])
     t_b = np.median([y["time"] for y in b])
     print(f"median time, ours (plan to proven-clear timed trajectory) / OMPL (plan + "

@@ -208,3 +208,32 @@ def test_cycle_time_in_a_cell_plans_around_a_block():
     wall = so.Cell([so.Box("floor", (2, 2, 0.02), xyz=(0, 0, -0.08))])
     with pytest.raises(so.InputError, match="plans clear of the cell"):
         so.cycle_time(ROBOT, across=0.2, cell=wall)
+
+
+def test_ptp_in_a_cell_under_torque_limits():
+    """A PTP planned around the post and timed by toppra under the robot's torque limits:
+    torques within them (1 kHz RNEA) and the trajectory proven clear."""
+    traj = so.plan(ROBOT, [so.PTP(QB)], start=QA, cell=POST, torque_limits=True, seed=1)
+    ratios = traj.check_limits()
+    assert ratios["torque"].max() <= 1 + 1e-6 and ratios["clearance"][0] <= 1
+    assert dense_clear_trajectory(so.CollisionChecker(ROBOT, POST), traj)
+
+
+def test_last_resort_stops_at_every_waypoint(monkeypatch):
+    """When no spline through the planned waypoints is proven clear, the section is timed
+    straight from waypoint to waypoint, at rest at each (exactly the proven polyline): the
+    joint speed is zero at every waypoint and the dense check holds.
+
+    Mutation caught: the segments timed but not laid end to end in time (each from t = 0):
+    the waypoint times then do not increase and the speeds there are not zero.
+    """
+    import importlib
+
+    clearance = importlib.import_module("scara_opt.motion.clearance")
+    monkeypatch.setattr(clearance, "RETRIES", -1)  # straight to the last resort
+    traj = so.plan(ROBOT, [so.PTP(QB)], start=QA, cell=POST, seed=3)
+    assert "stopping at each waypoint" in traj.notes
+    knots = traj.profiles[0][0]
+    assert len(knots) > 2 and (np.diff(knots) > 0).all()
+    assert np.abs(traj.evaluate(knots, 1)).max() < 1e-9
+    assert dense_clear_trajectory(so.CollisionChecker(ROBOT, POST), traj)

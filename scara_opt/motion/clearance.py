@@ -43,10 +43,11 @@ from scara_opt.ik.analytic import ik_all
 from scara_opt.model.robot import Robot
 from scara_opt.motion import branch
 from scara_opt.motion.moves import PTP, Move, goal_point
+from scara_opt.motion.tool_limits import ToolProfile
 from scara_opt.planning.planner import PathPlan, check_clear, plan_path
 from scara_opt.target import Target
 from scara_opt.trajectory.limits import Limits
-from scara_opt.trajectory.trajectory import Trajectory
+from scara_opt.trajectory.trajectory import Trajectory, concatenate
 from scara_opt.trajectory.waypoints import LIMIT_SLACK
 
 Array = NDArray[np.float64]
@@ -185,50 +186,69 @@ class CellPlanning:
 
         A planned PTP is timed through :func:`hugging` points, more of them up to
         :data:`RETRIES` times while the timed trajectory is not proven clear or leaves the
-        joint limits; any other section that is not clear is refused.
+        joint limits; then, as a last resort, straight from waypoint to waypoint, stopping
+        at each (exactly the polyline that was proven, slower). Any other section that is
+        not clear is refused.
 
         Returns:
             What ``timed`` returns, the note saying the proof.
 
         Raises:
             MoveCollisionError: a LIN/CIRC (or a blended run) that hits the cell.
-            TrajectoryError: a planned path whose timing stays not proven after the retries.
+            TrajectoryError: a planned path whose timing is not proven even stopping at
+                every waypoint (not expected: each of its segments was proven).
         """
         index = run[0][0]
         planned = len(run) == 1 and self.planned(index)
-        robot = self.checker.robot
         rows = Q
-        for level in range(RETRIES + 1 if planned else 1):
+        for level in range(RETRIES + 2 if planned else 1):
             if planned:
-                rows = hugging(Q, level)
+                rows = hugging(Q, level) if level <= RETRIES else Q
                 owner = [index] * len(rows)
-            part, note, knots, profile = timed(rows, owner)
+            part, note, knots, profile = (timed(rows, owner) if level <= RETRIES
+                                          else _stopping(rows, owner, timed))
             traj = Trajectory(part, limits, method, rows, knots)
             report = self.prove(traj)
-            lo, hi = traj.position_range()
-            inside = bool((lo >= robot.lower - LIMIT_SLACK).all()
-                          and (hi <= robot.upper + LIMIT_SLACK).all())
-            if report.clear and inside:
+            if report.clear and self._inside(traj):
                 note += (f", proven clear (clearance >= {report.clearance * 1e3:.3g} mm, "
                          f"{report.evaluations} checks)")
                 if planned:
                     plan = self.plans[index]
+                    how = (f"timed through {len(rows)} points (attempt {level + 1})"
+                           if level <= RETRIES else "stopping at each waypoint (the spline "
+                           "through them was not proven clear)")
                     note += (f"; planned around the cell: {len(Q)} waypoints "
-                             f"({plan.time_s * 1e3:.1f} ms, {plan.states} states), timed "
-                             f"through {len(rows)} points (attempt {level + 1})")
+                             f"({plan.time_s * 1e3:.1f} ms, {plan.states} states), {how}")
                 return part, note, knots, profile
             if not planned:
                 k = int(np.clip(np.searchsorted(knots, report.time, side="right") - 1, 0,
                                 len(owner) - 1))
                 kind = "+".join(m.kind for _, m in run)
                 self.refuse(owner[k], kind, report, t0)
-        what = ("not proven clear: " + repr(report)) if not report.clear else \
-            "outside the joint limits between its waypoints"
-        raise TrajectoryError(f"move {index} (PTP): the path planned around the cell is proven "
-                              f"clear, but toppra's spline through it is {what}, even with "
-                              f"{RETRIES} more points near its corners; raise margin= (the "
-                              "planner then keeps farther from the obstacles), or move the "
-                              "start or goal away from the joint limits")
+        raise TrajectoryError(  # pragma: no cover - every segment of the path was proven
+            f"move {index} (PTP): the path planned around the cell is proven clear, but its "
+            f"timing is not, even stopping at every waypoint ({report!r}); raise margin=")
+
+    def _inside(self, traj: Trajectory) -> bool:
+        """Whether the trajectory stays within the joint limits (exact extrema)."""
+        robot = self.checker.robot
+        lo, hi = traj.position_range()
+        return bool((lo >= robot.lower - LIMIT_SLACK).all()
+                    and (hi <= robot.upper + LIMIT_SLACK).all())
+
+
+def _stopping(Q: Array, owner: list[int], timed: Callable) -> tuple:
+    """``timed`` of each segment of ``Q`` alone, laid end to end: rest at every waypoint."""
+    parts, knots, profiles = [], [0.0], []
+    for k in range(len(Q) - 1):
+        part, note, seg_knots, profile = timed(Q[k:k + 2], owner[k:k + 2])
+        parts.append(part)
+        profiles.append(profile)
+        knots.append(knots[-1] + float(seg_knots[-1]))
+    joined = tuple(concatenate([p[j] for p in parts]) for j in range(Q.shape[1]))
+    profile = ToolProfile(*(np.concatenate([getattr(p, name) for p in profiles])
+                            for name in ("speed", "acceleration", "yaw_rate")))
+    return joined, f"{len(Q) - 1} straight segments, {note}", np.array(knots), profile
 
 
 def in_cell(robot: Robot, cell: object, margin: float, time_limit: float, seed: int
