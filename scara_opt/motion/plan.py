@@ -203,7 +203,8 @@ def plan(robot: Robot, moves: object, limits: ToolLimits | None = None, *,
         payload_frame: the frame carrying the payload (default the tip).
         cell: a :class:`~scara_opt.Cell` (or a :class:`~scara_opt.CollisionChecker`) to
             plan in: PTPs go around its obstacles, every section is proven clear, a LIN or
-            CIRC that hits it is refused (:mod:`scara_opt.motion.clearance`).
+            CIRC that hits it is refused (:mod:`scara_opt.motion.clearance`). A Cell is
+            made into a checker at each call: pass a checker to plan many programs.
         margin: clearance to keep from the cell [m] (with a Cell).
         time_limit: planning limit of each PTP around obstacles [s] (> 0).
         seed: the planner's seed (the same seed, the same path).
