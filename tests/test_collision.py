@@ -30,7 +30,7 @@ def test_2r_arm_and_post_distance_by_hand():
     signed distances are the planar point-to-segment distances minus both radii, by hand.
 
     Mutation caught: the obstacle placed without its pose (at the origin), or the robot's
-    geometry not moved by the joints (updateGeometryPlacements skipped), fails.
+    geometry not moved by the joints (computeDistances without FK and placements), fails.
     """
     robot = so.Robot.from_urdf(ARM2R)
     post = so.Cylinder("post", radius=0.05, length=0.4, xyz=(0.32, 0.21, 0.0))
@@ -53,8 +53,8 @@ def test_capsule_robot_and_sphere_distance_by_hand():
     """zavar2024's capsules (radius keys of its robot file) and a sphere: the distance to the
     tool capsule is the point-to-segment distance minus both radii.
 
-    Mutation caught: the file's radius read in mm as metres (x1000), or the tool capsule
-    not ending at the tip, fails.
+    Mutation caught: every link's radius taken from one row (the quill's 10 mm for the tool's
+    15 mm) fails.
     """
     robot = so.load_robot("zavar2024")
     ball = so.Sphere("ball", radius=0.02, xyz=(0.30, 0.12, -0.13))
@@ -246,8 +246,8 @@ def test_batch_agrees_with_the_loop_and_the_distances():
     """collides_many (broad phase, one call) gives the loop's answers; a configuration
     collides exactly when its smallest distance is <= 0; a margin counts as contact.
 
-    Mutation caught: the broad-phase pool checking pairs that were left out (self pairs in
-    contact at the reference) would flag every configuration.
+    Mutation caught: the batch's joints read in the wrong order (``Q.T`` reversed before the
+    pool): its answers then differ from the loop's.
     """
     robot = so.load_robot("zavar2024")
     cell = so.Cell([so.Cylinder("post", 0.03, 0.4, xyz=(0.25, 0.15, 0.0)),
@@ -280,8 +280,8 @@ def test_motion_bound_holds_for_sampled_motions(name):
     """No support point of any body moves farther than the bound, over 300 random short
     joint motions (displacements by FK of the body frames, independent of the bound).
 
-    Mutation caught: the bound halved (each weight x 0.5), or the distance from axis j
-    measured to o_j instead of o_{j+1} (the link length left out), fails.
+    Mutation caught: the bound halved (each weight x 0.5), or the distance from axis j to
+    the next joint's origin left out of r_j (only the reach along the chain), fails.
     """
     robot = so.load_robot(name)
     geom = robot_geometry(robot)
