@@ -25,7 +25,11 @@ _EXPORTS = {
     **dict.fromkeys(("BranchError", "DynamicsError", "FrameNotFoundError", "InputError",
                      "JointLimitError", "MoveError", "RobotNotFoundError", "ScaraOptError",
                      "SolverOptionError", "TargetError", "TrajectoryError", "UnknownSolverError",
-                     "URDFError"), "scara_opt.errors"),
+                     "URDFError", "CellError", "CollisionError", "MeshNotFoundError",
+                     "MoveCollisionError", "NoPathFoundError", "UnknownBodyError"),
+                    "scara_opt.errors"),
+    **dict.fromkeys(("Box", "Capsule", "Cell", "CollisionChecker", "Cylinder", "Mesh",
+                     "Sphere", "load_cell"), "scara_opt.collision"),
     **dict.fromkeys(("CIRC", "LIN", "PTP", "MotionTrajectory", "ToolLimits", "cycle_time",
                      "plan"), "scara_opt.motion"),
     **dict.fromkeys(("IKResult", "Reason", "Status", "get_solver", "ik_all", "register_solver",
@@ -40,9 +44,9 @@ _EXPORTS = {
 }
 
 #: public submodules, imported at first attribute access
-_LAZY = ("cli", "comparison", "dh", "footprint", "ik", "metaheuristics", "model", "motion",
-         "paths", "plots", "pose", "reports", "robot", "trajectory", "view",
-         "workspace_analysis")
+_LAZY = ("cli", "collision", "comparison", "dh", "footprint", "ik", "metaheuristics", "model",
+         "motion", "paths", "planning", "plots", "pose", "reports", "robot", "trajectory",
+         "view", "workspace_analysis")
 
 __all__ = [
     "__version__", "BatchResult", "BranchError", "CIRC", "LIN", "MotionTrajectory", "MoveError",
@@ -53,6 +57,9 @@ __all__ = [
     "RobotNotFoundError", "ScaraOptError", "solve_ik", "solve_many", "SolverOptionError",
     "solvers", "Status", "Target", "TargetError", "time_parameterize", "timing_methods",
     "Trajectory", "TrajectoryError", "UnknownSolverError", "URDFError", "Workspace", "workspace",
+    "Box", "Capsule", "Cell", "CellError", "CollisionChecker", "CollisionError", "Cylinder",
+    "load_cell", "Mesh", "MeshNotFoundError", "MoveCollisionError", "NoPathFoundError",
+    "Sphere", "UnknownBodyError",
 ]
 
 
@@ -74,19 +81,35 @@ def __dir__() -> list[str]:
 
 if TYPE_CHECKING:  # for type checkers and IDEs: the same names, imported eagerly
     from scara_opt import paths, pose
+    from scara_opt.collision import (
+        Box,
+        Capsule,
+        Cell,
+        CollisionChecker,
+        Cylinder,
+        Mesh,
+        Sphere,
+        load_cell,
+    )
     from scara_opt.comparison import compare
     from scara_opt.errors import (
         BranchError,
+        CellError,
+        CollisionError,
         DynamicsError,
         FrameNotFoundError,
         InputError,
         JointLimitError,
+        MeshNotFoundError,
+        MoveCollisionError,
         MoveError,
+        NoPathFoundError,
         RobotNotFoundError,
         ScaraOptError,
         SolverOptionError,
         TargetError,
         TrajectoryError,
+        UnknownBodyError,
         UnknownSolverError,
         URDFError,
     )

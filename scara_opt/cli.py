@@ -1,6 +1,7 @@
 """The ``scara-opt`` command line.
 
-Exit codes: 0 success; 1 ``ik`` did not solve (its status says why); 2 bad usage or bad
+Exit codes: 0 success; 1 ``ik`` did not solve (its status says why), or ``plan`` found no
+path within its time limit; 2 bad usage or bad
 input (one line ``scara-opt: error: ...`` on stderr); 130 interrupted (Ctrl-C; one line
 ``scara-opt: interrupted``).
 
@@ -21,8 +22,10 @@ from typing import Any
 
 import numpy as np
 
-from scara_opt import cli_motion, interrupt
+from scara_opt import cli_motion, cli_plan, interrupt
 from scara_opt.checks import count_text
+from scara_opt.cli_units import joint_scale as _joint_scale
+from scara_opt.cli_units import joint_units as _units
 from scara_opt.errors import InputError, ScaraOptError
 from scara_opt.outputs import (
     COMPARE_FILES,
@@ -42,17 +45,6 @@ def _fmt_limit(kind: str, lo: float, hi: float) -> str:
     if kind == "revolute":
         return f"[{math.degrees(lo):.1f}, {math.degrees(hi):.1f}] deg"
     return f"[{lo * 1000:.1f}, {hi * 1000:.1f}] mm"
-
-
-def _joint_scale(robot: Any, deg: bool, mm: bool) -> np.ndarray:
-    """Factor from SI joint values to the display units, per joint."""
-    rev = np.array([t == "revolute" for t in robot.joint_types])
-    return np.where(rev, 180 / math.pi if deg else 1.0, 1000.0 if mm else 1.0)
-
-
-def _units(robot: Any, deg: bool, mm: bool) -> list[str]:
-    return [("deg" if deg else "rad") if t == "revolute" else ("mm" if mm else "m")
-            for t in robot.joint_types]
 
 
 def cmd_robots(args: argparse.Namespace) -> int:
@@ -367,7 +359,8 @@ def build_parser() -> argparse.ArgumentParser:
         prog="scara-opt",
         description="Kinematics, IK and trajectories of SCARA robots and serial URDF chains.",
         epilog="exit codes: 0 success; 1 ik did not solve (unreachable, failed, max_iter: the "
-               "status says which); 2 bad input or usage; 130 interrupted (Ctrl-C)",
+               "status says which), or plan found no path within its time limit; 2 bad input "
+               "or usage; 130 interrupted (Ctrl-C)",
     )
     sub = parser.add_subparsers(dest="command", required=True, metavar="COMMAND")
 
@@ -452,6 +445,7 @@ def build_parser() -> argparse.ArgumentParser:
     p.set_defaults(func=cmd_path)
 
     cli_motion.add_parser(sub)  # cycle
+    cli_plan.add_parser(sub)  # plan
 
     p = sub.add_parser("workspace", help="Monte Carlo workspace with figures")
     p.add_argument("robot", metavar="ROBOT", help="bundled robot name or path to .urdf/.toml")

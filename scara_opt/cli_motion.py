@@ -8,8 +8,10 @@ from __future__ import annotations
 
 import argparse
 import json
-import math
 
+from scara_opt.cli_plan import add_cell_arguments, cell_keywords
+from scara_opt.cli_units import nonnegative as _nonnegative
+from scara_opt.cli_units import positive as _positive
 from scara_opt.outputs import FORCE_HELP
 
 #: the files ``cycle`` writes into ``--out`` when asked, by option
@@ -33,7 +35,7 @@ def cmd_cycle(args: argparse.Namespace) -> int:
     if args.speed is not None or args.acceleration is not None:
         limits = so.ToolLimits(speed=args.speed, acceleration=args.acceleration)
     res = cycle_time(robot, args.up / 1e3, args.across / 1e3, args.down / 1e3, limits,
-                     args.blend / 1e3)
+                     args.blend / 1e3, **cell_keywords(args))
     traj = res.trajectory
     loaded = (None if args.payload is None
               else cycle_with_payload(robot, res, args.payload, limits))
@@ -66,8 +68,12 @@ def cmd_cycle(args: argparse.Namespace) -> int:
         print(f"  {method:14s} {seconds:8.4f} s")
     ratios = traj.check_limits()
     which = "toppra_blended" if args.blend else "toppra"
+    clearance = ratios.pop("clearance", None)
     print(f"  worst limit ratio ({which}, joints exact, tool at 1 kHz): "
           f"{max(float(v.max()) for v in ratios.values()):.4f}")
+    if clearance is not None:
+        print(f"  proven clear of {res.trajectory.checker.cell.name!r} ({which}): clearance >= "
+              f"{traj.check_collisions().clearance * 1e3:.3f} mm all along")
     if loaded is not None:
         torque = float(loaded.check_limits()["torque"].max())
         print(f"  {which} with {args.payload:g} kg at the tool, torque-limited: "
@@ -75,20 +81,6 @@ def cmd_cycle(args: argparse.Namespace) -> int:
     if written:
         print("wrote " + ", ".join(written))
     return 0
-
-
-def _positive(text: str) -> float:
-    value = float(text)
-    if not (value > 0 and math.isfinite(value)):
-        raise argparse.ArgumentTypeError(f"must be a finite number > 0; got {text}")
-    return value
-
-
-def _nonnegative(text: str) -> float:
-    value = float(text)
-    if not (value >= 0 and math.isfinite(value)):
-        raise argparse.ArgumentTypeError(f"must be a finite number >= 0; got {text}")
-    return value
 
 
 def add_parser(sub: argparse._SubParsersAction) -> argparse.ArgumentParser:
@@ -108,6 +100,7 @@ def add_parser(sub: argparse._SubParsersAction) -> argparse.ArgumentParser:
     p.add_argument("--payload", type=_nonnegative, metavar="KG",
                    help="also time it by toppra with KG at the tool under the robot's torque "
                         "limits (needs its inertias)")
+    add_cell_arguments(p)
     p.add_argument("--out", help="folder for the files below")
     p.add_argument("--csv", action="store_true",
                    help=f"write the toppra trajectory as {FILES['csv']} (t, q, qd, qdd)")

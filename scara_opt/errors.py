@@ -123,3 +123,97 @@ class BranchError(MoveError):
         self.point = point
         self.side = side
         super().__init__(index, message)
+
+
+class CellError(InputError):
+    """A cell, one of its obstacles, or a robot's collision geometry is malformed.
+
+    Raised for a cell file that is not valid TOML or has unknown keys, an obstacle with a
+    zero, negative or non-finite size, a bad pose, a duplicate name, or a collision radius
+    that is missing or not positive.
+    """
+
+
+class MeshNotFoundError(CellError):
+    """A mesh file named by an obstacle or a robot's ``<collision>`` cannot be found.
+
+    Attributes:
+        path: the file as given.
+        where: what named it (the obstacle, or the URDF link).
+    """
+
+    def __init__(self, path: str, where: str, remedy: str) -> None:
+        self.path = path
+        self.where = where
+        super().__init__(f"{where}: mesh file {path!r} cannot be found; {remedy}")
+
+
+class UnknownBodyError(CellError, LookupError):
+    """A body named in an allowed-contact list (or an SRDF) is not a body of the robot or cell.
+
+    Attributes:
+        name: the unknown name.
+        available: the robot links and obstacles that do exist.
+    """
+
+    def __init__(self, name: str, available: Iterable[str], where: str) -> None:
+        self.name = name
+        self.available = sorted(available)
+        super().__init__(name)
+        self._message = (f"{where}: no body named {name!r}; bodies: "
+                         f"{', '.join(self.available)}; use one of these names")
+
+    def __str__(self) -> str:  # LookupError's KeyError cousin would quote; keep the message
+        return self._message
+
+
+class CollisionError(ScaraOptError, ValueError):
+    """A configuration (a start, a goal) or a motion touches an obstacle or the robot itself.
+
+    Attributes:
+        bodies: the two bodies in contact, ``(robot body, other body)``.
+        depth: how deep they overlap [m] (0 when they just touch).
+        time: when the contact begins [s] (``None`` for a single configuration).
+    """
+
+    def __init__(self, message: str, bodies: tuple[str, str], depth: float,
+                 time: float | None = None) -> None:
+        self.bodies = tuple(bodies)
+        self.depth = float(depth)
+        self.time = time
+        super().__init__(message)
+
+
+class MoveCollisionError(MoveError, CollisionError):
+    """A move of a motion program (a LIN, a CIRC, a blended run) hits an obstacle.
+
+    Attributes:
+        index: the move's position in the program; ``time``, ``bodies``, ``depth`` as in
+            :class:`CollisionError`.
+    """
+
+    def __init__(self, index: int, message: str, bodies: tuple[str, str], depth: float,
+                 time: float | None = None) -> None:
+        self.index = index
+        CollisionError.__init__(self, f"move {index}: {message}", bodies, depth, time)
+
+
+class NoPathFoundError(MoveError):
+    """A sampling planner found no collision-free path within its time limit.
+
+    Not a proof that none exists (a sampling planner proves nothing): the move may still
+    be possible with more time, another seed, or a smaller margin.
+
+    Attributes:
+        index: the move's position in the program.
+        time_s: the time spent [s]; ``time_limit``: the limit [s].
+        states: the states the planner's trees held; ``checks``: the state and motion checks.
+    """
+
+    def __init__(self, index: int, message: str, time_s: float, time_limit: float,
+                 states: int, checks: int) -> None:
+        self.time_s = time_s
+        self.time_limit = time_limit
+        self.states = states
+        self.checks = checks
+        super().__init__(index, message)

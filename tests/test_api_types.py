@@ -19,6 +19,10 @@ import pytest
 
 import scara_opt as so
 from scara_opt import paths
+from scara_opt.collision.checker import Clearance
+from scara_opt.collision.continuous import CollisionReport
+from scara_opt.planning import plan_path
+from scara_opt.planning.planner import PathPlan
 from scara_opt.workspace_analysis import Workspace
 
 from .conftest import DATA
@@ -31,6 +35,9 @@ ROBOT = so.load_robot("zavar2024")
 ARM = so.Robot.from_urdf(DATA / "arm6.urdf")
 T = so.Target([0.3, 0.0, -0.07])
 Q2 = np.array([[0.0, 0.0, 0.0, 0.0], [0.1, 0.1, 0.01, 0.1]])
+POST = so.Cylinder("post", 0.03, 0.4, xyz=(0.0, 0.3, 0.0))
+CELL = so.Cell([POST])
+CHECKER = so.CollisionChecker(ROBOT, CELL)
 
 #: (name, call, good keyword arguments): each call works with its good arguments
 API = [
@@ -81,6 +88,27 @@ API = [
                              "options": None, "reference": False}),
     ("Footprint", so.Footprint, {"shape": "circle", "center": (0, 0), "radius": 0.1,
                                  "links_from": None}),
+    ("Box", so.Box, {"name": "b", "size": (0.1, 0.1, 0.1), "xyz": (0.3, 0, 0),
+                     "rpy": (0, 0, 0)}),
+    ("Cylinder", so.Cylinder, {"name": "c", "radius": 0.03, "length": 0.4}),
+    ("Sphere", so.Sphere, {"name": "s", "radius": 0.03}),
+    ("Cell", so.Cell, {"obstacles": [POST], "allowed": [("link4", "post")], "name": "c"}),
+    ("load_cell", so.load_cell, {"path": DATA / "cell.toml"}),
+    ("CollisionChecker", so.CollisionChecker, {"robot": ROBOT, "cell": CELL, "margin": 0.0,
+                                               "radius": None, "srdf": None,
+                                               "allowed": (), "missing_mesh": "error"}),
+    ("collides", CHECKER.collides, {"q": np.zeros(4)}),
+    ("clearance", CHECKER.clearance, {"q": np.zeros(4)}),
+    ("collides_many", CHECKER.collides_many, {"Q": Q2, "threads": 1}),
+    ("clearance_many", CHECKER.clearance_many, {"Q": Q2}),
+    ("plan_path", plan_path, {"checker": CHECKER, "start": np.zeros(4),
+                              "goal": np.array([0.1, 0.1, 0.01, 0.1]), "time_limit": 0.5,
+                              "seed": 0, "simplify": True}),
+    ("check_collisions", so.time_parameterize(Q2, ROBOT).check_collisions, {
+        "cell": CELL, "robot": ROBOT, "margin": 0.0}),
+    ("plan_in_cell", so.plan, {"robot": ROBOT, "moves": [so.PTP([0.1, 0.1, 0.01, 0.1])],
+                               "start": np.zeros(4), "cell": CELL, "margin": 0.0,
+                               "time_limit": 0.5, "seed": 0}),
 ]
 
 #: failures still to fix (strict xfail: fixing one makes its case pass); none left
@@ -143,7 +171,12 @@ RETURNS = {"fk": np.ndarray, "jacobian": np.ndarray, "fk_batch": np.ndarray,
            "solve_ik": so.IKResult, "ik_all": list, "solve_many": so.BatchResult,
            "ik_path": so.JointPath, "time_parameterize": so.Trajectory,
            "time_parameterize_torque": so.Trajectory, "check_torque": np.ndarray,
-           "workspace": Workspace, "compare": pd.DataFrame, "Footprint": so.Footprint}
+           "workspace": Workspace, "compare": pd.DataFrame, "Footprint": so.Footprint,
+           "Box": so.Box, "Cylinder": so.Cylinder, "Sphere": so.Sphere, "Cell": so.Cell,
+           "load_cell": so.Cell, "CollisionChecker": so.CollisionChecker,
+           "collides": bool, "clearance": Clearance, "collides_many": np.ndarray,
+           "clearance_many": np.ndarray, "plan_path": PathPlan,
+           "check_collisions": CollisionReport, "plan_in_cell": so.MotionTrajectory}
 
 
 @pytest.mark.parametrize("name, call, good", API, ids=[a[0] for a in API])

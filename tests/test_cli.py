@@ -32,7 +32,7 @@ def test_robots_lists_every_bundled_robot_with_limits_and_source():
 
 
 @pytest.mark.parametrize("command", ["robots", "solvers", "fk", "ik", "compare", "path", "cycle",
-                                     "workspace", "reproduce"])
+                                     "plan", "workspace", "reproduce"])
 def test_help_everywhere(command):
     """Every subcommand answers --help with exit code 0."""
     out = run(command, "--help")

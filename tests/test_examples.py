@@ -23,6 +23,7 @@ EXAMPLES = {
     "own_urdf.py": [],
     "panda.py": [],
     "pick_and_place_cell.py": [],
+    "scara_cell_planning.py": [],
 }
 
 

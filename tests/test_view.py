@@ -97,8 +97,8 @@ def test_frames_of_each_kind_of_motion():
         view.frames(robot, [[0.0, 0.0, 0.0]])  # three values for four joints
 
 
-def _scene(robot, motion):
-    """{path: decoded set_object command} of the recorded scene."""
+def _scene(robot, motion, **kw):
+    """{path: decoded set_object command} of the recorded scene (``kw``: html's options)."""
     from meshcat.servers.tree import walk
 
     from scara_opt.view.scene import recording_visualizer
@@ -113,7 +113,7 @@ def _scene(robot, motion):
 
     view.scene.recording_visualizer = spy
     try:
-        view.html(robot, motion)
+        view.html(robot, motion, **kw)
     finally:
         view.scene.recording_visualizer = real
     objects = [umsgpack.unpackb(node.object) for node in walk(recorded["vis"].window.tree)
@@ -178,3 +178,30 @@ def test_reproduce_writes_one_animation_per_paper_and_says_so(tmp_path, monkeypa
     assert rep.animation_file is None
     assert not (tmp_path / "without" / "inverted5_animation.html").exists()
     assert any("scara-opt[view]" in note for note in rep.notes)
+
+
+def test_a_motion_planned_in_a_cell_draws_its_obstacles(tmp_path):
+    """A PTP planned around a post: the page has the post (a cylinder of its size), a box
+    and a mesh given with cell=, and the tool path planned around them.
+
+    Mutation caught: html() ignoring the trajectory's cell (no obstacle in the scene).
+    """
+    import trimesh
+
+    robot = so.load_robot("zavar2024")
+    post = so.Cell([so.Cylinder("post", 0.03, 0.4, xyz=(0.3, 0.15, 0.0))])
+    traj = so.plan(robot, [so.PTP([1.2, 0.5, 0.0, 0.0])], start=[-0.5, 0.5, 0.0, 0.0],
+                   cell=post)
+    objects = _scene(robot, traj)
+    drawn = [k for k in objects if "obstacle_post" in k]
+    assert len(drawn) == 1
+    assert "/meshcat/tool_path" in objects
+    trimesh.creation.box((0.05, 0.05, 0.05)).export(tmp_path / "b.stl")
+    cell = so.Cell([so.Box("block", (0.1, 0.1, 0.1), xyz=(0.3, 0, -0.2)),
+                    so.Mesh("part", tmp_path / "b.stl", xyz=(0.2, 0.2, -0.2))])
+    objects = _scene(robot, np.zeros((2, 4)), cell=cell)
+    assert any("obstacle_block" in k for k in objects)
+    part = [o for k, o in objects.items() if "obstacle_part" in k]
+    assert part and part[0]["object"]["geometries"][0].get("format") == "stl"
+    with pytest.raises(so.InputError, match="cell must be"):
+        view.html(robot, np.zeros((2, 4)), cell="cell.toml")

@@ -39,7 +39,7 @@ CONVENTIONS = ("standard", "modified")
 FILE_KEYS = ("name", "title", "source", "notes", "convention", "length_unit", "angle_unit",
              "joints", "tool", "footprint", "dynamics_source", "citation")
 JOINT_KEYS = ("name", "type", "a", "alpha", "d", "theta", "sign", "lower", "upper", "velocity",
-              "acceleration", "mass", "com", "inertia", "effort")
+              "acceleration", "mass", "com", "inertia", "effort", "radius")
 TOOL_KEYS = ("xyz", "rpy")
 
 

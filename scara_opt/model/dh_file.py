@@ -29,16 +29,42 @@ from scara_opt.model.dh import (
 )
 from scara_opt.model.inertial import check_inertial, inertia_matrix
 
-__all__ = ["bundled_dir", "load_dh", "main", "regenerate"]
+__all__ = ["bundled_dir", "check_keys", "collision_radii", "load_dh", "main", "read_toml",
+           "regenerate"]
 
 
-def _check_keys(table: dict, accepted: tuple[str, ...], where: str) -> None:
-    """Refuse keys a robot file does not know (a misspelt key would silently be ignored)."""
+def read_toml(path: Path, where: str, what: str, error: type[Exception] = URDFError) -> dict:
+    """The parsed TOML file at ``path``.
+
+    Raises:
+        URDFError: (or ``error``) a missing or unreadable file, not UTF-8, not valid TOML;
+            ``where`` names the file, ``what`` what to pass instead.
+    """
+    try:
+        return tomllib.loads(path.read_text(encoding="utf-8"))
+    except FileNotFoundError:
+        raise error(f"{where} does not exist; check the path") from None
+    except UnicodeDecodeError as exc:
+        raise error(f"{where} is not UTF-8 text ({exc.reason} at byte {exc.start}); pass "
+                    f"{what}") from None
+    except OSError as exc:
+        raise error(f"{where} cannot be read ({exc.strerror}); pass {what}") from None
+    except tomllib.TOMLDecodeError as exc:
+        raise error(f"{where} is not valid TOML: {exc}") from None
+
+
+def check_keys(table: dict, accepted: tuple[str, ...], where: str,
+               error: type[Exception] = URDFError) -> None:
+    """Refuse keys a robot (or cell) file does not know (a misspelt key would be ignored).
+
+    Raises:
+        URDFError: (or ``error``) naming the unknown keys, a close match, the accepted keys.
+    """
     unknown = [k for k in table if k not in accepted]
     if unknown:
         hints = "".join(f" ({k!r}: did you mean {m[0]!r}?)" for k in unknown
                         if (m := difflib.get_close_matches(k, accepted, 1)))
-        raise URDFError(f"{where} has unknown key(s) {', '.join(map(repr, unknown))}{hints}; "
+        raise error(f"{where} has unknown key(s) {', '.join(map(repr, unknown))}{hints}; "
                         f"accepted keys: {', '.join(accepted)}; fix or remove them")
 
 
@@ -115,29 +141,20 @@ def load_dh(path: str | Path) -> DHRobot:
             :data:`JOINT_KEYS` and :data:`TOOL_KEYS`. A row's optional ``mass`` [kg], ``com``
             [length_unit, in the joint's moving frame], ``inertia`` (ixx, ixy, ixz, iyy, iyz,
             izz) [kg·m², about the com] and ``effort`` [N·m or N] go to the URDF's
-            ``<inertial>`` and ``<limit effort=>``.
+            ``<inertial>`` and ``<limit effort=>``. A row's optional ``radius``
+            [length_unit] is the radius of the collision capsules of the link the joint
+            moves (:mod:`scara_opt.collision.geometry`; it does not enter the URDF).
 
     Raises:
         URDFError: missing file, TOML syntax, unknown key, unit or joint type, bad or
-            non-finite entries; mass or effort <= 0, an inertia no body has; an incomplete
+            non-finite entries; mass, effort or radius <= 0, an inertia no body has; an incomplete
             ``[citation]``.
         JointLimitError: a lower limit not below its upper limit, or a limit <= 0.
     """
     path = Path(path)
     where = f"robot file {str(path)!r}"
-    try:
-        data = tomllib.loads(path.read_text(encoding="utf-8"))
-    except FileNotFoundError:
-        raise URDFError(f"{where} does not exist; check the path") from None
-    except UnicodeDecodeError as exc:
-        raise URDFError(f"{where} is not UTF-8 text ({exc.reason} at byte {exc.start}); pass a "
-                        "TOML robot file") from None
-    except OSError as exc:
-        raise URDFError(f"{where} cannot be read ({exc.strerror}); pass a TOML robot "
-                        "file") from None
-    except tomllib.TOMLDecodeError as exc:
-        raise URDFError(f"{where} is not valid TOML: {exc}") from None
-    _check_keys(data, FILE_KEYS, where)
+    data = read_toml(path, where, "a TOML robot file")
+    check_keys(data, FILE_KEYS, where)
     lu, au = data.get("length_unit"), data.get("angle_unit")
     if not (isinstance(lu, str) and lu in LENGTH_UNITS and isinstance(au, str)
             and au in ANGLE_UNITS):
@@ -154,9 +171,13 @@ def load_dh(path: str | Path) -> DHRobot:
         row = _table(row, f"{where}: joints entry {i + 1}")
         name = _text(row, "name", f"{where}: joints entry {i + 1}", f"joint{i + 1}")
         at = f"{where}: joint {name!r}"
-        _check_keys(row, JOINT_KEYS, at)
+        check_keys(row, JOINT_KEYS, at)
         jtype = _text(row, "type", at, "")
         unit = A if jtype == "revolute" else L  # unit of the joint variable
+        if "radius" in row and not _number(row, "radius", at) > 0:
+            raise URDFError(f"{at}: radius must be > 0 [{lu}] (the collision capsule of the "
+                            f"link the joint moves), got {row['radius']!r}; give the link's "
+                            "half-width or leave radius out")
         joints.append(
             DHJoint(
                 name=name,
@@ -176,7 +197,7 @@ def load_dh(path: str | Path) -> DHRobot:
     tool = np.eye(4)
     if "tool" in data:
         table = _table(data["tool"], f"{where}: [tool]")
-        _check_keys(table, TOOL_KEYS, f"{where}: [tool]")
+        check_keys(table, TOOL_KEYS, f"{where}: [tool]")
         tool[:3, :3] = pin.rpy.rpyToMatrix(_vector(table, "rpy", f"{where}: [tool]") * A)
         tool[:3, 3] = _vector(table, "xyz", f"{where}: [tool]") * L
     _text(data, "title", where, "")
@@ -191,6 +212,18 @@ def load_dh(path: str | Path) -> DHRobot:
         source=_text(data, "source", where, ""),
         notes=_text(data, "notes", where, ""),
     )
+
+
+def collision_radii(metadata: dict) -> dict[str, float]:
+    """The ``radius`` of each ``[[joints]]`` row of a parsed robot file, in metres, by joint name.
+
+    Rows without one are left out (an empty dict for a URDF robot). The values were checked
+    by :func:`load_dh` (finite, > 0).
+    """
+    L = LENGTH_UNITS.get(metadata.get("length_unit", "m"), 1.0)
+    rows = metadata.get("joints", [])
+    return {row.get("name", f"joint{i + 1}"): float(row["radius"]) * L
+            for i, row in enumerate(rows) if isinstance(row, dict) and "radius" in row}
 
 
 def bundled_dir() -> Path:

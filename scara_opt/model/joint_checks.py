@@ -13,7 +13,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from scara_opt.checks import check_real, describe, float_array
-from scara_opt.errors import InputError
+from scara_opt.errors import InputError, JointLimitError
 
 Array = NDArray[np.float64]
 
@@ -21,6 +21,10 @@ _F64 = np.dtype(np.float64)
 #: the largest finite float: an infinite limit (continuous joint) is compared as this bound,
 #: so that ``±inf`` (like NaN) never passes :meth:`JointChecks.fits_limits`
 _BIG = sys.float_info.max
+
+#: a joint value this far outside its limits is round-off, accepted by
+#: :func:`check_within_limits` [rad or m] (as the timing's waypoint check)
+LIMIT_SLACK = 1e-9
 
 
 class JointChecks:
@@ -129,3 +133,21 @@ def _numeric(value: object, name: str, want: str) -> Array:
         return float_array(value, name)
     except InputError:
         raise InputError(f"{name} must be {want}; got {describe(value)}") from None
+
+
+def check_within_limits(robot: JointChecks, q: object, what: str) -> Array:
+    """``q`` (nq,) checked and inside the joint limits.
+
+    Raises:
+        InputError: not (nq,) finite numbers. JointLimitError: a joint outside its limits
+            (named, with its value and limits).
+    """
+    qa = robot.check_q(q, what)
+    for name, kind, v, lo, hi in zip(robot.joint_names, robot.joint_types, qa, robot.lower,
+                                     robot.upper, strict=True):
+        if not lo - LIMIT_SLACK <= v <= hi + LIMIT_SLACK:
+            unit = "rad" if kind == "revolute" else "m"
+            raise JointLimitError(f"{what}: joint {name!r} = {v:.6g} {unit} is outside "
+                                  f"[{lo:.6g}, {hi:.6g}] {unit}; pass a {what} inside the "
+                                  "joint limits", joint=name)
+    return qa

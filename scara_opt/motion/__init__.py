@@ -3,6 +3,8 @@
 ``plan(robot, [PTP(...), LIN(...), CIRC(via, goal)], ToolLimits(speed=0.25))`` gives one
 rest-to-rest :class:`~scara_opt.Trajectory`, time-optimal (TOPP-RA) under the joint velocity
 and acceleration limits and the tool's speed, acceleration and yaw rate, checked at 1 kHz.
+With ``cell=`` the program is planned in a cell: PTPs around its obstacles, every section
+proven clear of them (:mod:`scara_opt.motion.clearance`).
 """
 
 from scara_opt.motion.cycle import CycleResult, cycle_time

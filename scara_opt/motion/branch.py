@@ -18,6 +18,7 @@ from scara_opt.errors import BranchError, MoveError
 from scara_opt.ik.analytic import ik_all
 from scara_opt.ik.geometry import NotScaraError, ScaraGeometry, scara_geometry, solve_batch
 from scara_opt.ik.registry import get_solver
+from scara_opt.model.joint_checks import check_within_limits
 from scara_opt.model.robot import Robot
 from scara_opt.target import Target
 from scara_opt.trajectory.path import ik_path
@@ -79,9 +80,9 @@ def ptp_goal(index: int, robot: Robot, goal: Target | Array, q_prev: Array,
     """
     if not isinstance(goal, Target):
         try:
-            q = robot.check_q(goal, "goal")
+            q = check_within_limits(robot, goal, "PTP goal")
         except ValueError as exc:
-            raise MoveError(index, f"PTP goal: {exc}") from None
+            raise MoveError(index, str(exc)) from None
         _check_branch(index, robot, q, elbow, "the joint goal")
         return q
     if geometry(robot) is None:

@@ -28,10 +28,12 @@ import numpy as np
 from numpy.typing import NDArray
 
 from scara_opt.checks import check_real
-from scara_opt.errors import InputError, MoveError
+from scara_opt.collision.continuous import prove_segment
+from scara_opt.errors import CollisionError, InputError, MoveError
 from scara_opt.ik.analytic import ik_all
 from scara_opt.model.robot import Robot, check_robot
 from scara_opt.motion import branch
+from scara_opt.motion.clearance import in_cell
 from scara_opt.motion.moves import LIN, PTP
 from scara_opt.motion.plan import plan
 from scara_opt.motion.result import MotionTrajectory
@@ -40,6 +42,9 @@ from scara_opt.target import Target
 from scara_opt.trajectory.registry import time_parameterize
 
 Array = NDArray[np.float64]
+
+#: placements tried in a cell before giving up
+MAX_PLACEMENTS = 12
 
 #: ray angles tried (about the shoulder axis, from the first link's zero) [rad]
 ANGLES = np.radians([0, 30, -30, 60, -60, 90, -90, 120, -120, 150, -150, 180])
@@ -117,6 +122,15 @@ def place_cycle(robot: Robot, up: float = 0.025, across: float = 0.305,
         InputError: no placement reaches all six corners on one branch (the message says
             which strokes to shrink).
     """
+    for found in placements(robot, up, across, down):
+        return found
+    raise InputError(f"robot {robot.name!r} cannot reach a {up * 1e3:g}/{across * 1e3:g}/"
+                     f"{down * 1e3:g} mm cycle on one elbow branch anywhere: pass a shorter "
+                     "across= (and up=/down=) for a small robot")
+
+
+def placements(robot: Robot, up: float, across: float, down: float):
+    """Every reachable placement ``(A, B, q at A, branch)``, in :func:`place_cycle`'s order."""
     for A, B, n in _candidates(robot, up, across, down):
         corners = [A, A + up * n, B + down * n, B]
         sols = [ik_all(robot, Target(p)) for p in corners]
@@ -126,14 +140,13 @@ def place_cycle(robot: Robot, up: float = 0.025, across: float = 0.305,
             side = int(branch.elbow_signs(robot, q)[0])
             if side and all(any(branch.elbow_signs(robot, s.q)[0] == side for s in ss)
                             for ss in sols[1:]):
-                return A, B, q, branch.NAME[side]
-    raise InputError(f"robot {robot.name!r} cannot reach a {up * 1e3:g}/{across * 1e3:g}/"
-                     f"{down * 1e3:g} mm cycle on one elbow branch anywhere: pass a shorter "
-                     "across= (and up=/down=) for a small robot")
+                yield A, B, q, branch.NAME[side]
+                break
 
 
 def cycle_time(robot: Robot, up: float = 0.025, across: float = 0.305, down: float = 0.025,
-               limits: ToolLimits | None = None, blend: float = 0.0) -> CycleResult:
+               limits: ToolLimits | None = None, blend: float = 0.0, *, cell: object = None,
+               margin: float = 0.0, time_limit: float = 1.0, seed: int = 0) -> CycleResult:
     """Time the pick-and-place cycle (A up, across, down to B, and back) three ways.
 
     Args:
@@ -144,9 +157,18 @@ def cycle_time(robot: Robot, up: float = 0.025, across: float = 0.305, down: flo
         limits: optional tool limits for the LIN strokes of the toppra plan.
         blend: radius [m] within which a second toppra plan rounds the upper corners
             (``durations["toppra_blended"]``; 0: none); at most half a vertical stroke.
+        cell: a :class:`~scara_opt.Cell` (or a :class:`~scara_opt.CollisionChecker`): the
+            cycle is planned in it (:func:`~scara_opt.plan` with ``cell=``): the first
+            placement whose program plans clear of the cell is used, the PTPs across go
+            around its obstacles, every section is proven clear. The quintic baseline is
+            timed only when its straight corner-to-corner segments are proven clear too.
+        margin: clearance to keep from the cell [m].
+        time_limit: planning limit of each PTP around obstacles [s].
+        seed: the planner's seed.
 
     Raises:
-        InputError: strokes not positive, or no reachable placement.
+        InputError: strokes not positive, or no reachable placement (in a cell: none whose
+            program plans clear of it).
         MoveError: a blend radius above half of a stroke (the largest allowed is named).
     """
     robot = check_robot(robot)
@@ -154,26 +176,45 @@ def cycle_time(robot: Robot, up: float = 0.025, across: float = 0.305, down: flo
     down = check_real("down", down, 0.0, 1.0, low_open=True, unit="m")
     across = check_real("across", across, 0.0, 10.0, low_open=True, unit="m")
     blend = check_real("blend", blend, 0.0, 1.0, unit="m")
-    A, B, q0, elbow = place_cycle(robot, up, across, down)
-    n = branch.geometry(robot).n
-    Au, Bu = A + up * n, B + down * n
+    ctx = in_cell(robot, cell, margin, time_limit, seed)
+    kw = {} if ctx is None else {"cell": ctx.checker, "time_limit": time_limit, "seed": seed}
+    n = branch.geometry(robot).n if branch.geometry(robot) is not None else None
+    stops, tried = None, []
+    for A, B, q0, elbow in (placements(robot, up, across, down) if ctx is not None
+                            else [place_cycle(robot, up, across, down)]):
+        Au, Bu = A + up * n, B + down * n
 
-    def program(r: float) -> list:
-        return [LIN(Target(Au), blend=r), PTP(Target(Bu), elbow=elbow, blend=r),
-                LIN(Target(B)), LIN(Target(Bu), blend=r), PTP(Target(Au), elbow=elbow,
-                                                              blend=r), LIN(Target(A))]
+        def program(r: float, Au: Array = Au, Bu: Array = Bu, A: Array = A, B: Array = B,
+                    elbow: str = elbow) -> list:
+            return [LIN(Target(Au), blend=r), PTP(Target(Bu), elbow=elbow, blend=r),
+                    LIN(Target(B)), LIN(Target(Bu), blend=r), PTP(Target(Au), elbow=elbow,
+                                                                  blend=r), LIN(Target(A))]
 
-    try:
-        stops = plan(robot, program(0.0), limits, start=q0)
-    except MoveError as exc:  # pragma: no cover - placement checked the corners
-        raise InputError(f"the placed cycle does not plan: {exc}; pass shorter strokes") from None
+        try:
+            stops = plan(robot, program(0.0), limits, start=q0, **kw)
+            break
+        except (MoveError, CollisionError) as exc:
+            if ctx is None:  # pragma: no cover - placement checked the corners
+                raise InputError(f"the placed cycle does not plan: {exc}; pass shorter "
+                                 "strokes") from None
+            tried.append(str(exc))
+            if len(tried) >= MAX_PLACEMENTS:
+                break
+    if stops is None:
+        raise InputError(f"no placement of the {up * 1e3:g}/{across * 1e3:g}/{down * 1e3:g} mm "
+                         f"cycle plans clear of the cell ({len(tried)} tried; the first: "
+                         f"{tried[0] if tried else 'none reachable'}); move obstacles, or "
+                         "pass other strokes")
     corners = stops.waypoints
     durations = {"toppra": stops.duration,
-                 "ruckig": plan(robot, program(0.0), limits, start=q0, method="ruckig").duration,
-                 "quintic": time_parameterize(corners, robot, method="quintic").duration}
+                 "ruckig": plan(robot, program(0.0), limits, start=q0, method="ruckig",
+                                **kw).duration}
+    if ctx is None or all(prove_segment(ctx.checker, a, b).clear
+                          for a, b in zip(corners[:-1], corners[1:], strict=True)):
+        durations["quintic"] = time_parameterize(corners, robot, method="quintic").duration
     traj = stops
     if blend:
-        traj = plan(robot, program(blend), limits, start=q0)
+        traj = plan(robot, program(blend), limits, start=q0, **kw)
         durations["toppra_blended"] = traj.duration
     return CycleResult(robot.name, up, across, down, A, B, durations, traj, corners, blend)
 

@@ -22,10 +22,12 @@ from numpy.typing import NDArray
 
 from scara_opt.checks import check_flag, check_real
 from scara_opt.errors import BranchError, InputError, MoveError
+from scara_opt.model.joint_checks import check_within_limits
 from scara_opt.model.robot import Robot, check_robot
 from scara_opt.motion import branch, geometry
 from scara_opt.motion.blend import blended_joints
 from scara_opt.motion.blend_joint import joint_blended
+from scara_opt.motion.clearance import in_cell
 from scara_opt.motion.jerk import jerk_limited_section
 from scara_opt.motion.moves import CIRC, LIN, PTP, Move, as_moves, goal_point
 from scara_opt.motion.result import MotionTrajectory
@@ -173,7 +175,8 @@ def plan(robot: Robot, moves: object, limits: ToolLimits | None = None, *,
          start: object | None = None, vmax: object | None = None, amax: object | None = None,
          step: float = STEP, method: str = "toppra", allow_flip: bool = False,
          torque_limits: object = None, payload: object = None,
-         payload_frame: str | None = None) -> MotionTrajectory:
+         payload_frame: str | None = None, cell: object = None, margin: float = 0.0,
+         time_limit: float = 1.0, seed: int = 0) -> MotionTrajectory:
     """Plan a program of PTP / LIN / CIRC moves into one timed trajectory.
 
     Args:
@@ -198,13 +201,26 @@ def plan(robot: Robot, moves: object, limits: ToolLimits | None = None, *,
         payload: a load at the tool (``mass`` [kg] or ``(mass, com[, inertia])``, see
             :func:`scara_opt.time_parameterize`); implies ``torque_limits=True``.
         payload_frame: the frame carrying the payload (default the tip).
+        cell: a :class:`~scara_opt.Cell` (or a :class:`~scara_opt.CollisionChecker`) to
+            plan in: PTPs go around its obstacles, every section is proven clear, a LIN or
+            CIRC that hits it is refused (:mod:`scara_opt.motion.clearance`). A Cell is
+            made into a checker at each call: pass a checker to plan many programs.
+        margin: clearance to keep from the cell [m] (with a Cell).
+        time_limit: planning limit of each PTP around obstacles [s] (> 0).
+        seed: the planner's seed (the same seed, the same path).
 
     Returns:
         MotionTrajectory: rest to rest, stopping at every goal not blended;
-        ``check_limits()`` has the joint ratios and the tool ratios per stop-to-stop run.
+        ``check_limits()`` has the joint ratios and the tool ratios per stop-to-stop run
+        (and ``"clearance"`` in a cell).
 
     Raises:
         MoveError: a bad move, named by index, with what to change (see the module).
+        MoveCollisionError: in a cell, a LIN/CIRC (or blended run) that hits it, or a goal
+            in collision: the move, the time, the bodies, the depth.
+        NoPathFoundError: in a cell, no path found for a PTP within ``time_limit``.
+        CollisionError: the start in collision.
+        JointLimitError: the start outside the joint limits.
         InputError: bad limits, start or step; torque limits with ``method="ruckig"``.
         DynamicsError: torque limits for a robot without inertias, or a load gravity alone
             makes too heavy.
@@ -226,19 +242,23 @@ def plan(robot: Robot, moves: object, limits: ToolLimits | None = None, *,
                              "drop them or use toppra")
         dynamics = RobotDynamics(robot, True if torque_limits is None else torque_limits,
                                  payload, payload_frame)
+    cellp = in_cell(robot, cell, margin, time_limit, seed)
     begin = time.perf_counter()
     if start is None:
         if not isinstance(program[0], PTP):
             raise InputError("give start= (nq,) or begin the program with a PTP (its goal is "
                              "then the start)")
-        q = branch.ptp_goal(0, robot, goal_point(0, program[0].goal, robot.nq, "goal"),
-                            np.clip(np.zeros(robot.nq), robot.lower, robot.upper),
-                            program[0].elbow)
+        q0 = np.clip(np.zeros(robot.nq), robot.lower, robot.upper)
+        q = (branch.ptp_goal(0, robot, goal_point(0, program[0].goal, robot.nq, "goal"), q0,
+                             program[0].elbow) if cellp is None
+             else cellp.goal(0, program[0], robot, q0))
         program, offset = program[1:], 1
         if not program:
             raise InputError("a program of a single PTP without start= does not move")
     else:
-        q, offset = robot.check_q(start, "start"), 0
+        q, offset = check_within_limits(robot, start, "start"), 0
+    if cellp is not None:
+        cellp.check_start(q)
     pieces, goals, tools, notes, corners, profiles = [], [q], [], [], [], []
     queue = deque(_sections(program, offset))
     while queue:
@@ -246,7 +266,8 @@ def plan(robot: Robot, moves: object, limits: ToolLimits | None = None, *,
         if len(run) == 1:
             index, m = run[0]
             try:
-                Q = move_joints(index, m, robot, q, step)
+                Q = (move_joints(index, m, robot, q, step) if cellp is None
+                     else cellp.joints(index, m, robot, q, step, move_joints))
             except BranchError as exc:
                 if not allow_flip:
                     raise
@@ -261,10 +282,20 @@ def plan(robot: Robot, moves: object, limits: ToolLimits | None = None, *,
         by_index = {i: (ToolLimits(m.speed, m.acceleration) if isinstance(m, PTP)
                         else tool.merged(m.speed, m.acceleration)) for i, m in run}
         own = _tightest(list(by_index.values()))
-        profile = ToolProfile.per_point([by_index[i] for i in owner])
-        part, note, knots = (time_section(robot, Q, joint_limits, profile, dynamics)
-                             if dynamics is not None
-                             else SECTION_TIMERS[method](robot, Q, joint_limits, profile))
+
+        def timed(Q: Array, owner: list[int], by_index: dict = by_index) -> tuple:
+            profile = ToolProfile.per_point([by_index[i] for i in owner])
+            part, note, knots = (time_section(robot, Q, joint_limits, profile, dynamics)
+                                 if dynamics is not None
+                                 else SECTION_TIMERS[method](robot, Q, joint_limits, profile))
+            return part, note, knots, profile
+
+        if cellp is None:
+            part, note, knots, profile = timed(Q, owner)
+        else:
+            t0 = sum(p[0].x[-1] for p in pieces)
+            part, note, knots, profile = cellp.timed_clear(run, Q, owner, timed,
+                                                           joint_limits, method, t0)
         profiles.append((knots, profile))
         pieces.append(part)
         goals.append(Q[-1])
@@ -278,5 +309,6 @@ def plan(robot: Robot, moves: object, limits: ToolLimits | None = None, *,
     traj = MotionTrajectory(joined, joint_limits, method, np.array(goals), ends,
                             notes="; ".join(notes), robot=robot, moves=tuple(program),
                             tool_limits=tuple(tools), corners=tuple(corners),
-                            profiles=tuple(profiles), dynamics=dynamics)
+                            profiles=tuple(profiles), dynamics=dynamics,
+                            checker=None if cellp is None else cellp.checker)
     return replace(traj, compute_time_s=time.perf_counter() - begin)

@@ -4,17 +4,23 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import numpy as np
 from numpy.typing import NDArray
 from scipy.interpolate import PPoly
 
+from scara_opt.errors import InputError
 from scara_opt.model.robot import Robot
 from scara_opt.motion import export
 from scara_opt.motion.moves import Move
 from scara_opt.motion.timing import CHECK_DT, tool_ratios
 from scara_opt.motion.tool_limits import ToolLimits, ToolProfile
 from scara_opt.trajectory.trajectory import Trajectory
+
+if TYPE_CHECKING:
+    from scara_opt.collision.checker import CollisionChecker
+    from scara_opt.collision.continuous import CollisionReport
 
 Array = NDArray[np.float64]
 
@@ -33,6 +39,8 @@ class MotionTrajectory(Trajectory):
             per waypoint interval (:class:`~scara_opt.motion.tool_limits.ToolProfile`).
         corners: ``(C (3,), r, run)`` of each blended corner [m], ``run`` the index of the
             stop-to-stop run it belongs to.
+        checker: the :class:`~scara_opt.CollisionChecker` of the cell it was planned in
+            (``None``: planned without a cell).
     """
 
     robot: Robot | None = None
@@ -40,6 +48,7 @@ class MotionTrajectory(Trajectory):
     tool_limits: tuple[ToolLimits, ...] = ()
     corners: tuple[tuple[Array, float, int], ...] = ()
     profiles: tuple[tuple[Array, ToolProfile], ...] = ()
+    checker: CollisionChecker | None = None
 
     def blend_deviations(self, dt: float = CHECK_DT) -> Array:
         """Closest approach of the tip to each blended corner (n_corners,) [m], FK at ``dt``.
@@ -83,8 +92,32 @@ class MotionTrajectory(Trajectory):
         return export.to_ros_yaml(self, path, dt)
 
     def check_limits(self) -> dict[str, Array]:
-        """Joint ratios (exact, per joint) and tool ratios (1 kHz FK, per move)."""
-        return {**super().check_limits(), **self.tool_limit_ratios()}
+        """Joint ratios (exact, per joint) and tool ratios (1 kHz FK, per move).
+
+        Planned in a cell, also ``"clearance"``: (1,) the required clearance (the margin)
+        over the clearance proven along the whole trajectory; <= 1 means proven clear with
+        the margin (0 with no margin), ``inf`` a contact (:meth:`check_collisions`).
+        """
+        out = {**super().check_limits(), **self.tool_limit_ratios()}
+        if self.checker is not None:
+            out["clearance"] = np.array([self.check_collisions().ratio])
+        return out
+
+    def check_collisions(self, cell: object = None, robot: Robot | None = None, *,
+                         margin: float = 0.0) -> CollisionReport:
+        """:meth:`Trajectory.check_collisions` in the cell it was planned in by default.
+
+        Raises:
+            InputError: no cell given and none attached.
+        """
+        if cell is None:
+            if self.checker is None:
+                raise InputError("this trajectory was planned without a cell: pass one, "
+                                 "check_collisions(cell)")
+            if "collisions" not in self._derivs:
+                self._derivs["collisions"] = super().check_collisions(self.checker)
+            return self._derivs["collisions"]
+        return super().check_collisions(cell, robot or self.robot, margin=margin)
 
 
 def _window(traj: Trajectory, t0: float, t1: float) -> Trajectory:

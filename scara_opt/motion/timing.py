@@ -59,6 +59,8 @@ def tool_ratios(robot: Robot, traj: Trajectory, tool: ToolProfile, knots: Array,
     ``knots`` (n,): the times [s] of the waypoints the profile's intervals join. Speeds
     (between samples) are judged at the middle of their step, accelerations at the sample.
     """
+    if not any(tool.limited(name) for name in ("speed", "acceleration", "yaw_rate")):
+        return {"speed": 0.0, "acceleration": 0.0, "yaw_rate": 0.0}  # nothing to sample
     t = traj.times(min(dt, traj.duration / 4))
     peaks = tool_peaks(robot, traj.evaluate(t), float(t[1] - t[0]))
     mid = (t[1:] + t[:-1]) / 2

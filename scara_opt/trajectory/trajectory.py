@@ -24,6 +24,7 @@ from scara_opt.errors import InputError
 from scara_opt.trajectory.limits import Limits
 
 if TYPE_CHECKING:
+    from scara_opt.collision.continuous import CollisionReport
     from scara_opt.model.robot import Robot
     from scara_opt.trajectory.dynamics import RobotDynamics
 
@@ -100,6 +101,17 @@ def cubic_range(pp: PPoly) -> tuple[Array, Array]:
     right = ((c[0] * h + c[1]) * h + c[2]) * h + c[3]
     values = np.concatenate([inner.reshape(-1, c.shape[2]), c[3], right])
     return np.nanmin(values, axis=0), np.nanmax(values, axis=0)
+
+
+def piece_bounds(pp: PPoly) -> Array:
+    """A bound on ``|f|`` over each piece of a 1-D piecewise polynomial, (n_pieces,).
+
+    The largest Bernstein coefficient in absolute value (convex hull property): never
+    below the true largest ``|f|`` on the piece.
+    """
+    d = pp.c.shape[0] - 1
+    alpha = pp.c[::-1] * np.diff(pp.x) ** np.arange(d + 1.0)[:, None]
+    return np.abs(_to_bernstein(d) @ alpha).max(axis=0)
 
 
 def sup_abs(pp: PPoly) -> float:
@@ -247,6 +259,40 @@ class Trajectory:
             orders["jerk"] = 3
         return {name: np.array([sup_abs(self._derivative(k, order)) for k in range(self.nq)])
                 for name, order in orders.items()}
+
+    def speed_bounds(self) -> list[tuple[Array, Array]]:
+        """Per joint: breakpoints (m + 1,) [s] and a bound (m,) on ``|q̇|`` on each piece.
+
+        Bounds in [rad/s or m/s] (:func:`piece_bounds`): what a collision proof needs.
+        """
+        return [(np.asarray(p.x, float), piece_bounds(self._derivative(k, 1)))
+                for k, p in enumerate(self.pieces)]
+
+    def check_collisions(self, cell: object, robot: Robot | None = None, *,
+                         margin: float = 0.0) -> CollisionReport:
+        """Prove the trajectory clear of a cell, or report its first contact.
+
+        Not sampled: between checked instants, a bound on how far any point of the robot
+        can move (from the joint speeds' bounds and the link geometry) must stay below the
+        clearance measured at them, or the interval is split
+        (:mod:`scara_opt.collision.continuous`).
+
+        Args:
+            cell: a :class:`~scara_opt.Cell` (with ``robot``) or a
+                :class:`~scara_opt.CollisionChecker`.
+            robot: the robot the trajectory moves (not needed with a checker).
+            margin: clearance to keep [m] (with a Cell).
+
+        Returns:
+            A :class:`~scara_opt.collision.continuous.CollisionReport`: ``clear``, or the
+            first contact's ``time`` [s], ``bodies`` and ``depth`` [m].
+
+        Raises:
+            InputError: neither a Cell nor a checker, no robot, or a robot of another size.
+        """
+        from scara_opt.collision.continuous import collision_report, make_checker
+
+        return collision_report(make_checker(cell, robot, margin, self.nq), self)
 
     def position_range(self) -> tuple[Array, Array]:
         """Smallest and largest value of each joint over the trajectory, exact, (nq,) each.

@@ -4,7 +4,8 @@ Built on meshcat (the viewer behind Pinocchio's ``MeshcatVisualizer``) and its s
 export: the page inlines meshcat's JavaScript and the recorded scene, so it works offline,
 from disk or as a CI artefact. The robot is loaded by Pinocchio's ``MeshcatVisualizer``:
 the URDF's meshes and primitives when it has ``<visual>`` elements, a stick figure
-otherwise (:mod:`scara_opt.view.geometry`). The tool path is drawn as a line; a motion is
+otherwise (:mod:`scara_opt.view.geometry`), and a cell's obstacles in grey (a motion
+planned in a cell brings its own). The tool path is drawn as a line; a motion is
 one meshcat animation with play / pause and a time slider (the "Animations" folder of the
 page's controls).
 
@@ -80,7 +81,7 @@ def frames(robot: Robot, motion: object, fps: float = FPS) -> Frames:
 
 
 def html(robot: Robot, motion: object, fps: float = FPS, title: str | None = None,
-         tool_path: bool = True) -> str:
+         tool_path: bool = True, cell: object = None) -> str:
     """The self-contained HTML page animating ``motion`` (see :func:`frames`).
 
     Args:
@@ -88,9 +89,16 @@ def html(robot: Robot, motion: object, fps: float = FPS, title: str | None = Non
         motion: a Trajectory, a JointPath, (n, nq) joint values or one (nq,) pose.
         fps: frames per second (a Trajectory is sampled at this rate).
         title: the page title (default: the robot's name).
-        tool_path: draw the tip's path as a line.
+        tool_path: draw the tip's path as a line (a motion planned in a cell: the path
+            planned around its obstacles).
+        cell: a :class:`~scara_opt.Cell` whose obstacles are drawn; default the cell a
+            :class:`~scara_opt.MotionTrajectory` was planned in, if any.
+
+    Raises:
+        InputError: ``cell`` not a Cell.
     """
-    from scara_opt.view.geometry import visual_model
+    from scara_opt.collision.cell import Cell
+    from scara_opt.view.geometry import add_obstacles, visual_model
 
     try:
         from scara_opt.view.scene import (
@@ -106,7 +114,13 @@ def html(robot: Robot, motion: object, fps: float = FPS, title: str | None = Non
 
     check_robot(robot)
     fr = frames(robot, motion, fps)
+    if cell is None and getattr(motion, "checker", None) is not None:
+        cell = motion.checker.cell  # type: ignore[attr-defined]
+    if cell is not None and not isinstance(cell, Cell):
+        raise InputError(f"cell must be a scara_opt.Cell or None; got {type(cell).__name__}")
     geom = visual_model(robot)
+    if cell is not None:
+        geom = add_obstacles(geom, cell)
     viz = MeshcatVisualizer(robot.model, None, geom)
     vis = recording_visualizer()
     viz.initViewer(viewer=vis)
@@ -147,9 +161,9 @@ def _aim_camera(vis: object, robot: Robot, Q: Array) -> None:
 
 
 def write_html(robot: Robot, motion: object, path: str | Path, fps: float = FPS,
-               title: str | None = None, tool_path: bool = True) -> Path:
+               title: str | None = None, tool_path: bool = True, cell: object = None) -> Path:
     """Write :func:`html` to ``path`` (parent folders created); returns the path."""
     out = Path(path)
     out.parent.mkdir(parents=True, exist_ok=True)
-    out.write_text(html(robot, motion, fps, title, tool_path), encoding="utf-8")
+    out.write_text(html(robot, motion, fps, title, tool_path, cell), encoding="utf-8")
     return out

@@ -4,7 +4,8 @@ A URDF with ``<visual>`` elements gives its meshes and primitives (Pinocchio's
 ``buildGeomFromUrdfString``, meshes found through the robot's ``mesh_dir``). A URDF
 without any (the bundled DH robots) gets a stick figure: a cylinder from each joint frame
 to the next joint's placement (rigid in that frame; a prismatic joint's slide shows as the
-gap it opens), a sphere at each joint and a small one at the tip.
+gap it opens), a sphere at each joint and a small one at the tip. A cell's obstacles are
+added fixed in the world (:func:`add_obstacles`).
 """
 
 from __future__ import annotations
@@ -15,13 +16,14 @@ import pinocchio as pin
 
 from scara_opt.model.robot import Robot
 
-__all__ = ["LINK_RADIUS", "has_visuals", "visual_model"]
+__all__ = ["LINK_RADIUS", "add_obstacles", "has_visuals", "visual_model"]
 
 #: stick-figure link radius, as a fraction of the chain's length
 LINK_RADIUS = 0.025
 _LINK_RGBA = np.array([0.35, 0.45, 0.6, 1.0])
 _JOINT_RGBA = np.array([0.95, 0.55, 0.15, 1.0])
 _TIP_RGBA = np.array([0.85, 0.1, 0.1, 1.0])
+_OBSTACLE_RGBA = np.array([0.55, 0.55, 0.5, 0.85])
 
 
 def has_visuals(robot: Robot) -> bool:
@@ -82,4 +84,19 @@ def _sticks(robot: Robot) -> pin.GeometryModel:
     tip_joint = model.frames[robot.tip_id].parentJoint
     geom.addGeometryObject(_sphere("tip", tip_joint, robot.tip_placement[:3, 3], 1.2 * r,
                                    _TIP_RGBA))
+    return geom
+
+
+def add_obstacles(geom: pin.GeometryModel, cell: object) -> pin.GeometryModel:
+    """``geom`` with a cell's obstacles added, fixed in the world (grey; meshes from their file).
+
+    ``cell``: a :class:`~scara_opt.Cell`. Returns ``geom`` itself.
+    """
+    for ob in cell.obstacles:  # type: ignore[attr-defined]
+        obj = pin.GeometryObject(f"obstacle_{ob.name}", 0, ob.placement, ob.shape())
+        if ob.kind == "mesh":
+            obj.meshPath = str(ob.path)
+            obj.meshScale = np.array(ob.scale)
+        obj.meshColor = _OBSTACLE_RGBA
+        geom.addGeometryObject(obj)
     return geom

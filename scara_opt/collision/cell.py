@@ -1,0 +1,196 @@
+"""A robot cell: the obstacles around the robot, from Python or a TOML cell file.
+
+In Python::
+
+    cell = so.Cell([so.Box("table", (0.6, 0.8, 0.02), xyz=(0.3, 0, -0.12)),
+                    so.Cylinder("post", radius=0.03, length=0.4, xyz=(0.25, 0.15, 0))])
+
+A cell file states its units, like a robot file, and lists its obstacles::
+
+    name = "rack cell"
+    length_unit = "mm"          # m, cm, mm, in
+    angle_unit = "deg"          # rad, deg
+    allowed = [["link4", "part"]]   # contacts that are not collisions (optional)
+
+    [[obstacles]]
+    name = "post"
+    type = "cylinder"           # box (size), cylinder / capsule (radius, length),
+    radius = 30                 # sphere (radius), mesh (file, scale)
+    length = 400
+    xyz = [250, 150, 0]         # centre of the shape
+    rpy = [0, 0, 0]             # optional
+
+A mesh's ``file`` is relative to the cell file, its coordinates in ``length_unit`` times
+``scale``. Unknown or misspelt keys, a missing size, a size <= 0 and duplicate names are
+refused with :class:`~scara_opt.errors.CellError` naming the obstacle and the key.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Iterable
+from pathlib import Path
+
+from scara_opt.checks import describe
+from scara_opt.collision.geometry import name_pairs
+from scara_opt.collision.obstacles import KINDS, Obstacle
+from scara_opt.errors import CellError, InputError
+from scara_opt.model.dh import ANGLE_UNITS, LENGTH_UNITS
+from scara_opt.model.dh_file import check_keys, read_toml
+
+__all__ = ["CELL_KEYS", "Cell", "OBSTACLE_KEYS", "load_cell"]
+
+#: the keys a cell file may hold at its top level
+CELL_KEYS = ("name", "title", "source", "notes", "length_unit", "angle_unit", "allowed",
+             "obstacles")
+
+#: the keys of an ``[[obstacles]]`` entry, by type (``name``, ``type``, ``xyz``, ``rpy`` always)
+OBSTACLE_KEYS = {"box": ("size",), "cylinder": ("radius", "length"),
+                 "capsule": ("radius", "length"), "sphere": ("radius",),
+                 "mesh": ("file", "scale")}
+
+
+class Cell:
+    """The obstacles of a cell, and the contacts that are allowed.
+
+    Attributes:
+        obstacles: the obstacles, in order (names unique).
+        allowed: ``(a, b)`` pairs of bodies whose contact is not a collision: a robot
+            link or body with an obstacle (a gripper in its nest, the base on its column).
+            Checked against the robot's bodies when a checker is built.
+        name: a name for reports.
+        source: where the cell comes from (a file path, or ``"python"``).
+    """
+
+    def __init__(self, obstacles: Iterable[Obstacle] = (), *, allowed: Iterable = (),
+                 name: str = "cell", source: str = "python") -> None:
+        try:
+            items = tuple(obstacles)
+        except TypeError:
+            raise CellError(f"obstacles must be a list of Box, Cylinder, Capsule, Sphere or "
+                            f"Mesh; got {describe(obstacles)}") from None
+        seen: set[str] = set()
+        for ob in items:
+            if not isinstance(ob, Obstacle) or type(ob) is Obstacle:
+                raise CellError(f"obstacles must be Box, Cylinder, Capsule, Sphere or Mesh; "
+                                f"got {describe(ob)}")
+            if ob.name in seen:
+                raise CellError(f"two obstacles are named {ob.name!r}; give each its own name "
+                                "(contacts are reported by name)")
+            seen.add(ob.name)
+        try:
+            pairs = tuple(name_pairs(allowed, "allowed"))
+        except CellError:
+            raise
+        except InputError as exc:
+            raise CellError(str(exc)) from None
+        self.obstacles: tuple[Obstacle, ...] = items
+        self.allowed: tuple[tuple[str, str], ...] = pairs  # type: ignore[assignment]
+        self.name = name
+        self.source = source
+
+    @property
+    def names(self) -> list[str]:
+        """The obstacles' names, in order."""
+        return [ob.name for ob in self.obstacles]
+
+    def __getitem__(self, name: str) -> Obstacle:
+        for ob in self.obstacles:
+            if ob.name == name:
+                return ob
+        raise KeyError(f"no obstacle named {name!r}; obstacles: {', '.join(self.names)}")
+
+    def __len__(self) -> int:
+        return len(self.obstacles)
+
+    def __repr__(self) -> str:
+        listed = ", ".join(self.names[:6]) + (", ..." if len(self) > 6 else "")
+        return f"Cell({self.name!r}: {len(self)} obstacles [{listed}])"
+
+    @classmethod
+    def from_toml(cls, path: str | Path) -> Cell:
+        """Read a cell file (see the module docstring); same as :func:`load_cell`."""
+        return load_cell(path)
+
+
+def _number(entry: dict, key: str, where: str) -> float:
+    value = entry.get(key)
+    if isinstance(value, bool) or not isinstance(value, (int, float)):
+        raise CellError(f"{where}: {key} must be a number; got {describe(value)}")
+    return float(value)
+
+
+def _list(entry: dict, key: str, where: str, default: list | None = None) -> list[float]:
+    value = entry.get(key, default)
+    if (not isinstance(value, list) or len(value) != 3
+            or not all(isinstance(v, (int, float)) and not isinstance(v, bool) for v in value)):
+        raise CellError(f"{where}: {key} must be a list of 3 numbers; got {describe(value)}")
+    return [float(v) for v in value]
+
+
+def _obstacle(entry: object, i: int, L: float, A: float, folder: Path, where: str) -> Obstacle:
+    """One ``[[obstacles]]`` entry, in SI units."""
+    at = f"{where}: obstacles entry {i + 1}"
+    if not isinstance(entry, dict):
+        raise CellError(f"{at} must be a table (key = value lines); got {describe(entry)}")
+    name = entry.get("name")
+    if not isinstance(name, str) or not name:
+        raise CellError(f"{at} needs a name = \"...\" (a non-empty string)")
+    at = f"{where}: obstacle {name!r}"
+    kind = entry.get("type")
+    if kind not in OBSTACLE_KEYS:
+        raise CellError(f"{at}: type must be one of {', '.join(OBSTACLE_KEYS)}; got "
+                        f"{describe(kind)}")
+    check_keys(entry, ("name", "type", "xyz", "rpy", *OBSTACLE_KEYS[kind]), at, CellError)
+    missing = [k for k in OBSTACLE_KEYS[kind] if k not in entry and k != "scale"]
+    if missing:
+        raise CellError(f"{at}: a {kind} needs {', '.join(missing)}")
+    pose = {"xyz": tuple(v * L for v in _list(entry, "xyz", at, [0, 0, 0])),
+            "rpy": tuple(v * A for v in _list(entry, "rpy", at, [0, 0, 0]))}
+    cls = KINDS[kind]
+    if kind == "box":
+        return cls(name, tuple(v * L for v in _list(entry, "size", at)), **pose)
+    if kind in ("cylinder", "capsule"):
+        return cls(name, _number(entry, "radius", at) * L, _number(entry, "length", at) * L,
+                   **pose)
+    if kind == "sphere":
+        return cls(name, _number(entry, "radius", at) * L, **pose)
+    file = entry["file"]
+    if not isinstance(file, str):
+        raise CellError(f"{at}: file must be a path (a string); got {describe(file)}")
+    scale = tuple(v * L for v in _list(entry, "scale", at, [1, 1, 1]))
+    return cls(name, folder / file, scale, **pose)
+
+
+def load_cell(path: str | Path) -> Cell:
+    """Read a cell file (TOML; see the module docstring) into a :class:`Cell` in SI units.
+
+    Raises:
+        CellError: a missing or unreadable file, TOML syntax, an unknown key or unit, a
+            missing size, a size <= 0, duplicate names, a bad ``allowed`` entry.
+        MeshNotFoundError: a mesh file that cannot be found.
+    """
+    if not isinstance(path, (str, Path)):
+        raise CellError(f"a cell file path must be a str or Path; got {describe(path)}")
+    path = Path(path)
+    where = f"cell file {str(path)!r}"
+    data = read_toml(path, where, "a TOML cell file", CellError)
+    check_keys(data, CELL_KEYS, where, CellError)
+    lu, au = data.get("length_unit"), data.get("angle_unit", "rad")
+    if lu not in LENGTH_UNITS or au not in ANGLE_UNITS:
+        raise CellError(f"{where}: length_unit must be one of {sorted(LENGTH_UNITS)} and "
+                        f"angle_unit one of {sorted(ANGLE_UNITS)}; got {lu!r} and {au!r}")
+    entries = data.get("obstacles", [])
+    if not isinstance(entries, list):
+        raise CellError(f"{where}: obstacles must be [[obstacles]] tables")
+    obstacles = [_obstacle(e, i, LENGTH_UNITS[lu], ANGLE_UNITS[au], path.parent, where)
+                 for i, e in enumerate(entries)]
+    allowed = data.get("allowed", [])
+    if not isinstance(allowed, list):
+        raise CellError(f"{where}: allowed must be a list of [body, body] pairs")
+    name = data.get("name", path.stem)
+    if not isinstance(name, str):
+        raise CellError(f"{where}: name must be a string; got {describe(name)}")
+    try:
+        return Cell(obstacles, allowed=allowed, name=name, source=str(path))
+    except CellError as exc:
+        raise CellError(f"{where}: {exc}") from None

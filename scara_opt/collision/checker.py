@@ -1,0 +1,349 @@
+"""A robot in a cell: is a configuration in collision, and how far is it from one.
+
+:class:`CollisionChecker` puts the robot's bodies (:mod:`~scara_opt.collision.geometry`)
+and the cell's obstacles into one Pinocchio ``GeometryModel`` with the pairs to check:
+every robot body against every obstacle (but the cell's ``allowed`` contacts) and the
+robot's own self pairs. Pinocchio's ``computeCollisions`` / ``computeDistances`` (coal)
+do the work; distances are *signed*: negative is the depth of an overlap [m] (coal's
+signed distance for convex shapes; a mesh reports 0 when in contact).
+
+``margin`` [m] makes the checker demand that much clearance: a configuration collides when
+a pair is closer than the margin.
+
+A robot whose revolute axes are all parallel (a SCARA) keeps every body within a fixed
+range along that axis, whatever the joints do (the prismatic strokes bound it exactly:
+:func:`~scara_opt.collision.bound.height_range`). A robot body and an obstacle whose
+ranges never come within the margin (the arms and a table below the tool's lowest
+reach) are not checked against each other; :attr:`CollisionChecker.skipped` says so.
+"""
+
+from __future__ import annotations
+
+import math
+import threading
+from dataclasses import dataclass
+from functools import cached_property
+
+import numpy as np
+import pinocchio as pin
+from numpy.typing import NDArray
+
+from scara_opt.checks import check_real, describe
+from scara_opt.collision.bound import height_gaps, height_range, pair_weights
+from scara_opt.collision.cell import Cell
+from scara_opt.collision.geometry import (
+    Body,
+    RobotGeometry,
+    check_pair_names,
+    name_pairs,
+    robot_geometry,
+    support_points,
+)
+from scara_opt.errors import InputError
+from scara_opt.model.robot import Robot, check_robot
+
+Array = NDArray[np.float64]
+
+__all__ = ["Clearance", "CollisionChecker"]
+
+_F64 = np.dtype(np.float64)
+
+
+#: batches go through coal's broad phase above this many pairs per body (measured on the
+#: cells of benchmarks/bench_plan.py: 52 pairs on 13 bodies 2.4x the loop with it, 1.5x
+#: without; 14 on 11, 1.9x without it and 1.7x with)
+BROAD_PHASE = 1.5
+
+#: a robot-obstacle pair is not checked when its bodies' ranges along the common joint
+#: axis of a SCARA-type robot stay this much farther apart than the margin [m]
+GAP_TOL = 1e-4
+
+
+def _heights(robot: Robot, bodies: list[Body]) -> tuple[Array, list] | None:
+    """The common axis of a SCARA-type robot and each body's range along it (else None)."""
+    n = robot.yaw_axis
+    if n is None:
+        return None
+    return n, [height_range(robot, b, n) for b in bodies]
+
+
+def _gap(heights: tuple | None, i: int, obj: pin.GeometryObject) -> float:
+    """How far apart body ``i`` and the obstacle ``obj`` always stay along the axis [m]."""
+    if heights is None:
+        return -math.inf
+    n, ranges = heights
+    points, pad = support_points(obj.geometry, obj.placement)
+    h = points @ n
+    lo, hi = ranges[i]
+    return max(float(h.min()) - pad - hi, lo - float(h.max()) - pad)
+
+
+@dataclass(frozen=True)
+class Clearance:
+    """The closest pair of bodies at one configuration.
+
+    Attributes:
+        distance: their signed distance [m]; negative: they overlap by ``-distance``.
+        bodies: ``(robot body, other body)`` names.
+    """
+
+    distance: float
+    bodies: tuple[str, str]
+
+    @property
+    def depth(self) -> float:
+        """How deep the bodies overlap [m] (0 when apart)."""
+        return max(0.0, -self.distance)
+
+    def __repr__(self) -> str:
+        return f"Clearance({self.distance * 1e3:.3f} mm, {self.bodies[0]}-{self.bodies[1]})"
+
+
+class CollisionChecker:
+    """Collision and clearance queries for one robot in one cell.
+
+    Args:
+        robot: the robot.
+        cell: its :class:`~scara_opt.collision.cell.Cell` (``None``: self-collision only).
+        margin: clearance a configuration must keep to count as free [m] (default 0).
+        radius: capsule radius [m] of a robot without ``<collision>`` (see
+            :func:`~scara_opt.collision.geometry.robot_geometry`).
+        srdf: an SRDF (file or text) whose ``<disable_collisions>`` pairs are not checked.
+        allowed: more pairs not to check: two robot bodies, or a robot body and an
+            obstacle (like the cell's own ``allowed``).
+        missing_mesh: ``"error"`` or ``"capsule"`` for a robot mesh that is missing.
+        geometry: a :class:`~scara_opt.collision.geometry.RobotGeometry` already built
+            (then ``radius``, ``srdf``, ``missing_mesh`` are not used).
+
+    Raises:
+        CellError, MeshNotFoundError, UnknownBodyError: see
+            :func:`~scara_opt.collision.geometry.robot_geometry`; an ``allowed`` pair of the
+            cell naming no robot body or obstacle.
+        InputError: ``cell`` not a Cell, ``margin`` not a finite number >= 0.
+    """
+
+    def __init__(self, robot: Robot, cell: Cell | None = None, *, margin: float = 0.0,
+                 radius: object = None, srdf: object = None, allowed: object = (),
+                 missing_mesh: str = "error", geometry: RobotGeometry | None = None) -> None:
+        self.robot = check_robot(robot)
+        if cell is None:
+            cell = Cell(name="no obstacles")
+        if not isinstance(cell, Cell):
+            raise InputError(f"cell must be a scara_opt.Cell (so.load_cell(path) or "
+                             f"so.Cell([...])) or None; got {describe(cell)}")
+        self.cell = cell
+        self.margin = check_real("margin", margin, 0.0, 1.0, unit="m")
+        given_pairs = name_pairs(allowed, "allowed")
+        robot_pairs = [p for p in given_pairs if not set(p) & set(cell.names)]
+        cell_pairs = [p for p in given_pairs if set(p) & set(cell.names)]
+        self.geometry = geometry if geometry is not None else robot_geometry(
+            robot, radius=radius, srdf=srdf, allowed=robot_pairs, missing_mesh=missing_mesh)
+        model = pin.GeometryModel()
+        for obj in self.geometry.model.geometryObjects:
+            model.addGeometryObject(obj)
+        bodies: list[Body] = list(self.geometry.bodies)
+        for ob in cell.obstacles:
+            model.addGeometryObject(pin.GeometryObject(ob.name, 0, ob.placement, ob.shape()))
+            bodies.append(Body(ob.name, ob.name, 0, np.zeros((1, 3)), 0.0))
+        known: dict[str, set[int]] = {}
+        for i, b in enumerate(bodies):
+            known.setdefault(b.name, set()).add(i)
+            known.setdefault(b.link, set()).add(i)
+        given = check_pair_names(list(cell.allowed) + cell_pairs, known,
+                                 f"allowed contacts of {cell.name!r}")
+        n_robot = len(self.geometry.bodies)
+        pairs = list(self.geometry.pairs)
+        self.skipped = dict(self.geometry.skipped)
+        heights = _heights(self.robot, bodies[:n_robot])
+        for i in range(n_robot):
+            for j in range(n_robot, len(bodies)):
+                key = (bodies[i].name, bodies[j].name)
+                if any((i in x and j in y) or (j in x and i in y) for x, y in given):
+                    self.skipped[key] = "allowed"
+                    continue
+                gap = _gap(heights, i, model.geometryObjects[j])
+                if gap > self.margin + GAP_TOL:
+                    self.skipped[key] = (f"never within reach: at least {gap * 1e3:.3g} mm "
+                                         "apart along the joints' common axis")
+                else:
+                    pairs.append((i, j))
+        for i, j in pairs:
+            model.addCollisionPair(pin.CollisionPair(i, j))
+        self.model = model
+        self.bodies: tuple[Body, ...] = tuple(bodies)
+        self.pairs: NDArray[np.int64] = np.array(pairs, dtype=np.int64).reshape(-1, 2)
+        self.pair_names: tuple[tuple[str, str], ...] = tuple(
+            (bodies[i].name, bodies[j].name) for i, j in pairs)
+        self._local = threading.local()
+        self._robot_model = robot.model
+        self._shape = (robot.nq,)
+
+    # ------------------------------------------------------------------ per-thread data
+    def _data(self) -> tuple[pin.Data, pin.GeometryData, list]:
+        """This thread's Pinocchio and geometry data, and the list of its distance results."""
+        local = self._local
+        try:
+            return local.pair
+        except AttributeError:
+            gdata = pin.GeometryData(self.model)
+            # the results, fetched once: each element refers into the data's own vector
+            local.pair = (self.robot.model.createData(), gdata, list(gdata.distanceResults))
+            return local.pair
+
+    def _q(self, q: object) -> Array:
+        """``q`` checked: a float (nq,) array of finite values (the fast path costs ~0.5 µs)."""
+        if (type(q) is np.ndarray and q.dtype is _F64 and q.shape == self._shape
+                and math.isfinite(sum(q.tolist()))):
+            return q
+        return self.robot.check_q(q)
+
+    @cached_property
+    def weights(self) -> Array:
+        """Bound (npairs, nq) on each pair's relative motion per joint motion [m/rad or m/m].
+
+        Along a straight joint segment ``dq``, no point of a pair's bodies moves relative
+        to the other body by more than ``weights @ abs(dq)`` (:mod:`scara_opt.collision.bound`).
+        """
+        return pair_weights(self.robot, self.bodies, self.pairs)
+
+    @cached_property
+    def gaps(self) -> tuple[Array, Array, Array] | None:
+        """Each pair's gap above and below its obstacle along a SCARA's axis, affine in q.
+
+        ``(A, a, b)``: the gaps are ``A @ q + a`` and ``b - A @ q`` [m] (``-inf`` for self
+        pairs); ``None`` for a robot whose revolute axes are not parallel
+        (:func:`~scara_opt.collision.bound.height_gaps`).
+        """
+        obstacles = {}
+        for j, obj in enumerate(self.model.geometryObjects):
+            if self.bodies[j].joint == 0 and self.robot.yaw_axis is not None:
+                points, pad = support_points(obj.geometry, obj.placement)
+                h = points @ self.robot.yaw_axis
+                obstacles[j] = (float(h.min()) - pad, float(h.max()) + pad)
+        return height_gaps(self.robot, list(self.bodies), self.pairs, obstacles)
+
+    @property
+    def npairs(self) -> int:
+        """Number of pairs checked."""
+        return len(self.pair_names)
+
+    # ------------------------------------------------------------------ one configuration
+    def collides(self, q: object) -> bool:
+        """Whether any checked pair is in contact (closer than ``margin``) at ``q`` (nq,).
+
+        Pinocchio's ``computeCollisions`` (FK, placements, coal) stopping at the first
+        contact; with a margin, :meth:`distances`.
+
+        Raises:
+            InputError: ``q`` not (nq,) finite numbers.
+        """
+        if not (type(q) is np.ndarray and q.dtype is _F64 and q.shape == self._shape
+                and math.isfinite(sum(q.tolist()))):
+            q = self.robot.check_q(q)
+        if self.margin:
+            return bool(self.distances(q).min() < self.margin) if self.npairs else False
+        try:
+            data, gdata, _ = self._local.pair
+        except AttributeError:
+            data, gdata, _ = self._data()
+        return pin.computeCollisions(self._robot_model, data, self.model, gdata, q, True)
+
+    def distances(self, q: object) -> Array:
+        """Signed distance of every checked pair (npairs,) [m] at ``q`` (nq,)."""
+        qa = self._q(q)
+        data, gdata, results = self._data()
+        pin.computeDistances(self._robot_model, data, self.model, gdata, qa)
+        return np.array([r.min_distance for r in results])
+
+    def clearance(self, q: object) -> Clearance:
+        """The closest pair at ``q`` (nq,) and its signed distance.
+
+        Raises:
+            InputError: ``q`` not (nq,) finite numbers, or nothing to check (no pairs).
+        """
+        if not self.npairs:
+            raise InputError("the checker has no pair of bodies to check (no obstacle and no "
+                             "self pair): add obstacles to the cell")
+        d = self.distances(q)
+        k = int(np.argmin(d))
+        return Clearance(float(d[k]), self.pair_names[k])
+
+    def contacts(self, q: object) -> list[Clearance]:
+        """Every checked pair closer than ``margin`` at ``q``, deepest first."""
+        d = self.distances(q)
+        hit = np.flatnonzero(d < self.margin) if self.margin else np.flatnonzero(d <= 0.0)
+        order = hit[np.argsort(d[hit])]
+        return [Clearance(float(d[k]), self.pair_names[k]) for k in order]
+
+    # ------------------------------------------------------------------ batches
+    def _batch(self, Q: object) -> Array:
+        return self.robot.check_q_batch(Q)
+
+    def _pool(self, threads: int) -> object:
+        """A pool of ``threads`` copies of the model and data, kept per thread count.
+
+        A broad-phase pool (coal's dynamic AABB tree) when there are many pairs per body
+        (it skips the pairs whose boxes are apart), else a plain geometry pool (updating
+        the tree costs more than a few narrow-phase tests).
+        """
+        pools = self.__dict__.setdefault("_pools", {})
+        if threads not in pools:
+            broad = self.npairs > BROAD_PHASE * len(self.bodies)
+            make = (pin.BroadPhaseManagerPool_DynamicAABBTreeCollisionManager if broad
+                    else pin.GeometryPool)
+            pools[threads] = make(self.robot.model, self.model, threads)
+        return pools[threads]
+
+    def collides_many(self, Q: object, threads: int = 1) -> NDArray[np.bool_]:
+        """:meth:`collides` of each row of ``Q`` (n, nq) in one call, (n,) bool.
+
+        Pinocchio's ``computeCollisionsInParallel`` over a pool (:meth:`_pool`) in
+        ``threads`` threads; with a margin, :meth:`distances_many` instead.
+        """
+        Qa = self._batch(Q)
+        threads = int(check_real("threads", threads, 1, 256))
+        if not self.npairs or not len(Qa):
+            return np.zeros(len(Qa), dtype=bool)
+        if self.margin:
+            return self.distances_many(Qa).min(axis=1) < self.margin
+        out = pin.computeCollisionsInParallel(threads, self._pool(threads),
+                                              np.asfortranarray(Qa.T), True)
+        return np.asarray(out, dtype=bool)
+
+    def distances_many(self, Q: object) -> Array:
+        """Signed distances (n, npairs) [m] of every pair at each row of ``Q`` (n, nq)."""
+        Qa = self._batch(Q)
+        data, gdata, results = self._data()
+        out = np.empty((len(Qa), self.npairs))
+        model, gmodel = self._robot_model, self.model
+        for i, q in enumerate(Qa):
+            pin.computeDistances(model, data, gmodel, gdata, q)
+            out[i] = [r.min_distance for r in results]
+        return out
+
+    def pair_distances(self, Q: Array, pairs: Array | None = None) -> Array:
+        """Signed distances (n, len(pairs)) of some pairs at each row of ``Q`` (n, nq) [m].
+
+        No checks (the proofs' inner loop): ``Q`` a float array, ``pairs`` indices into
+        :attr:`pair_names` (``None``: all, as :meth:`distances_many`).
+        """
+        if pairs is None:
+            return self.distances_many(Q)
+        data, gdata, _ = self._data()
+        model, gmodel = self._robot_model, self.model
+        place, distance = pin.updateGeometryPlacements, pin.computeDistance
+        cols = [int(k) for k in pairs]
+        out = np.empty((len(Q), len(cols)))
+        for i, q in enumerate(Q):
+            place(model, data, gmodel, gdata, q)
+            out[i] = [distance(gmodel, gdata, k).min_distance for k in cols]
+        return out
+
+    def clearance_many(self, Q: object) -> Array:
+        """Smallest signed distance (n,) [m] at each row of ``Q`` (n, nq)."""
+        D = self.distances_many(Q)
+        return D.min(axis=1) if D.shape[1] else np.full(len(D), np.inf)
+
+    def __repr__(self) -> str:
+        return (f"CollisionChecker({self.robot.name!r} in {self.cell!r}: {len(self.bodies)} "
+                f"bodies, {self.npairs} pairs, margin {self.margin * 1e3:g} mm)")

@@ -1,0 +1,436 @@
+r"""Motions proven clear of collision between checked configurations, not sampled and hoped.
+
+**The bound** (:mod:`scara_opt.collision.bound`): along a motion, each checked pair's
+bodies move relative to each other by at most :math:`w \cdot |\Delta q|` [m], ``w`` per pair
+(:attr:`~scara_opt.collision.checker.CollisionChecker.weights`).
+
+**The rule.** Along a straight joint segment :math:`q(s) = q_a + s\,\Delta q`, the pair's
+bodies move relative to each other by at most :math:`s\,M` with
+:math:`M = w \cdot |\Delta q|`, so their distance obeys :math:`d(s) \ge d_a - sM` and
+:math:`d(s) \ge d_b - (1 - s)M`; the larger of the two is smallest where they cross, at
+:math:`(d_a + d_b - M) / 2`. Hence **if** :math:`M < d_a + d_b` **for every pair, the whole
+segment is clear**, with at least :math:`(d_a + d_b - M)/2` to spare. Otherwise the interval
+is split at its middle, the middle is checked, and each half is tried again
+(:func:`prove`). A sample in contact ends the proof (the motion collides); an interval that
+still fails when its bound :math:`M` is below :data:`RESOLUTION` (the bodies graze) is not
+proven and counts as a contact. With a margin *m*, every *d* is replaced by
+*d − m − ε*, ε = :data:`DISTANCE_TOL` covering the distance computation's own tolerance.
+
+**Timed trajectories** are not straight segments: the spline between two samples may bulge
+away from their chord. On :math:`[t_0, t_1]` the relative motion is at most
+:math:`(t_1 - t_0)\, w \cdot \bar v` with :math:`\bar v_j` a bound on :math:`|\dot q_j|` over
+the interval: each polynomial piece's :math:`|\dot q_j|` lies within the range of its
+Bernstein coefficients (convex hull property), and an interval takes the largest over the
+pieces it covers (:class:`VelocityBound`). The same rule then proves the trajectory
+(:func:`check_trajectory`), and the first contact is located to :data:`TIME_TOL`.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable
+from dataclasses import dataclass, replace
+
+import numpy as np
+from numpy.typing import NDArray
+
+from scara_opt.collision.checker import CollisionChecker
+
+Array = NDArray[np.float64]
+
+__all__ = ["CollisionReport", "Contact", "Proof", "VelocityBound", "check_trajectory",
+           "collision_report", "deepest", "prove", "prove_segment"]
+
+#: an interval whose motion bound is below this [m] and still not proven is not clear
+RESOLUTION = 1e-9
+
+#: the first contact of a trajectory is located to within this [s]
+TIME_TOL = 1e-4
+
+#: distances below this [m] do not count as clear: coal's GJK distance is exact to its
+#: tolerance (1e-6 m), the proof keeps ten times that in hand
+DISTANCE_TOL = 1e-5
+
+#: at most this many configurations are checked in one proof (then: not proven)
+MAX_EVALUATIONS = 200_000
+
+
+# ---------------------------------------------------------------------------- the proof
+@dataclass(frozen=True)
+class Contact:
+    """Where a motion is first not clear.
+
+    Attributes:
+        at: the parameter: ``s`` in [0, 1] along a segment, or the time [s] of a trajectory.
+        bodies: the pair of bodies, ``(robot body, other body)``.
+        distance: their signed distance there [m] (negative: overlap).
+        touching: True if a configuration was found there with the bodies in contact
+            (closer than the margin, to within :data:`DISTANCE_TOL`); False if the motion
+            only could not be proven clear there (an interval where they graze, or the
+            evaluation budget ran out).
+    """
+
+    at: float
+    bodies: tuple[str, str]
+    distance: float
+    touching: bool = True
+
+    @property
+    def depth(self) -> float:
+        """Overlap [m] (0 when they only touch or graze)."""
+        return max(0.0, -self.distance)
+
+
+@dataclass(frozen=True)
+class Proof:
+    """The outcome of a conservative check of a motion.
+
+    Attributes:
+        clear: the whole motion is proven clear (every pair farther than the margin).
+        contact: the first place not proven clear (``None`` when clear).
+        clearance: a proven lower bound on every pair's distance over the motion [m]
+            (``inf`` when there is nothing to check); meaningful when ``clear``.
+        evaluations: configurations whose distances were computed.
+    """
+
+    clear: bool
+    contact: Contact | None
+    clearance: float
+    evaluations: int
+
+
+def prove(s: Array, D: Array, config: Callable[[Array], Array],
+          bound: Callable[[Array, Array], Array],
+          distances: Callable[[Array, Array | None], Array],
+          names: tuple[tuple[str, str], ...], *, margin: float = 0.0, locate: bool = False,
+          tol: float = 0.0, budget: int = MAX_EVALUATIONS,
+          apart: Callable[..., Array] | None = None) -> Proof:
+    """Prove the motion between the samples ``s`` clear by the rule of the module docstring.
+
+    All intervals are tried at once, level by level: those where every pair passes are
+    done, the others are split at their middle, where only the pairs that failed somewhere
+    are computed (the others are proven on every interval being split).
+
+    Args:
+        s: (m,) increasing parameters of the first samples (the motion's ends included).
+        D: (m, npairs) signed distances of every pair at them [m].
+        config: parameters (k,) -> configurations (k, nq).
+        bound: interval ends (k,), (k,) -> bounds (k, npairs) on each pair's relative motion
+            over each interval [m].
+        distances: configurations (k, nq) and pair indices (or None: all) -> signed
+            distances (k, len) [m].
+        names: the pairs' body names.
+        margin: clearance to keep [m].
+        locate: find the *first* contact to within ``tol`` (else stop at any contact).
+        tol: the location tolerance on the parameter.
+        budget: most configurations to evaluate; beyond, the rest is not proven.
+        apart: optional ``(lo, hi, Qlo, Qhi) -> (k, npairs)`` proven lower bounds on each
+            pair's distance over each interval by other means [m], less margin and
+            tolerance (> 0: apart there; e.g. a SCARA's height gaps).
+    """
+    s = np.asarray(s, float)
+    shift = margin + DISTANCE_TOL
+    D = np.asarray(D, float) - shift
+    npairs = D.shape[1]
+    if not npairs:
+        return Proof(True, None, math.inf, 0)
+    contact: Contact | None = None
+
+    def found(at: float, d: Array, sample: bool = True) -> Contact:
+        k = int(np.argmin(d))
+        dist = float(d[k] + shift)
+        return Contact(float(at), names[k], dist, sample)
+
+    bad = np.flatnonzero((D <= 0).any(axis=1))
+    if bad.size:
+        contact = found(s[bad[0]], D[bad[0]])
+        if not locate or bad[0] == 0:
+            return Proof(False, contact, -math.inf, 0)
+    Q = config(s)
+    lo, hi, Dlo, Dhi, Qlo, Qhi = s[:-1], s[1:], D[:-1], D[1:], Q[:-1], Q[1:]
+    spare, evals = math.inf, 0
+    while lo.size:
+        M = bound(lo, hi)
+        slack = Dlo + Dhi - M
+        fine = np.where((Dlo > 0) & (Dhi > 0), slack / 2, -math.inf)  # per-pair lower bounds
+        if apart is not None:
+            fine = np.maximum(fine, apart(lo, hi, Qlo, Qhi))
+        passed = fine > 0
+        ok = passed.all(axis=1)
+        if ok.any():
+            spare = min(spare, float(fine[ok].min()))
+        rest = ~ok
+        if contact is not None:  # only what lies before the first contact matters
+            rest &= (lo < contact.at) & ~((hi >= contact.at) & (hi - lo <= tol))
+        if not rest.any():
+            break
+        lo, hi, Dlo, Dhi, Qlo, Qhi, M, passed = (x[rest] for x in (
+            lo, hi, Dlo, Dhi, Qlo, Qhi, M, passed))
+        grazing = np.where(passed, 0.0, M).max(axis=1) < RESOLUTION
+        if grazing.any() or evals + lo.size > budget:
+            k = int(np.argmin(np.where(grazing, lo, np.inf))) if grazing.any() else 0
+            c = found(lo[k], np.minimum(Dlo[k], Dhi[k]), sample=False)
+            if contact is None or c.at < contact.at:
+                contact = c
+            if not locate or not grazing.any():
+                break
+            keep = ~grazing & (lo < contact.at)
+            lo, hi, Dlo, Dhi, Qlo, Qhi, passed = (x[keep] for x in (
+                lo, hi, Dlo, Dhi, Qlo, Qhi, passed))
+            if not lo.size:
+                break
+        mid = (lo + hi) / 2
+        Qm = config(mid)
+        cols = np.flatnonzero(~passed.all(axis=0))  # pairs failing somewhere
+        Dm = np.full((len(mid), npairs), math.inf)
+        Dm[:, cols] = distances(Qm, None if len(cols) == npairs else cols) - shift
+        evals += mid.size
+        hit = np.flatnonzero((Dm <= 0).any(axis=1))
+        if hit.size:
+            k = int(hit[np.argmin(mid[hit])])
+            if contact is None or mid[k] < contact.at:
+                contact = found(mid[k], Dm[k])
+            if not locate:
+                break
+        lo, hi = np.concatenate([lo, mid]), np.concatenate([mid, hi])
+        Dlo, Dhi = np.concatenate([Dlo, Dm]), np.concatenate([Dm, Dhi])
+        Qlo, Qhi = np.concatenate([Qlo, Qm]), np.concatenate([Qm, Qhi])
+    if contact is not None:
+        return Proof(False, contact, -math.inf, evals)
+    return Proof(True, None, shift + spare, evals)
+
+
+def prove_segment(checker: CollisionChecker, qa: object, qb: object, *, locate: bool = False
+                  ) -> Proof:
+    """Prove the straight joint segment from ``qa`` to ``qb`` (nq,) clear of collision.
+
+    ``Proof.contact.at`` is the fraction ``s`` in [0, 1] along the segment; with
+    ``locate``, the first contact to within 1e-6.
+    """
+    qa, qb = checker.robot.check_q(qa, "qa"), checker.robot.check_q(qb, "qb")
+    W = checker.weights
+    dq = qb - qa
+    M = W @ np.abs(dq)
+
+    def config(s: Array) -> Array:
+        return qa + s[:, None] * dq
+
+    def bound(lo: Array, hi: Array) -> Array:
+        return np.outer(hi - lo, M)
+
+    D = checker.distances_many(np.array([qa, qb]))
+    gaps = checker.gaps
+    apart = None
+    if gaps is not None:
+        A, a, b = gaps
+        shift = checker.margin + DISTANCE_TOL
+        ha, hb = A @ qa, A @ qb  # affine along the segment: the smaller end bounds it
+
+        def apart(lo: Array, hi: Array, Qlo: Array, Qhi: Array) -> Array:
+            h0 = np.outer(1 - lo, ha) + np.outer(lo, hb)
+            h1 = np.outer(1 - hi, ha) + np.outer(hi, hb)
+            return np.maximum(np.minimum(h0, h1) + a, b - np.maximum(h0, h1)) - shift
+
+    p = prove(np.array([0.0, 1.0]), D, config, bound, checker.pair_distances,
+              checker.pair_names, margin=checker.margin, locate=locate, tol=1e-6, apart=apart)
+    return replace(p, evaluations=p.evaluations + 2)
+
+
+# ---------------------------------------------------------------------------- trajectories
+class VelocityBound:
+    """Bounds on ``|q̇_j|`` over any time interval of a trajectory, per joint.
+
+    From the trajectory's :meth:`~scara_opt.Trajectory.speed_bounds` (a Bernstein bound per
+    polynomial piece); an interval takes the largest over the pieces it covers (a sparse
+    table answers each query in two lookups).
+    """
+
+    def __init__(self, traj: object) -> None:
+        self.breaks: list[Array] = []
+        self.tables: list[Array] = []  # (levels, pieces): row L the largest over 2**L pieces
+        for x, b in traj.speed_bounds():  # type: ignore[attr-defined]
+            rows, step = [b], 1
+            while 2 * step <= len(b):
+                rows.append(np.maximum(rows[-1][:-step], rows[-1][step:]))
+                step *= 2
+            table = np.zeros((len(rows), len(b)))
+            for level, row in enumerate(rows):
+                table[level, :len(row)] = row
+            self.breaks.append(x)
+            self.tables.append(table)
+
+    def __call__(self, t0: Array, t1: Array) -> Array:
+        """Bounds (k, nq) on ``|q̇|`` over each interval ``[t0[i], t1[i]]`` [rad/s or m/s]."""
+        out = np.empty((len(t0), len(self.tables)))
+        for j, (x, table) in enumerate(zip(self.breaks, self.tables, strict=True)):
+            n = table.shape[1]
+            a = np.minimum(np.maximum(np.searchsorted(x, t0, side="right") - 1, 0), n - 1)
+            b = np.minimum(np.maximum(np.searchsorted(x, t1, side="left") - 1, a), n - 1)
+            k = np.minimum(np.log2(b - a + 1).astype(int), table.shape[0] - 1)
+            out[:, j] = np.maximum(table[k, a], table[k, b - (1 << k) + 1])
+        return out
+
+
+def check_trajectory(checker: CollisionChecker, traj: object, *, locate: bool = True,
+                     samples: int = 32) -> Proof:
+    """Prove a timed trajectory clear of collision, or find its first contact.
+
+    Args:
+        checker: the robot in its cell.
+        traj: a :class:`~scara_opt.Trajectory` of the checker's robot.
+        locate: find the first contact to within :data:`TIME_TOL` (else any contact).
+        samples: intervals of the first, uniform split of the duration (the waypoint times
+            are added).
+
+    Returns:
+        A :class:`Proof`; ``contact.at`` is the time [s].
+    """
+    T = traj.duration
+    t = np.unique(np.concatenate([np.linspace(0.0, T, samples + 1),
+                                  np.clip(traj.waypoint_times, 0.0, T)]))
+    Q = traj.evaluate(t)
+    D = checker.distances_many(Q)
+    vel = VelocityBound(traj)
+    W = checker.weights
+    seen: list = [None, None]
+
+    def speeds(lo: Array, hi: Array) -> Array:  # the bound and the gaps ask for the same
+        if seen[0] is not lo:
+            seen[0], seen[1] = lo, vel(lo, hi)
+        return seen[1]
+
+    def bound(lo: Array, hi: Array) -> Array:
+        return (hi - lo)[:, None] * (speeds(lo, hi) @ W.T)
+
+    p = prove(t, D, traj.evaluate, bound, checker.pair_distances, checker.pair_names,
+              margin=checker.margin, locate=locate, tol=TIME_TOL,
+              apart=_trajectory_gaps(checker, speeds))
+    return replace(p, evaluations=p.evaluations + len(t))
+
+
+def _trajectory_gaps(checker: CollisionChecker, vel: Callable[[Array, Array], Array]
+                     ) -> Callable[..., Array] | None:
+    """A SCARA's height gaps over trajectory intervals (None for other robots).
+
+    On ``[t0, t1]`` each joint stays within ``(q0 + q1)/2 ± v̄ (t1 - t0)/2`` (it cannot go
+    farther at speed ``v̄`` and still reach both ends); the gaps are affine in ``q``, so their
+    least over that box bounds them.
+    """
+    gaps = checker.gaps
+    if gaps is None:
+        return None
+    A, a, b = gaps
+    Ap, An = np.maximum(A, 0.0), np.minimum(A, 0.0)
+    shift = checker.margin + DISTANCE_TOL
+
+    def apart(lo: Array, hi: Array, Qlo: Array, Qhi: Array) -> Array:
+        half = vel(lo, hi) * ((hi - lo) / 2)[:, None]
+        mid = (Qlo + Qhi) / 2
+        qmin, qmax = mid - half, mid + half
+        low = qmin @ Ap.T + qmax @ An.T   # least of A q over the box
+        high = qmax @ Ap.T + qmin @ An.T  # largest
+        return np.maximum(low + a, b - high) - shift
+
+    return apart
+
+
+def deepest(checker: CollisionChecker, traj: object, contact: Contact, dt: float = 1e-3
+            ) -> float:
+    """The largest overlap [m] of the contact's pair while it lasts, sampled every ``dt`` [s]."""
+    k = checker.pair_names.index(contact.bodies)
+    t, depth, T = contact.at, contact.depth, traj.duration
+    while t <= T:
+        ts = np.minimum(t + dt * np.arange(1, 65), T)
+        d = checker.distances_many(traj.evaluate(ts))[:, k]
+        apart = np.flatnonzero(d > checker.margin)
+        if apart.size:
+            d = d[:apart[0]]
+        if d.size:
+            depth = max(depth, float(-d.min()))
+        if apart.size or ts[-1] >= T:
+            break
+        t = float(ts[-1])
+    return max(depth, 0.0)
+
+
+@dataclass(frozen=True)
+class CollisionReport:
+    """A trajectory proven clear of its cell, or its first contact.
+
+    Attributes:
+        clear: proven clear (every pair farther than the margin all along).
+        time: when the first contact begins [s], to :data:`TIME_TOL` (``None`` when clear).
+        bodies: the pair in contact, ``(robot body, other body)`` (``None`` when clear).
+        depth: the deepest overlap of that pair during that contact [m], sampled at 1 kHz
+            (0 for a contact that is only not proven: grazing).
+        touching: the bodies really touch (not only a part not proven clear).
+        clearance: a proven lower bound on the clearance over the whole trajectory [m]
+            (``inf``: nothing to check; ``-inf`` when not clear).
+        margin: the clearance that was required [m].
+        evaluations: configurations whose distances were computed.
+    """
+
+    clear: bool
+    time: float | None
+    bodies: tuple[str, str] | None
+    depth: float
+    touching: bool
+    clearance: float
+    margin: float
+    evaluations: int
+
+    @property
+    def ratio(self) -> float:
+        """Required over proven clearance: <= 1 means proven clear with the margin.
+
+        ``inf`` when not clear; 0 with no margin.
+        """
+        if not self.clear:
+            return math.inf
+        return 0.0 if self.margin == 0 else self.margin / self.clearance
+
+    def __repr__(self) -> str:
+        if self.clear:
+            return (f"CollisionReport(clear: clearance >= {self.clearance * 1e3:.3f} mm proven, "
+                    f"{self.evaluations} checks)")
+        what = f"{self.depth * 1e3:.3f} mm deep" if self.touching else "not proven clear"
+        return (f"CollisionReport(first contact at {self.time:.4f} s: {self.bodies[0]}-"
+                f"{self.bodies[1]}, {what}; {self.evaluations} checks)")
+
+
+def collision_report(checker: CollisionChecker, traj: object) -> CollisionReport:
+    """:func:`check_trajectory` with the first contact located and its depth measured."""
+    p = check_trajectory(checker, traj, locate=True)
+    if p.clear:
+        return CollisionReport(True, None, None, 0.0, False, p.clearance, checker.margin,
+                               p.evaluations)
+    c = p.contact
+    depth = deepest(checker, traj, c) if c.touching else 0.0
+    return CollisionReport(False, c.at, c.bodies, depth, c.touching, -math.inf,
+                           checker.margin, p.evaluations)
+
+
+def make_checker(cell: object, robot: object, margin: float, nq: int) -> CollisionChecker:
+    """A checker from a Cell and a robot, or the checker given (for a trajectory of ``nq``).
+
+    Raises:
+        InputError: neither a Cell nor a checker, no robot with a Cell, another joint count.
+    """
+    from scara_opt.checks import describe
+    from scara_opt.collision.cell import Cell
+    from scara_opt.errors import InputError
+
+    if isinstance(cell, CollisionChecker):
+        checker = cell
+    elif isinstance(cell, Cell):
+        if robot is None:
+            raise InputError("check_collisions(cell) needs the robot: pass robot= (or a "
+                             "CollisionChecker(robot, cell))")
+        checker = CollisionChecker(robot, cell, margin=margin)  # type: ignore[arg-type]
+    else:
+        raise InputError(f"cell must be a scara_opt.Cell or a CollisionChecker; got "
+                         f"{describe(cell)}")
+    if checker.robot.nq != nq:
+        raise InputError(f"the trajectory has {nq} joints, robot {checker.robot.name!r} "
+                         f"{checker.robot.nq}; pass the robot it was timed for")
+    return checker

@@ -1,0 +1,206 @@
+"""The obstacles of a cell: box, cylinder, sphere, capsule and mesh, each at a pose.
+
+Sizes and positions in metres, angles in radians (a cell file may use other units:
+:mod:`scara_opt.collision.cell`). A pose is ``xyz`` (the shape's centre) and ``rpy``
+(roll, pitch, yaw about the fixed x, y, z axes, as URDF's ``<origin rpy=>``). Cylinders
+and capsules stand along their frame's z axis, centred on ``xyz``. Every size is checked
+at construction: zero, negative or non-finite sizes raise :class:`~scara_opt.errors.CellError`.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import ClassVar
+
+import coal
+import numpy as np
+import pinocchio as pin
+
+from scara_opt.checks import describe, is_real
+from scara_opt.errors import CellError, MeshNotFoundError
+
+__all__ = ["Box", "Capsule", "Cylinder", "Mesh", "Obstacle", "Sphere"]
+
+
+def _vector(owner: str, name: str, value: object, n: int = 3) -> tuple[float, ...]:
+    """``value`` as ``n`` finite floats, or CellError naming the obstacle and field."""
+    try:
+        items = list(value)  # type: ignore[call-overload]
+    except TypeError:
+        items = None
+    if (items is None or len(items) != n or not all(is_real(v) for v in items)
+            or not all(math.isfinite(float(v)) for v in items)):
+        raise CellError(f"obstacle {owner!r}: {name} must be {n} finite numbers; got "
+                        f"{describe(value)}")
+    return tuple(float(v) for v in items)
+
+
+def _size(owner: str, name: str, value: object, unit: str = "m") -> float:
+    if not (is_real(value) and math.isfinite(float(value)) and float(value) > 0):  # type: ignore[arg-type]
+        raise CellError(f"obstacle {owner!r}: {name} must be a finite number > 0 [{unit}]; got "
+                        f"{describe(value)}; give its real size (a flat plate is a thin box)")
+    return float(value)  # type: ignore[arg-type]
+
+
+@dataclass(frozen=True)
+class Obstacle:
+    """What every obstacle has: a name and a pose.
+
+    Attributes:
+        name: unique within its cell (contacts and errors name it).
+        xyz: position of the shape's centre (3,) [m].
+        rpy: orientation, roll-pitch-yaw (3,) [rad].
+    """
+
+    name: str
+    xyz: tuple[float, float, float] = field(default=(0.0, 0.0, 0.0), kw_only=True)
+    rpy: tuple[float, float, float] = field(default=(0.0, 0.0, 0.0), kw_only=True)
+
+    kind: ClassVar[str] = "obstacle"
+
+    def __post_init__(self) -> None:
+        if not isinstance(self.name, str) or not self.name:
+            raise CellError(f"an obstacle's name must be a non-empty str; got "
+                            f"{describe(self.name)}")
+        object.__setattr__(self, "xyz", _vector(self.name, "xyz", self.xyz))
+        object.__setattr__(self, "rpy", _vector(self.name, "rpy", self.rpy))
+        self._check()
+
+    def _check(self) -> None:
+        raise NotImplementedError
+
+    @property
+    def placement(self) -> pin.SE3:
+        """The pose as a ``pinocchio.SE3``."""
+        return pin.SE3(pin.rpy.rpyToMatrix(*self.rpy), np.array(self.xyz))
+
+    def shape(self) -> coal.CollisionGeometry:
+        """The coal shape, in the obstacle's own frame."""
+        raise NotImplementedError
+
+    def size_text(self) -> str:
+        """The size for messages and reprs, in mm."""
+        raise NotImplementedError
+
+    def __repr__(self) -> str:
+        xyz = ", ".join(f"{v * 1e3:g}" for v in self.xyz)
+        return f"{type(self).__name__}({self.name!r}, {self.size_text()}, at ({xyz}) mm)"
+
+
+@dataclass(frozen=True, repr=False)
+class Box(Obstacle):
+    """A box of edge lengths ``size`` (3,) [m] along its frame's x, y, z."""
+
+    size: tuple[float, float, float] = (0.0, 0.0, 0.0)
+    kind: ClassVar[str] = "box"
+
+    def _check(self) -> None:
+        size = _vector(self.name, "size", self.size)
+        object.__setattr__(self, "size", tuple(_size(self.name, f"size[{i}]", v)
+                                               for i, v in enumerate(size)))
+
+    def shape(self) -> coal.CollisionGeometry:
+        """A ``coal.Box``."""
+        return coal.Box(*self.size)
+
+    def size_text(self) -> str:
+        """Edge lengths [mm]."""
+        return "x".join(f"{v * 1e3:g}" for v in self.size) + " mm"
+
+
+@dataclass(frozen=True, repr=False)
+class Cylinder(Obstacle):
+    """A cylinder of ``radius`` and ``length`` [m] along its frame's z axis."""
+
+    radius: float = 0.0
+    length: float = 0.0
+    kind: ClassVar[str] = "cylinder"
+
+    def _check(self) -> None:
+        object.__setattr__(self, "radius", _size(self.name, "radius", self.radius))
+        object.__setattr__(self, "length", _size(self.name, "length", self.length))
+
+    def shape(self) -> coal.CollisionGeometry:
+        """A ``coal.Cylinder``."""
+        return coal.Cylinder(self.radius, self.length)
+
+    def size_text(self) -> str:
+        """Radius and length [mm]."""
+        return f"r {self.radius * 1e3:g} x {self.length * 1e3:g} mm"
+
+
+@dataclass(frozen=True, repr=False)
+class Capsule(Cylinder):
+    """A capsule: a cylinder of ``radius`` and ``length`` [m] with hemispherical ends."""
+
+    kind: ClassVar[str] = "capsule"
+
+    def shape(self) -> coal.CollisionGeometry:
+        """A ``coal.Capsule``."""
+        return coal.Capsule(self.radius, self.length)
+
+
+@dataclass(frozen=True, repr=False)
+class Sphere(Obstacle):
+    """A sphere of ``radius`` [m] centred at ``xyz``."""
+
+    radius: float = 0.0
+    kind: ClassVar[str] = "sphere"
+
+    def _check(self) -> None:
+        object.__setattr__(self, "radius", _size(self.name, "radius", self.radius))
+
+    def shape(self) -> coal.CollisionGeometry:
+        """A ``coal.Sphere``."""
+        return coal.Sphere(self.radius)
+
+    def size_text(self) -> str:
+        """Radius [mm]."""
+        return f"r {self.radius * 1e3:g} mm"
+
+
+@dataclass(frozen=True, repr=False)
+class Mesh(Obstacle):
+    """A triangle mesh from a file (STL, OBJ, DAE, ... as coal's assimp loader reads).
+
+    Attributes:
+        path: the mesh file.
+        scale: per-axis scale (3,) from the file's units to metres (e.g. 0.001 for mm).
+
+    Note: coal gives no penetration depth between a mesh and a shape: a contact with a
+    mesh reports depth 0.
+    """
+
+    path: str | Path = ""
+    scale: tuple[float, float, float] = (1.0, 1.0, 1.0)
+    kind: ClassVar[str] = "mesh"
+
+    def _check(self) -> None:
+        if not isinstance(self.path, (str, Path)) or not str(self.path):
+            raise CellError(f"obstacle {self.name!r}: path must be a mesh file path; got "
+                            f"{describe(self.path)}")
+        if not Path(self.path).is_file():
+            raise MeshNotFoundError(str(self.path), f"obstacle {self.name!r}",
+                                    "check the path (a cell file's paths are relative to it)")
+        scale = _vector(self.name, "scale", self.scale)
+        object.__setattr__(self, "scale", tuple(_size(self.name, f"scale[{i}]", v, "-")
+                                                for i, v in enumerate(scale)))
+
+    def shape(self) -> coal.CollisionGeometry:
+        """A coal ``BVHModel`` read by coal's mesh loader."""
+        try:
+            return coal.MeshLoader().load(str(self.path), np.array(self.scale))
+        except ValueError as exc:
+            raise CellError(f"obstacle {self.name!r}: coal cannot read mesh {str(self.path)!r} "
+                            f"({' '.join(str(exc).split())[-120:]}); convert it to STL or "
+                            "OBJ") from None
+
+    def size_text(self) -> str:
+        """The file name and scale."""
+        return f"mesh {Path(self.path).name} x {self.scale}"
+
+
+#: obstacle classes by their cell-file ``type``
+KINDS: dict[str, type[Obstacle]] = {c.kind: c for c in (Box, Cylinder, Capsule, Sphere, Mesh)}

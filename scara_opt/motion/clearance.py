@@ -1,0 +1,272 @@
+"""A program planned in a cell: goals clear of it, PTPs around it, every section proven clear.
+
+:func:`~scara_opt.motion.plan` with ``cell=`` hands each move here:
+
+* **Start and goals.** The start, and every PTP goal, must be clear of the cell:
+  :class:`~scara_opt.errors.CollisionError` / :class:`~scara_opt.errors.MoveCollisionError`
+  name the bodies and the depth. A PTP to a :class:`~scara_opt.Target` without ``elbow``
+  takes the nearest IK solution that is clear (a SCARA's other elbow branch or wrist turn).
+* **PTP.** The straight joint segment when the conservative rule proves it clear, else a
+  path around the obstacles by :func:`scara_opt.planning.plan_path` (OMPL's RRTConnect and
+  PathSimplifier, every edge proven); "no path found within the time limit" is a
+  :class:`~scara_opt.errors.NoPathFoundError` with what was tried.
+* **Timing, then the proof again.** Each stop-to-stop section is timed by toppra as without
+  a cell, and the timed trajectory is proven clear (:mod:`scara_opt.collision.continuous`):
+  toppra's spline through a planned path's waypoints is not the polyline that was
+  proven. A planned path is handed to toppra with extra points near its corners
+  (:func:`hugging`), so the spline follows the polyline closely; while the timed trajectory
+  is not proven clear, or leaves the joint limits, more points are added near the corners
+  and the section timed again (up to :data:`RETRIES` times).
+* **LIN / CIRC** keep their tool path: one that hits the cell is refused
+  (:class:`~scara_opt.errors.MoveCollisionError`, naming the move, the time and the bodies).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+
+import numpy as np
+from numpy.typing import NDArray
+
+from scara_opt.checks import check_int, check_real
+from scara_opt.collision.checker import CollisionChecker
+from scara_opt.collision.continuous import CollisionReport, collision_report, make_checker
+from scara_opt.errors import (
+    CollisionError,
+    InputError,
+    MoveCollisionError,
+    MoveError,
+    NoPathFoundError,
+    TrajectoryError,
+)
+from scara_opt.ik.analytic import ik_all
+from scara_opt.model.robot import Robot
+from scara_opt.motion import branch
+from scara_opt.motion.moves import PTP, Move, goal_point
+from scara_opt.motion.tool_limits import ToolProfile
+from scara_opt.planning.planner import PathPlan, check_clear, plan_path
+from scara_opt.target import Target
+from scara_opt.trajectory.limits import Limits
+from scara_opt.trajectory.trajectory import Trajectory, concatenate
+from scara_opt.trajectory.waypoints import LIMIT_SLACK
+
+Array = NDArray[np.float64]
+
+__all__ = ["CellPlanning", "hugging", "in_cell"]
+
+#: joint-space points added near each inner corner of a planned path, per attempt
+#: (fractions of the adjoining segments, from the corner): fewer points time faster and
+#: shorter (measured on benchmarks/bench_plan.py's post cell: 49 ms, 2.11 s without any,
+#: 114 ms, 2.39 s with the last set), more keep the spline on the proven polyline
+NEAR = ((), (0.2,), (0.25, 0.08), (0.25, 0.1, 0.03), (0.12, 0.05, 0.015))
+
+#: times a planned section is timed again, with the next set of :data:`NEAR` points
+RETRIES = len(NEAR) - 1
+
+
+def hugging(Q: Array, level: int = 0) -> Array:
+    """The polyline ``Q`` (n, nq) with points added so a spline through them follows it.
+
+    Each segment gets its middle and points at the fractions ``NEAR[level]`` from each of
+    its inner ends; the spline's bulge at a corner then spans only the short pieces beside
+    it.
+    """
+    if len(Q) < 3:
+        return Q
+    near = np.array(NEAR[level], dtype=float)
+    rows = [Q[:1]]
+    for k in range(len(Q) - 1):
+        a, b = Q[k], Q[k + 1]
+        f = [0.5]
+        if k > 0:
+            f += list(near)
+        if k < len(Q) - 2:
+            f += list(1 - near)
+        f = np.unique(np.array(f))
+        rows += [a + f[:, None] * (b - a), b[None, :]]
+    return np.vstack(rows)
+
+
+class CellPlanning:
+    """The cell-aware steps of :func:`~scara_opt.motion.plan` (see the module docstring).
+
+    Args:
+        checker: the robot in its cell.
+        time_limit: each PTP's planning limit [s].
+        seed: the planner's seed (move ``i`` plans with ``seed + i``).
+    """
+
+    def __init__(self, checker: CollisionChecker, time_limit: float, seed: int) -> None:
+        self.checker = checker
+        self.time_limit = time_limit
+        self.seed = seed
+        self.plans: dict[int, PathPlan] = {}
+
+    def check_start(self, q: Array) -> None:
+        """Refuse a start in collision (bodies and depth named)."""
+        check_clear(self.checker, q, "start")
+
+    def goal(self, index: int, move: PTP, robot: Robot, q_prev: Array) -> Array:
+        """The PTP's joint goal, clear of the cell (another IK solution if need be).
+
+        Raises:
+            MoveCollisionError: the goal (every IK solution of a Target) in collision.
+            MoveError: as without a cell (unreachable, off-branch, outside the limits).
+        """
+        goal = goal_point(index, move.goal, robot.nq, "goal")
+        q = branch.ptp_goal(index, robot, goal, q_prev, move.elbow)
+        if not self.checker.collides(q):
+            return q
+        if isinstance(goal, Target) and branch.geometry(robot) is not None:
+            for res in ik_all(robot, goal, q0=q_prev):
+                signs = branch.elbow_signs(robot, res.q)
+                if move.elbow is not None and signs[0] != branch.SIGN[move.elbow]:
+                    continue
+                if not self.checker.collides(res.q):
+                    return res.q
+        try:
+            check_clear(self.checker, q, "goal")
+        except CollisionError as exc:
+            other = " (and so is every other IK solution)" if isinstance(goal, Target) else ""
+            raise MoveCollisionError(index, f"PTP {exc}{other}", exc.bodies,
+                                     exc.depth) from None
+        return q  # pragma: no cover - collides() and check_clear agree
+
+    def joints(self, index: int, move: Move, robot: Robot, q_prev: Array, step: float,
+               straight: object) -> Array:
+        """The move's joint path: a PTP planned around the cell, a LIN/CIRC as without one.
+
+        ``straight``: :func:`~scara_opt.motion.plan.move_joints`, for LIN and CIRC.
+
+        Raises:
+            MoveCollisionError: a PTP goal in collision. NoPathFoundError: nothing found
+                in time. MoveError: as without a cell.
+        """
+        if not isinstance(move, PTP):
+            return straight(index, move, robot, q_prev, step)  # type: ignore[operator]
+        q1 = self.goal(index, move, robot, q_prev)
+        if np.abs(q1 - q_prev).max() <= 1e-9:
+            raise MoveError(index, "PTP goal is where the robot already is: drop the move")
+        result = plan_path(self.checker, q_prev, q1, time_limit=self.time_limit,
+                           seed=self.seed + index)
+        self.plans[index] = result
+        if not result.success:
+            raise NoPathFoundError(index, f"PTP: {result.message}", result.time_s,
+                                   self.time_limit, result.tree_states, result.checks)
+        return result.path
+
+    def planned(self, index: int) -> bool:
+        """Whether move ``index`` is a PTP planned around obstacles (more than one edge)."""
+        plan = self.plans.get(index)
+        return plan is not None and len(plan.path) > 2
+
+    def prove(self, traj: object) -> CollisionReport:
+        """The timed section proven clear, or its first contact."""
+        return collision_report(self.checker, traj)
+
+    def refuse(self, index: int, kind: str, report: CollisionReport, t0: float) -> None:
+        """Raise the MoveCollisionError of a section that hits the cell.
+
+        Raises:
+            MoveCollisionError: always; the move, the time from the program's start, the
+                bodies, the depth.
+        """
+        a, b = report.bodies
+        t = t0 + report.time
+        how = (f"{report.depth * 1e3:.3f} mm deep" if report.touching else
+               "not proven clear (they graze)")
+        raise MoveCollisionError(
+            index, f"{kind} hits the cell at t = {t:.4f} s: {a} and {b}, {how}; a "
+                   f"{kind} keeps its path: move its points away from {b}, or reach the "
+                   "goal with a PTP (planned around the cell)", (a, b), report.depth, t)
+
+    def timed_clear(self, run: list[tuple[int, Move]], Q: Array, owner: list[int],
+                    timed: Callable, limits: Limits, method: str, t0: float) -> tuple:
+        """``timed(Q, owner)`` of a section, proven clear (and a planned one within limits).
+
+        A planned PTP is timed through :func:`hugging` points, more of them up to
+        :data:`RETRIES` times while the timed trajectory is not proven clear or leaves the
+        joint limits; then, as a last resort, straight from waypoint to waypoint, stopping
+        at each (exactly the polyline that was proven, slower). Any other section that is
+        not clear is refused.
+
+        Returns:
+            What ``timed`` returns, the note saying the proof.
+
+        Raises:
+            MoveCollisionError: a LIN/CIRC (or a blended run) that hits the cell.
+            TrajectoryError: a planned path whose timing is not proven even stopping at
+                every waypoint (not expected: each of its segments was proven).
+        """
+        index = run[0][0]
+        planned = len(run) == 1 and self.planned(index)
+        rows = Q
+        for level in range(RETRIES + 2 if planned else 1):
+            if planned:
+                rows = hugging(Q, level) if level <= RETRIES else Q
+                owner = [index] * len(rows)
+            part, note, knots, profile = (timed(rows, owner) if level <= RETRIES
+                                          else _stopping(rows, owner, timed))
+            traj = Trajectory(part, limits, method, rows, knots)
+            report = self.prove(traj)
+            if report.clear and self._inside(traj):
+                note += (f", proven clear (clearance >= {report.clearance * 1e3:.3g} mm, "
+                         f"{report.evaluations} checks)")
+                if planned:
+                    plan = self.plans[index]
+                    how = (f"timed through {len(rows)} points (attempt {level + 1})"
+                           if level <= RETRIES else "stopping at each waypoint (the spline "
+                           "through them was not proven clear)")
+                    note += (f"; planned around the cell: {len(Q)} waypoints "
+                             f"({plan.time_s * 1e3:.1f} ms, {plan.states} states), {how}")
+                return part, note, knots, profile
+            if not planned:
+                k = int(np.clip(np.searchsorted(knots, report.time, side="right") - 1, 0,
+                                len(owner) - 1))
+                kind = "+".join(m.kind for _, m in run)
+                self.refuse(owner[k], kind, report, t0)
+        raise TrajectoryError(  # pragma: no cover - every segment of the path was proven
+            f"move {index} (PTP): the path planned around the cell is proven clear, but its "
+            f"timing is not, even stopping at every waypoint ({report!r}); raise margin=")
+
+    def _inside(self, traj: Trajectory) -> bool:
+        """Whether the trajectory stays within the joint limits (exact extrema)."""
+        robot = self.checker.robot
+        lo, hi = traj.position_range()
+        return bool((lo >= robot.lower - LIMIT_SLACK).all()
+                    and (hi <= robot.upper + LIMIT_SLACK).all())
+
+
+def _stopping(Q: Array, owner: list[int], timed: Callable) -> tuple:
+    """``timed`` of each segment of ``Q`` alone, laid end to end: rest at every waypoint."""
+    parts, knots, profiles = [], [0.0], []
+    for k in range(len(Q) - 1):
+        part, note, seg_knots, profile = timed(Q[k:k + 2], owner[k:k + 2])
+        parts.append(part)
+        profiles.append(profile)
+        knots.append(knots[-1] + float(seg_knots[-1]))
+    joined = tuple(concatenate([p[j] for p in parts]) for j in range(Q.shape[1]))
+    profile = ToolProfile(*(np.concatenate([getattr(p, name) for p in profiles])
+                            for name in ("speed", "acceleration", "yaw_rate")))
+    return joined, f"{len(Q) - 1} straight segments, {note}", np.array(knots), profile
+
+
+def in_cell(robot: Robot, cell: object, margin: float, time_limit: float, seed: int
+            ) -> CellPlanning | None:
+    """The :class:`CellPlanning` of :func:`~scara_opt.motion.plan`'s ``cell=`` (None: none).
+
+    Raises:
+        InputError: a checker of another robot, a bad margin, time limit or seed.
+    """
+    time_limit = check_real("time_limit", time_limit, 0.0, 3600.0, low_open=True, unit="s")
+    seed = check_int("seed", seed, 0)
+    if cell is None:
+        return None
+    if isinstance(cell, CollisionChecker):
+        if cell.robot is not robot and cell.robot.joint_names != robot.joint_names:
+            raise InputError(f"the checker is for robot {cell.robot.name!r}, not "
+                             f"{robot.name!r}: build CollisionChecker(robot, cell)")
+        checker = cell
+    else:
+        checker = make_checker(cell, robot, margin, robot.nq)
+    return CellPlanning(checker, time_limit, seed)

@@ -1,0 +1,328 @@
+"""OMPL's RRTConnect and PathSimplifier, with every state and edge checked by our proof.
+
+OMPL (the ``ompl`` wheel, nanobind bindings) samples and connects; it never decides what
+is free. The state validity checker and the motion validator are :class:`EdgeProver`: a
+state is valid when every pair of bodies is farther than the margin, an edge when the
+conservative rule of :mod:`scara_opt.collision.continuous` proves the straight joint
+segment clear. OMPL's own discrete motion validator (states every ``resolution`` of the
+space's extent) is not used: it steps over thin obstacles.
+
+The OMPL objects of one query are made and dropped inside :func:`rrt_connect`, and the
+Python callbacks hold no reference back to them: no reference cycle through C++ survives
+the call (nanobind would report the leak at exit). OMPL's console output is silenced during
+the call and its global random seed set from ``seed`` (OMPL wants a seed > 0: ``seed + 1``);
+a lock keeps concurrent queries from interleaving their seeds.
+"""
+
+from __future__ import annotations
+
+import math
+import threading
+import time
+from collections import deque
+from collections.abc import Callable
+from dataclasses import dataclass
+from operator import itemgetter
+
+import numpy as np
+from numpy.typing import NDArray
+
+from scara_opt.collision.checker import CollisionChecker
+from scara_opt.collision.continuous import DISTANCE_TOL, RESOLUTION
+
+Array = NDArray[np.float64]
+
+__all__ = ["EdgeProver", "OmplRun", "box_space", "import_ompl", "rrt_connect", "start_and_goal"]
+
+_LOCK = threading.Lock()
+
+#: RRTConnect's longest extension, as a fraction of the joint box's diagonal (OMPL's default
+#: is 0.2; long edges far from obstacles are proven in few steps here: 0.4 planned the
+#: cells of benchmarks/bench_plan.py 15-45 % faster)
+RANGE = 0.4
+
+#: rounds of partial shortcuts, and steps of B-spline smoothing, in :func:`simplify_path`
+SHORTCUT_ROUNDS = 6
+SMOOTHING_STEPS = 2
+
+#: install hint when the wheel is missing
+OMPL_HINT = "pip install ompl (OMPL's Python wheel, 2.0 or later)"
+
+
+def import_ompl() -> tuple:
+    """``(ompl.base, ompl.geometric, ompl.util)``, or ModuleNotFoundError naming the wheel."""
+    try:
+        from ompl import base as ob
+        from ompl import geometric as og
+        from ompl import util as ou
+    except ImportError as exc:
+        raise ModuleNotFoundError(f"planning around obstacles needs OMPL ({exc}); "
+                                  f"{OMPL_HINT}", name="ompl") from None
+    return ob, og, ou
+
+
+class EdgeProver:
+    """States and straight joint edges checked by the conservative rule, with counts.
+
+    Distances are cached per configuration (OMPL asks for the same states many times) and
+    kept as Python floats: with a few pairs, plain loops beat numpy's per-call overhead.
+
+    Attributes:
+        states: configurations whose distances were all computed (states asked about).
+        midpoints: configurations inside edges where some pairs' distances were computed.
+        edges: edges asked about; ``proven``: those proven clear.
+    """
+
+    def __init__(self, checker: CollisionChecker) -> None:
+        self.checker = checker
+        self.shift = checker.margin + DISTANCE_TOL
+        self.W = checker.weights
+        self.cache: dict[tuple[float, ...], list[float]] = {}
+        gaps = checker.gaps
+        self.gaps: dict[tuple[float, ...], tuple[list[float], list[float]]] = {}
+        self._A = None if gaps is None else gaps[0]
+        self._ab = None if gaps is None else (gaps[1] - self.shift, gaps[2] - self.shift)
+        self.states = 0
+        self.midpoints = 0
+        self.edges = 0
+        self.proven = 0
+        self._data = checker._data()
+        self._model = checker.robot.model
+
+    def distances(self, key: tuple[float, ...]) -> list[float]:
+        """Signed distances minus margin and tolerance (npairs,) at ``key`` (cached)."""
+        D = self.cache.get(key)
+        if D is None:
+            D = self.cache[key] = self._compute(np.array(key))
+        return D
+
+    def heights(self, key: tuple[float, ...]) -> tuple[list[float], list[float]] | None:
+        """Gaps above and below each pair's obstacle along a SCARA's axis at ``key``.
+
+        Less the margin and tolerance; ``None`` for other robots; cached.
+        """
+        if self._A is None:
+            return None
+        G = self.gaps.get(key)
+        if G is None:
+            h = self._A @ np.array(key)
+            G = self.gaps[key] = ((h + self._ab[0]).tolist(), (self._ab[1] - h).tolist())
+        return G
+
+    def _compute(self, q: Array) -> list[float]:
+        import pinocchio as pin
+
+        data, gdata, results = self._data
+        pin.computeDistances(self._model, data, self.checker.model, gdata, q)
+        self.states += 1
+        shift = self.shift
+        return [r.min_distance - shift for r in results]
+
+    @property
+    def configurations(self) -> int:
+        """Configurations checked: whole states and midpoints of edges."""
+        return self.states + self.midpoints
+
+    def valid(self, key: tuple[float, ...]) -> bool:
+        """Whether every pair is farther than the margin at ``key``."""
+        return min(self.distances(key), default=1.0) > 0
+
+    def edge(self, a: tuple[float, ...], b: tuple[float, ...]) -> bool:
+        """Whether the straight segment from ``a`` to ``b`` is proven clear.
+
+        The rule of :mod:`scara_opt.collision.continuous` on one segment, its intervals
+        taken middle first (a collision is found early): for an interval of length ``w`` (a
+        fraction of the segment), the pairs with ``w M < D0 + D1`` are proven on it; for
+        the others, their distances at its middle are computed (a contact there ends it)
+        and both halves are queued with them alone.
+        """
+        import pinocchio as pin
+
+        self.edges += 1
+        Da, Db = self.distances(a), self.distances(b)
+        if min(Da, default=1.0) <= 0 or min(Db, default=1.0) <= 0:
+            return False
+        qa = np.array(a)
+        dq = np.array(b) - qa
+        M = (self.W @ np.abs(dq)).tolist()
+        pairs = [k for k, (m, d0, d1) in enumerate(zip(M, Da, Db, strict=True))
+                 if not m < d0 + d1]
+        G = self.heights(a), self.heights(b)
+        if G[0] is None:
+            G = None
+        elif pairs:  # apart along the axis at both ends: all along the segment (affine)
+            pairs = [k for k in pairs if not _apart(G, k, 0.0, 1.0)]
+        if pairs:
+            data, gdata, _ = self._data
+            model, gmodel, shift = self._model, self.checker.model, self.shift
+            distance, place = pin.computeDistance, pin.updateGeometryPlacements
+            queue = deque([(0.5, 0.0, pairs, [Da[k] for k in pairs], [Db[k] for k in pairs])])
+            while queue:
+                h, s0, pairs, D0, D1 = queue.popleft()  # h: half the interval's length
+                if 2 * h * max(M[k] for k in pairs) < RESOLUTION:
+                    return False  # grazing: not proven
+                place(model, data, gmodel, gdata, qa + (s0 + h) * dq)
+                self.midpoints += 1
+                Dm = [distance(gmodel, gdata, k).min_distance - shift for k in pairs]
+                if min(Dm) <= 0:
+                    return False
+                for lo, d_lo, d_hi in ((s0, D0, Dm), (s0 + h, Dm, D1)):
+                    open_ = [i for i, k in enumerate(pairs) if not h * M[k] < d_lo[i] + d_hi[i]
+                             and not (G is not None and _apart(G, k, lo, lo + h))]
+                    if open_:
+                        queue.append((h / 2, lo, [pairs[i] for i in open_],
+                                      [d_lo[i] for i in open_], [d_hi[i] for i in open_]))
+        self.proven += 1
+        return True
+
+    def path(self, Q: Array) -> bool:
+        """Whether every edge of the polyline ``Q`` (n, nq) is proven clear."""
+        keys = [tuple(q) for q in Q.tolist()]
+        return all(self.edge(a, b) for a, b in zip(keys, keys[1:], strict=False))
+
+
+def _apart(G: tuple, k: int, s0: float, s1: float) -> bool:
+    """Whether pair ``k`` stays apart along the axis on ``[s0, s1]`` of a segment.
+
+    ``G``: the gaps (above, below) at the segment's two ends; they are affine along it.
+    """
+    (up_a, down_a), (up_b, down_b) = G
+    ua, ub = up_a[k], up_b[k]
+    if (1 - s0) * ua + s0 * ub > 0 and (1 - s1) * ua + s1 * ub > 0:
+        return True
+    da, db = down_a[k], down_b[k]
+    return (1 - s0) * da + s0 * db > 0 and (1 - s1) * da + s1 * db > 0
+
+
+@dataclass(frozen=True)
+class OmplRun:
+    """What one OMPL query did.
+
+    Attributes:
+        path: (n, nq) the simplified path's vertices, or ``None`` when none was found.
+        raw: (m, nq) the planner's path before simplification (``None`` likewise).
+        planner_states: states in the planner's two trees.
+        plan_s, simplify_s: time spent planning and simplifying [s].
+    """
+
+    path: Array | None
+    raw: Array | None
+    planner_states: int
+    plan_s: float
+    simplify_s: float
+
+
+def rrt_connect(prover: EdgeProver, start: Array, goal: Array, lower: Array, upper: Array,
+                time_limit: float, seed: int, simplify: bool = True,
+                range_: float | None = None) -> OmplRun:
+    """OMPL RRTConnect from ``start`` to ``goal``, then OMPL's PathSimplifier.
+
+    Every state and edge, the simplifier's too, is checked through ``prover``.
+
+    Args:
+        prover: the state and edge checks.
+        start: (nq,) the first configuration (valid).
+        goal: (nq,) the last configuration (valid).
+        lower: (nq,) the lower corner of the joint box sampled [rad or m].
+        upper: (nq,) its upper corner [rad or m].
+        time_limit: wall-clock limit for planning and simplifying together [s].
+        seed: OMPL's random seed is ``seed + 1``.
+        simplify: run the simplifier.
+        range_: RRTConnect's longest extension; default :data:`RANGE` times the box's
+            diagonal.
+    """
+    ob, og, ou = import_ompl()
+    nq = len(start)
+    get = itemgetter(*range(nq)) if nq > 1 else (lambda s: (s[0],))
+    with _LOCK:
+        level = ou.getLogLevel()
+        ou.setLogLevel(ou.LOG_NONE)
+        try:
+            return _solve(ob, og, ou, prover, get, start, goal, lower, upper, time_limit,
+                          seed, simplify, range_)
+        finally:
+            ou.setLogLevel(level)
+
+
+def box_space(ob: object, lower: Array, upper: Array) -> object:
+    """OMPL's ``RealVectorStateSpace`` of the joint box [lower, upper] (nq,) each."""
+    nq = len(lower)
+    space = ob.RealVectorStateSpace(nq)
+    bounds = ob.RealVectorBounds(nq)
+    for k in range(nq):
+        bounds.setLow(k, float(lower[k]))
+        bounds.setHigh(k, float(upper[k]))
+    space.setBounds(bounds)
+    return space
+
+
+def start_and_goal(ob: object, space: object, si: object, start: Array, goal: Array) -> object:
+    """OMPL's ``ProblemDefinition`` from ``start`` to ``goal`` (nq,) each."""
+    a, b = space.allocState(), space.allocState()
+    for k in range(len(start)):
+        a[k], b[k] = float(start[k]), float(goal[k])
+    pdef = ob.ProblemDefinition(si)
+    pdef.setStartAndGoalStates(a, b)
+    return pdef
+
+
+def _solve(ob: object, og: object, ou: object, prover: EdgeProver,
+           get: Callable, start: Array, goal: Array, lower: Array, upper: Array,
+           time_limit: float, seed: int, simplify: bool, range_: float | None) -> OmplRun:
+    ou.RNG.setSeed(int(seed) + 1)
+    space = box_space(ob, lower, upper)
+    si = ob.SpaceInformation(space)
+    valid, edge = prover.valid, prover.edge
+
+    class Motion(ob.MotionValidator):
+        def checkMotion(self, s1: object, s2: object) -> bool:  # noqa: N802 (OMPL's name)
+            return edge(get(s1), get(s2))
+
+    si.setStateValidityChecker(lambda s: valid(get(s)))
+    si.setMotionValidator(Motion(si))
+    si.setup()
+    pdef = start_and_goal(ob, space, si, start, goal)
+    planner = og.RRTConnect(si)
+    planner.setRange(float(range_) if range_ is not None else RANGE * extent(lower, upper))
+    planner.setProblemDefinition(pdef)
+    planner.setup()
+    begin = time.perf_counter()
+    status = planner.solve(ob.timedPlannerTerminationCondition(time_limit))
+    plan_s = time.perf_counter() - begin
+    pd = ob.PlannerData(si)
+    planner.getPlannerData(pd)
+    states = pd.numVertices()
+    if str(status) != "Exact solution":
+        return OmplRun(None, None, states, plan_s, 0.0)
+    path = pdef.getSolutionPath()
+    raw = np.array([get(path.getState(i)) for i in range(path.getStateCount())])
+    begin = time.perf_counter()
+    if simplify:
+        simplify_path(og, si, path)
+    vertices = np.array([get(path.getState(i)) for i in range(path.getStateCount())])
+    return OmplRun(vertices, raw, states, plan_s, time.perf_counter() - begin)
+
+
+def simplify_path(og: object, si: object, path: object) -> None:
+    """Shorten and smooth ``path`` in place with OMPL's PathSimplifier (its checks are ours).
+
+    Vertex reduction, up to :data:`SHORTCUT_ROUNDS` rounds of partial shortcuts (segments
+    between points anywhere on the path), close vertices collapsed, vertices reduced again,
+    then :data:`SMOOTHING_STEPS` steps of B-spline smoothing (each corner cut where the new
+    segments are proven clear: 4-5 % shorter paths for no time measured). OMPL's whole
+    ``simplify`` (more rounds of all) is about five times the cost with our proven edges
+    (measured on the cells of benchmarks/bench_plan.py: 68-82 ms against 8-16 ms a query).
+    """
+    ps = og.PathSimplifier(si)
+    ps.reduceVertices(path)
+    for _ in range(SHORTCUT_ROUNDS):
+        if not ps.partialShortcutPath(path):
+            break
+    ps.collapseCloseVertices(path)
+    ps.reduceVertices(path)
+    ps.smoothBSpline(path, SMOOTHING_STEPS)
+
+
+def extent(lower: Array, upper: Array) -> float:
+    """The box's diagonal (OMPL's maximum extent of a real vector space) [rad or m]."""
+    return float(math.sqrt(float(np.sum((np.asarray(upper) - np.asarray(lower)) ** 2))))

@@ -1,0 +1,239 @@
+"""Motions proven clear: segments and timed trajectories, checked against dense sampling.
+
+The dense checks here are the tests' own: configurations every 1e-3 rad (or m) of joint
+motion, each asked of Pinocchio + coal one at a time.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+import scara_opt as so
+from scara_opt.collision.continuous import VelocityBound, prove_segment
+
+THIN = so.Cell([so.Box("plate", (0.004, 0.5, 0.4), xyz=(0.28, 0.05, -0.05), rpy=(0, 0, 0.3)),
+                so.Cylinder("post", 0.01, 0.4, xyz=(0.15, -0.25, 0.0))])
+
+
+def dense_first_contact(checker, qa, qb, step=1e-3):
+    """First fraction along qa->qb in collision by sampling every ``step`` of joint motion."""
+    n = int(np.ceil(np.abs(qb - qa).max() / step)) + 1
+    s = np.linspace(0.0, 1.0, n)
+    hit = checker.collides_many(qa + s[:, None] * (qb - qa))
+    return float(s[np.argmax(hit)]) if hit.any() else None
+
+
+def random_segments(robot, checker, n, seed):
+    rng = np.random.default_rng(seed)
+    out = []
+    while len(out) < n:
+        qa, qb = rng.uniform(robot.lower, robot.upper, (2, robot.nq))
+        qb = qa + (qb - qa) * rng.uniform(0.2, 1.0)
+        if not checker.collides(qa) and not checker.collides(qb):
+            out.append((qa, qb))
+    return out
+
+
+def test_segment_proof_agrees_with_a_dense_check():
+    """Over 300 random segments past a 4 mm plate and a 10 mm post, a segment proven clear
+    has no contact at 1e-3 rad steps, and every segment the dense check finds colliding is
+    refused, its first contact located where the dense check puts it.
+
+    Mutation caught: ``locate`` dropped (the proof stops at any contact): the reported
+    fraction then lies past the dense check's first contact.
+    """
+    robot = so.load_robot("zavar2024")
+    checker = so.CollisionChecker(robot, THIN)
+    hits = 0
+    for qa, qb in random_segments(robot, checker, 300, seed=0):
+        proof = prove_segment(checker, qa, qb, locate=True)
+        first = dense_first_contact(checker, qa, qb)
+        if proof.clear:
+            assert first is None, (qa, qb)
+        else:
+            assert proof.contact.touching
+            if first is not None:
+                hits += 1
+                step = 1e-3 / np.abs(qb - qa).max()
+                assert proof.contact.at <= first + 1e-6
+                assert proof.contact.at >= first - 2 * step
+    assert hits > 20  # the thin plate is crossed often
+
+
+def test_swing_through_a_thin_plate_is_not_stepped_over():
+    """A stretched arm swings 63 degrees through a 3 mm plate, both ends well clear of it:
+    the rule splits (the bound exceeds the clearances' sum) and finds the contact, where
+    half the bound would have passed the whole swing at once.
+
+    Mutation caught: the bound halved (the checker's weights x 0.5): the swing is then
+    "proven" clear in one step.
+    """
+    robot = so.load_robot("zavar2024")
+    cell = so.Cell([so.Box("plate", (0.15, 0.003, 0.2), xyz=(0.375, 0.0, 0.0))])
+    checker = so.CollisionChecker(robot, cell)
+    qa, qb = np.array([-0.3, 0.0, 0.02, 0.0]), np.array([0.8, 0.0, 0.02, 0.0])
+    d = checker.distances(qa) + checker.distances(qb)
+    M = checker.weights @ np.abs(qb - qa)
+    assert (d > M / 2).all() and not (d > M).all()  # the case the mutation gets wrong
+    proof = prove_segment(checker, qa, qb)
+    assert not proof.clear and proof.contact.bodies == ("link2", "plate")
+    assert dense_first_contact(checker, qa, qb) is not None
+
+
+def test_proof_reports_clearance_and_counts():
+    """A segment far from everything is proven with few checks and a positive clearance
+    no larger than the smallest distance met along it."""
+    robot = so.load_robot("zavar2024")
+    checker = so.CollisionChecker(robot, THIN)
+    qa, qb = np.array([-2.0, 0.3, 0.0, 0.0]), np.array([-1.5, 0.6, 0.02, 0.5])
+    proof = prove_segment(checker, qa, qb)
+    assert proof.clear and proof.contact is None
+    s = np.linspace(0, 1, 2001)[:, None]
+    sampled = checker.clearance_many(qa + s * (qb - qa)).min()
+    assert 0 < proof.clearance <= sampled + 1e-9
+    assert proof.evaluations < 20
+
+
+def test_velocity_bound_covers_the_trajectory_speed():
+    """The interval bound on |q̇| is never below |q̇| sampled inside the interval (toppra's
+    degree-6 pieces, random intervals).
+
+    Mutation caught: the sparse table's query reading only the first piece of an interval
+    (``b = a``): intervals spanning a speed peak then get a bound below it.
+    """
+    robot = so.load_robot("zavar2024")
+    traj = so.time_parameterize(np.array([[-1.0, 0.5, 0.0, 0.0], [0.2, -0.4, 0.03, 1.0],
+                                          [1.0, 0.9, 0.01, -0.5]]), robot)
+    vb = VelocityBound(traj)
+    rng = np.random.default_rng(1)
+    t0 = rng.uniform(0, traj.duration, 400)
+    t1 = np.minimum(t0 + rng.uniform(0, 0.4, 400), traj.duration)
+    bounds = vb(t0, t1)
+    for k in range(400):
+        ts = np.linspace(t0[k], t1[k], 50)
+        speed = np.abs(traj.evaluate(ts, 1)).max(axis=0)
+        assert (speed <= bounds[k] + 1e-9).all()
+
+
+def _dense_trajectory_contact(checker, traj):
+    peak = traj.peaks()["velocity"].max()
+    t = np.arange(0.0, traj.duration, 1e-3 / peak)
+    hit = checker.collides_many(traj.evaluate(t))
+    return float(t[np.argmax(hit)]) if hit.any() else None
+
+
+def test_trajectory_first_contact_time_bodies_depth():
+    """A timed move through a post: the first contact's time matches a dense check (every
+    1e-3 rad of joint motion), the bodies are the arm and the post, the depth the deepest
+    overlap sampled.
+
+    Mutation caught: the depth read at the located start of the contact (``contact.depth``,
+    about 0) instead of the deepest overlap while it lasts.
+    """
+    robot = so.load_robot("zavar2024")
+    cell = so.Cell([so.Cylinder("post", 0.03, 0.4, xyz=(0.3, 0.15, 0.0))])
+    traj = so.time_parameterize(np.array([[-0.5, 0.5, 0.0, 0.0], [1.2, 0.5, 0.0, 0.0]]), robot)
+    report = traj.check_collisions(cell, robot)
+    checker = so.CollisionChecker(robot, cell)
+    first = _dense_trajectory_contact(checker, traj)
+    assert not report.clear and report.touching
+    assert report.bodies == ("link2", "post")
+    assert first - 2e-3 <= report.time <= first + 1e-4
+    t = np.linspace(report.time, traj.duration, 3000)
+    k = checker.pair_names.index(("link2", "post"))
+    deepest = -checker.distances_many(traj.evaluate(t))[:, k].min()
+    assert report.depth == pytest.approx(deepest, abs=2e-3)
+    assert "link2-post" in repr(report)
+
+
+def test_trajectory_clear_and_input_errors():
+    """A move away from the obstacles is proven clear (its report says so); check_collisions
+    refuses a Cell without a robot, a robot of another size and a non-cell."""
+    robot = so.load_robot("zavar2024")
+    traj = so.time_parameterize(np.array([[-2.0, 0.3, 0.0, 0.0], [-1.5, 0.6, 0.02, 0.5]]),
+                                robot)
+    report = traj.check_collisions(so.CollisionChecker(robot, THIN))
+    assert report.clear and report.clearance > 0 and report.ratio == 0
+    with pytest.raises(so.InputError, match="needs the robot"):
+        traj.check_collisions(THIN)
+    with pytest.raises(so.InputError, match="4 joints"):
+        traj.check_collisions(THIN, so.load_robot("nguyen"))
+    with pytest.raises(so.InputError, match="Cell or a CollisionChecker"):
+        traj.check_collisions("cell.toml", robot)
+
+
+def test_lin_through_an_obstacle_is_refused_naming_move_time_bodies():
+    """A LIN across a post is refused: the move's index, the time of the contact and the
+    bodies are in the error; the same program without the post plans.
+
+    Mutation caught: LIN/CIRC sections not proven (only PTPs): the program would plan.
+    """
+    robot = so.load_robot("zavar2024")
+    cell = so.Cell([so.Cylinder("post", 0.01, 0.12, xyz=(0.30, 0.0, -0.14))])  # top at -80 mm
+    moves = [so.PTP(so.Target([0.30, -0.10, -0.07])), so.LIN(so.Target([0.30, 0.10, -0.07])),
+             so.LIN(so.Target([0.25, 0.10, -0.07]))]
+    so.plan(robot, moves)
+    with pytest.raises(so.MoveCollisionError) as info:
+        so.plan(robot, moves, cell=cell)
+    err = info.value
+    assert err.index == 1 and "link4" in err.bodies and "post" in err.bodies
+    assert err.time > 0 and err.depth > 0
+    assert isinstance(err, so.CollisionError) and isinstance(err, so.MoveError)
+    assert "move 1" in str(err) and "post" in str(err)
+
+
+def test_circ_through_an_obstacle_is_refused():
+    """A CIRC whose arc crosses a sphere is refused naming that move."""
+    robot = so.load_robot("zavar2024")
+    cell = so.Cell([so.Sphere("ball", 0.02, xyz=(0.35, 0.0, -0.09))])
+    moves = [so.PTP(so.Target([0.30, -0.05, -0.07])),
+             so.CIRC([0.35, 0.0, -0.07], so.Target([0.30, 0.05, -0.07]))]
+    with pytest.raises(so.MoveCollisionError, match="move 1: CIRC hits the cell") as info:
+        so.plan(robot, moves, cell=cell)
+    assert info.value.bodies == ("link4", "ball")
+
+
+def test_planned_program_has_a_clearance_row():
+    """A program planned in a cell has check_limits()['clearance'] <= 1 (proven clear with
+    its margin); one planned without a cell has no such row."""
+    robot = so.load_robot("zavar2024")
+    moves = [so.PTP(so.Target([0.30, -0.10, -0.07])), so.LIN(so.Target([0.30, 0.10, -0.07]))]
+    cell = so.Cell([so.Cylinder("pin", 0.01, 0.12, xyz=(0.2, 0.2, -0.14))])
+    traj = so.plan(robot, moves, cell=cell, margin=0.002)
+    ratios = traj.check_limits()
+    assert 0 < ratios["clearance"][0] <= 1
+    assert traj.check_collisions().clearance >= 0.002
+    assert "clearance" not in so.plan(robot, moves).check_limits()
+    with pytest.raises(so.InputError, match="without a cell"):
+        so.plan(robot, moves).check_collisions()
+
+
+def test_height_gaps_agree_with_a_dense_check():
+    """Over low bars under a SCARA's arms (only the lowered tool reaches them), the proofs
+    that use the height gaps (segments, the planner's edges, timed trajectories) never call
+    a colliding motion clear (dense checks at 1e-3 rad), and do prove motions above them.
+
+    Mutation caught: the prismatic joint's sign dropped from the gaps (``A`` taken as
+    ``abs(A)``): lowering the tool then looks like lifting it, and motions into the bars
+    are "proven" clear.
+    """
+    from scara_opt.planning.ompl_backend import EdgeProver
+
+    robot = so.load_robot("zavar2024")
+    bars = so.Cell([so.Box(f"bar{k}", (0.012, 0.5, 0.03), xyz=(0.16 + 0.09 * k, 0.0, -0.09))
+                    for k in range(3)])
+    checker = so.CollisionChecker(robot, bars)
+    assert checker.gaps is not None
+    prover = EdgeProver(checker)
+    proven = 0
+    for qa, qb in random_segments(robot, checker, 150, seed=5):
+        first = dense_first_contact(checker, qa, qb)
+        clear = prove_segment(checker, qa, qb).clear
+        assert prover.edge(tuple(qa), tuple(qb)) == clear or first is None
+        if clear:
+            proven += 1
+            assert first is None
+            traj = so.time_parameterize(np.array([qa, qb]), robot)
+            assert traj.check_collisions(checker).clear
+    assert proven > 30

@@ -1,0 +1,239 @@
+"""Collision-free PTPs through OMPL: every path re-checked densely here, honest failures."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+import scara_opt as so
+from scara_opt.planning import PlanStatus, plan_path
+
+ROBOT = so.load_robot("zavar2024")
+POST = so.Cell([so.Cylinder("post", 0.03, 0.4, xyz=(0.3, 0.15, 0.0))])
+QA, QB = np.array([-0.5, 0.5, 0.0, 0.0]), np.array([1.2, 0.5, 0.0, 0.0])
+
+
+def dense_clear(checker, Q, step=1e-3):
+    """Every configuration every ``step`` (rad or m) along the polyline Q is free."""
+    for a, b in zip(Q[:-1], Q[1:], strict=True):
+        n = int(np.ceil(np.abs(b - a).max() / step)) + 1
+        s = np.linspace(0.0, 1.0, n)[:, None]
+        if checker.collides_many(a + s * (b - a)).any():
+            return False
+    return True
+
+
+def dense_clear_trajectory(checker, traj, step=1e-3):
+    """The timed trajectory sampled so no joint moves more than ``step`` between samples."""
+    dt = step / traj.peaks()["velocity"].max()
+    t = np.append(np.arange(0.0, traj.duration, dt), traj.duration)
+    return not checker.collides_many(traj.evaluate(t)).any()
+
+
+def test_planned_path_around_a_post_is_clear_and_reproducible():
+    """The straight swing hits the post; the planned path avoids it (checked here every
+    1e-3 rad), starts and ends where asked; the same seed gives the same path, another seed
+    may give another.
+
+    Mutation caught: the edge check skipped (checkMotion answering True): the planner then
+    connects start and goal through the post and this test's dense check fails.
+    Mutation caught: OMPL's seed not set (RNG.setSeed left out): two runs differ.
+    """
+    checker = so.CollisionChecker(ROBOT, POST)
+    assert not dense_clear(checker, np.array([QA, QB]))
+    a = plan_path(checker, QA, QB, seed=3)
+    assert a.status == "solved" and a.success and a.planner == "RRTConnect"
+    assert np.array_equal(a.path[0], QA) and np.array_equal(a.path[-1], QB)
+    assert dense_clear(checker, a.path)
+    b = plan_path(checker, QA, QB, seed=3)
+    assert np.array_equal(a.path, b.path)
+    assert a.length == pytest.approx(np.linalg.norm(np.diff(a.path, axis=0), axis=1).sum())
+    assert "RRTConnect" in repr(a)
+
+
+def test_straight_when_clear():
+    """A segment proven clear is the path itself, no planner run."""
+    checker = so.CollisionChecker(ROBOT, POST)
+    qb = np.array([-1.0, 0.8, 0.02, 0.3])
+    res = plan_path(checker, QA, qb)
+    assert res.planner == "straight" and len(res.path) == 2 and res.tree_states == 0
+
+
+def slot_cell(half_angle: float = 0.45) -> so.Cell:
+    """Two walls from the column to beyond the arm's reach, at +-half_angle about x."""
+    walls = []
+    for name, a in (("left", half_angle), ("right", -half_angle)):
+        r = 0.1 + 0.25  # the wall's middle: from r = 0.1 m to 0.6 m
+        walls.append(so.Box(name, (0.5, 0.01, 0.3), xyz=(r * math.cos(a), r * math.sin(a),
+                                                         -0.05), rpy=(0, 0, a)))
+    return so.Cell(walls)
+
+
+def test_enclosed_goal_ends_with_no_path_found():
+    """The goal parks the arm in a slot between two walls that run from the column to
+    beyond its reach: no motion leads in from a start outside. The status is no_path with
+    what was tried, never unreachable, never a path; plan() raises NoPathFoundError.
+
+    Mutation caught: a failed query reported as solved with OMPL's approximate path (any
+    status but "Exact solution" accepted): a path through a wall comes back.
+    """
+    cell = slot_cell()
+    checker = so.CollisionChecker(ROBOT, cell)
+    goal, start = np.array([0.0, 0.0, 0.02, 0.0]), np.array([-1.5, 0.3, 0.02, 0.0])
+    assert not checker.collides(goal) and not checker.collides(start)
+    res = plan_path(checker, start, goal, time_limit=0.3)
+    assert res.status == PlanStatus.NO_PATH and res.path is None and not res.success
+    assert res.status != "unreachable"
+    assert "no path found within the time limit" in res.message
+    assert res.states > 0 and res.checks > 0 and res.tree_states > 0 and math.isnan(res.length)
+    with pytest.raises(so.NoPathFoundError, match="no path found within the time limit") as e:
+        so.plan(ROBOT, [so.PTP(goal)], start=start, cell=cell, time_limit=0.2)
+    assert e.value.index == 0 and e.value.states > 0 and e.value.time_limit == 0.2
+
+
+def test_rack_is_cleared_by_lifting_the_quill():
+    """A low wall across the whole reach, under the arms but over a lowered tool: the only
+    way across lifts the quill, and the planned path does.
+
+    Mutation caught: the quill left out of the planner's box (its joint held at the start's
+    value): no path is then found.
+    """
+    wall = so.Box("rack", (0.02, 1.2, 0.03), xyz=(0.25, 0.0, -0.095), rpy=(0, 0, 0.0))
+    checker = so.CollisionChecker(ROBOT, so.Cell([wall]))
+    start = so.ik_all(ROBOT, so.Target([0.15, 0.25, -0.09]))[0].q
+    goal = so.ik_all(ROBOT, so.Target([0.35, 0.1, -0.09]), q0=start)[0].q
+    assert not checker.collides(start) and not checker.collides(goal)
+    res = plan_path(checker, start, goal, seed=1)
+    assert res.success and dense_clear(checker, res.path)
+    assert res.path[:, 2].min() < min(start[2], goal[2]) - 0.01  # lifted (z = -d3 - 0.05)
+
+
+def test_start_goal_and_time_limit_errors():
+    """Start or goal in collision name the bodies and the depth; out of limits names the
+    joint; a time limit <= 0 is refused."""
+    checker = so.CollisionChecker(ROBOT, POST)
+    inside = np.array([0.4636, 0.0, 0.0, 0.0])  # stretched toward the post
+    assert checker.collides(inside)
+    with pytest.raises(so.CollisionError, match=r"start is in collision: link\d and post .* mm "
+                                                r"deep") as e:
+        plan_path(checker, inside, QB)
+    assert e.value.bodies[1] == "post" and e.value.depth > 0
+    with pytest.raises(so.CollisionError, match="goal is in collision"):
+        plan_path(checker, QA, inside)
+    with pytest.raises(so.JointLimitError, match="joint 'theta1'"):
+        plan_path(checker, np.array([3.0, 0.0, 0.0, 0.0]), QB)
+    for bad in (0.0, -1.0, math.nan):
+        with pytest.raises(so.InputError, match="time_limit"):
+            plan_path(checker, QA, QB, time_limit=bad)
+    with pytest.raises(so.CollisionError, match="start is in collision"):
+        so.plan(ROBOT, [so.PTP(QB)], start=inside, cell=POST)
+    with pytest.raises(so.MoveCollisionError, match="move 0: PTP the goal is in collision"):
+        so.plan(ROBOT, [so.PTP(inside)], start=QA, cell=POST)
+    with pytest.raises(so.InputError, match="time_limit"):
+        so.plan(ROBOT, [so.PTP(QB)], start=QA, cell=POST, time_limit=0)
+
+
+def test_ptp_in_a_cell_is_timed_and_proven_clear_again():
+    """A PTP around the post: toppra's trajectory (not the planned polyline) is clear at
+    1e-3 rad steps, within the joint limits, and check_limits says so.
+
+    Mutation caught: the planned path timed through its vertices alone and the timed
+    trajectory not checked again (the polyline trusted): the spline then leaves the joint
+    limits between waypoints (the assertion on ``position_range``).
+    """
+    checker = so.CollisionChecker(ROBOT, POST)
+    for seed in range(4):
+        traj = so.plan(ROBOT, [so.PTP(QB)], start=QA, cell=POST, seed=seed)
+        assert dense_clear_trajectory(checker, traj)
+        lo, hi = traj.position_range()
+        assert (lo >= ROBOT.lower - 1e-9).all() and (hi <= ROBOT.upper + 1e-9).all()
+        ratios = traj.check_limits()
+        assert ratios["clearance"][0] <= 1 and ratios["velocity"].max() <= 1 + 1e-9
+        assert "planned around the cell" in traj.notes
+
+
+def test_ptp_target_takes_a_clear_ik_branch():
+    """A Target whose nearest IK branch puts the forearm through a post takes the other
+    branch, which is clear.
+
+    Mutation caught: the PTP goal taken as the nearest IK solution without looking at the
+    cell: a MoveCollisionError for the goal.
+    """
+    cell = so.Cell([so.Cylinder("post", 0.02, 0.4, xyz=(0.25, 0.1, 0.0))])
+    target = so.Target([0.23, 0.18, -0.07])
+    checker = so.CollisionChecker(ROBOT, cell)
+    start = np.array([-1.29, 1.5, 0.02, 0.0])
+    near, far = so.ik_all(ROBOT, target, q0=start)
+    assert checker.collides(near.q) and not checker.collides(far.q)
+    traj = so.plan(ROBOT, [so.PTP(target)], start=start, cell=cell)
+    assert np.allclose(traj.waypoints[-1], far.q)
+    assert dense_clear_trajectory(checker, traj)
+
+
+def test_out_of_limits_start_or_goal_refused_with_or_without_a_cell():
+    """A joint goal or a start outside the limits is refused naming the joint, in a cell or
+    not (before, plan() timed a PTP to theta1 = 5.2 rad on a +-2.09 rad joint).
+
+    Mutation caught: the PTP joint goal checked for its shape only (robot.check_q).
+    """
+    far = np.array([5.2, 0.0, 0.0, 0.0])
+    for cell in (None, POST):
+        with pytest.raises(so.MoveError, match="PTP goal: joint 'theta1' = 5.2 rad is outside"):
+            so.plan(ROBOT, [so.PTP(far)], start=QA, cell=cell)
+        with pytest.raises(so.JointLimitError, match="start: joint 'theta1'"):
+            so.plan(ROBOT, [so.PTP(QB)], start=far, cell=cell)
+
+
+def test_cycle_time_in_a_cell_plans_around_a_block():
+    """A block on the straight way between the cycle's pick and place: the cycle is planned
+    around it (same placement), proven clear, and takes longer than without it; a cell that
+    blocks every placement is refused saying so.
+
+    Mutation caught: cycle_time ignoring cell= (the straight PTP through the block: the
+    dense check here fails).
+    """
+    from scara_opt.motion.cycle import place_cycle
+
+    A, B, _, _ = place_cycle(ROBOT, 0.025, 0.2, 0.025)
+    mid = (A + B) / 2
+    cell = so.Cell([so.Box("block", (0.04, 0.04, 0.04), xyz=(mid[0], mid[1], -0.075))])
+    free = so.cycle_time(ROBOT, across=0.2)
+    res = so.cycle_time(ROBOT, across=0.2, cell=cell)
+    assert np.allclose(res.pick, A) and np.allclose(res.place, B)
+    checker = so.CollisionChecker(ROBOT, cell)
+    assert dense_clear_trajectory(checker, res.trajectory)
+    assert res.durations["toppra"] > free.durations["toppra"]
+    wall = so.Cell([so.Box("floor", (2, 2, 0.02), xyz=(0, 0, -0.08))])
+    with pytest.raises(so.InputError, match="plans clear of the cell"):
+        so.cycle_time(ROBOT, across=0.2, cell=wall)
+
+
+def test_ptp_in_a_cell_under_torque_limits():
+    """A PTP planned around the post and timed by toppra under the robot's torque limits:
+    torques within them (1 kHz RNEA) and the trajectory proven clear."""
+    traj = so.plan(ROBOT, [so.PTP(QB)], start=QA, cell=POST, torque_limits=True, seed=1)
+    ratios = traj.check_limits()
+    assert ratios["torque"].max() <= 1 + 1e-6 and ratios["clearance"][0] <= 1
+    assert dense_clear_trajectory(so.CollisionChecker(ROBOT, POST), traj)
+
+
+def test_last_resort_stops_at_every_waypoint(monkeypatch):
+    """When no spline through the planned waypoints is proven clear, the section is timed
+    straight from waypoint to waypoint, at rest at each (exactly the proven polyline): the
+    joint speed is zero at every waypoint and the dense check holds.
+
+    Mutation caught: the segments timed but not laid end to end in time (each from t = 0):
+    the waypoint times then do not increase and the speeds there are not zero.
+    """
+    import importlib
+
+    clearance = importlib.import_module("scara_opt.motion.clearance")
+    monkeypatch.setattr(clearance, "RETRIES", -1)  # straight to the last resort
+    traj = so.plan(ROBOT, [so.PTP(QB)], start=QA, cell=POST, seed=3)
+    assert "stopping at each waypoint" in traj.notes
+    knots = traj.profiles[0][0]
+    assert len(knots) > 2 and (np.diff(knots) > 0).all()
+    assert np.abs(traj.evaluate(knots, 1)).max() < 1e-9
+    assert dense_clear_trajectory(so.CollisionChecker(ROBOT, POST), traj)
