@@ -213,8 +213,10 @@ def test_bundled_robots_carry_inertias_and_torque_limits():
 
 # ---------------------------------------------------------------------------- bad input
 @pytest.mark.parametrize("kwargs, error, match", [
-    ({"payload": -1.0}, so.InputError, "mass must be a finite number >= 0"),
-    ({"payload": float("nan")}, so.InputError, "mass must be a finite number >= 0"),
+    ({"payload": -1.0}, so.InputError, r"mass must be a number in \[0, 1e\+06\] kg"),
+    ({"payload": float("nan")}, so.InputError, r"mass must be a number in \[0, 1e\+06\] kg"),
+    ({"payload": 1e308}, so.InputError, r"mass must be a number in \[0, 1e\+06\] kg"),
+    ({"payload": (1.0, [0, 0, 1e308])}, so.InputError, r"com must be finite, within ±1000 m"),
     ({"payload": (1.0, [0, 0])}, so.InputError, r"com must have shape \(3,\)"),
     ({"payload": (1.0, [0, 0, np.inf])}, so.InputError, "must be finite"),
     ({"payload": (1.0, [0, 0, 0], -np.eye(3))}, so.InputError, "positive semi-definite"),
