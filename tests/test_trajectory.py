@@ -321,16 +321,28 @@ def test_toppra_refuses_a_spline_that_leaves_the_joint_limits(zavar):
 
 # ---------------------------------------------------------------- ik_path
 def test_ik_path_reports_the_elbow_flip_on_the_reachable_circle(zavar, circle_path):
-    """All ten points solved; the one jump is the elbow flip between points 7 and 8."""
+    """All ten points solved; the one jump is the elbow flip, forced by point 8.
+
+    The righty branch reaches points 0-7 and the lefty 7-9 (θ1 within ±120°): the global
+    walk flips once, where it costs least (step 6→7), and names point 8 as the one forcing
+    it; the greedy walk flips where its branch ends (7→8). Mutation caught: the forcing
+    point searched from the candidate after the jump (``choice[j - 1]`` -> ``choice[j]``
+    in branches.py) -> no forcing point, fails.
+    """
     jp = circle_path
     assert jp.solved.all() and jp.error.max() < 1e-12 and not jp.ok
-    assert [j.index for j in jp.jumps] == [8]
+    assert jp.branches == "global" and [j.index for j in jp.jumps] == [7]
     jump = jp.jumps[0]
-    assert jump.joints == ("theta2",)
-    assert np.sign(jp.q[7, 1]) != np.sign(jp.q[8, 1]) and abs(jump.delta[1]) > math.radians(160)
-    assert "jumps at steps 8" in jp.summary() and str(jump).startswith("step 7→8")
+    assert jump.joints == ("theta2",) and jump.forced_by == 8 and jp.forced == [8]
+    assert np.sign(jp.q[6, 1]) != np.sign(jp.q[7, 1]) and abs(jump.delta[1]) > math.radians(160)
+    assert "jumps at steps 7 (forced by points 8)" in jp.summary()
+    assert str(jump).startswith("step 6→7") and "does not reach point 8" in str(jump)
+    greedy = ik_path(zavar, paths.zavar2024_circle(reachable=True), branches="greedy")
+    assert [j.index for j in greedy.jumps] == [8] and greedy.jumps[0].forced_by is None
+    assert (jp.travel / zavar.velocity_limit).sum() <= (greedy.travel
+                                                        / zavar.velocity_limit).sum()
     analytic = ik_path(zavar, paths.zavar2024_circle(reachable=True), method="analytic")
-    assert [j.index for j in analytic.jumps] == [8]
+    assert [j.index for j in analytic.jumps] == [7]
     assert np.allclose(analytic.q, jp.q, atol=1e-9)
 
 
@@ -355,8 +367,8 @@ def test_jumps_must_be_allowed_explicitly(zavar, circle_path, caplog):
     with caplog.at_level(logging.WARNING, logger="scara_opt"):
         traj = time_parameterize(circle_path, zavar, method="ruckig", allow_jumps=True)
     assert "jump" in caplog.text and worst_ratio(traj) <= 1 + RATIO_TOL
-    part = circle_path.subset(slice(0, 8))
-    assert part.ok and len(part) == 8
+    part = circle_path.subset(slice(0, 7))
+    assert part.ok and len(part) == 7
     assert time_parameterize(part, zavar).duration > 0
 
 

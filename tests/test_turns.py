@@ -94,3 +94,22 @@ def test_turnable_joints_and_the_pose_they_keep(ur5_arm):
     zavar = so.load_robot("zavar2024")  # ±120°: no other turn, the same array back
     q = np.array([0.1, 0.2, 0.01, 0.3])
     assert turn_joints(zavar) == () and nearest_turn(zavar, q, q + 6) is q
+
+
+def test_ur5_path_travel_and_timing_after_the_turns(ur5_arm):
+    """ik_path through the 5 poses: no joint a turn off, travel below the hand-unwrapped one.
+
+    Before: 58.6 rad of travel (35.3 unwrapped by hand), toppra refused the path (its
+    spline left ±2π by 0.29 rad), ruckig 11.8 s. Now the greedy walk travels 31.5 rad and
+    the global one 33.6 rad (one jump fewer); toppra times both. Mutation caught: the
+    base's turn removed -> the greedy travel is 58.6 rad, fails.
+    """
+    Q, targets = ur5_case(ur5_arm)
+    for branches in ("greedy", "global"):
+        jp = so.ik_path(ur5_arm, targets, branches=branches)
+        assert jp.solved.all()
+        for i in range(1, len(jp)):
+            assert not nearer_turn(ur5_arm, jp.q[i], jp.q[i - 1]), (branches, i)
+        assert jp.travel.sum() <= 35.3, branches
+        traj = so.time_parameterize(jp, ur5_arm, method="toppra", allow_jumps=True)
+        assert max(float(v.max()) for v in traj.check_limits().values()) <= 1 + 1e-9
