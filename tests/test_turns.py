@@ -52,6 +52,24 @@ def test_methods_that_honour_q0_return_the_turn_nearest_it(ur5_arm, method):
     assert res.q[0] == pytest.approx(-0.85, abs=0.01)
 
 
+def test_solve_many_takes_the_turn_nearest_each_q0(ur5_arm):
+    """solve_many with one q0 per target answers as solve_ik does: no joint a turn nearer.
+
+    20 full poses and 20 unrelated q0s, uniform in the limits (seed 0). Before: 15 of the
+    20 answers had a joint a whole turn farther from its q0 than needed.
+    Mutation caught: the batch's turn skipped (``if Q_ref is not None`` -> ``if False`` in
+    lm_batch._result) -> fails.
+    """
+    rng = np.random.default_rng(0)
+    Q = rng.uniform(ur5_arm.lower, ur5_arm.upper, (20, 6))
+    Q0 = rng.uniform(ur5_arm.lower, ur5_arm.upper, (20, 6))
+    targets = [so.Target(T[:3, 3], rotation=T[:3, :3]) for T in map(ur5_arm.fk, Q)]
+    batch = so.solve_many(ur5_arm, targets, q0s=Q0)
+    assert batch.success.all()
+    for i in range(20):
+        assert not nearer_turn(ur5_arm, batch.q[i], Q0[i]), (i, batch.q[i], Q0[i])
+
+
 def test_metaheuristic_and_closed_form_answers_take_the_turn_nearest_q0(robots):
     """fang's ±360° wrist: pso's and the closed form's wrist is the one nearest q0's.
 
