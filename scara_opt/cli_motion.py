@@ -10,6 +10,7 @@ import argparse
 import json
 import math
 
+from scara_opt.cli_limits import add_limit_options, joint_limits
 from scara_opt.outputs import FORCE_HELP
 
 #: the files ``cycle`` writes into ``--out`` when asked, by option
@@ -29,11 +30,12 @@ def cmd_cycle(args: argparse.Namespace) -> int:
         raise InputError(f"--{' --'.join(asked)}: the files go into a folder; give it with "
                          "--out DIR")
     robot = so.load_robot(args.robot)
+    joint = joint_limits(args, robot, need_jerk=False)  # before any IK
     limits = None
     if args.speed is not None or args.acceleration is not None:
         limits = so.ToolLimits(speed=args.speed, acceleration=args.acceleration)
     res = cycle_time(robot, args.up / 1e3, args.across / 1e3, args.down / 1e3, limits,
-                     args.blend / 1e3)
+                     args.blend / 1e3, vmax=joint.vmax, amax=joint.amax)
     traj = res.trajectory
     loaded = (None if args.payload is None
               else cycle_with_payload(robot, res, args.payload, limits))
@@ -105,6 +107,7 @@ def add_parser(sub: argparse._SubParsersAction) -> argparse.ArgumentParser:
     p.add_argument("--speed", type=_positive, help="tool speed limit on the LIN strokes [m/s]")
     p.add_argument("--acceleration", type=_positive,
                    help="tool acceleration limit on the LIN strokes [m/s²]")
+    add_limit_options(p)
     p.add_argument("--payload", type=_nonnegative, metavar="KG",
                    help="also time it by toppra with KG at the tool under the robot's torque "
                         "limits (needs its inertias)")

@@ -37,6 +37,7 @@ from scara_opt.motion.plan import plan
 from scara_opt.motion.result import MotionTrajectory
 from scara_opt.motion.tool_limits import ToolLimits
 from scara_opt.target import Target
+from scara_opt.trajectory.limits import resolve_limits
 from scara_opt.trajectory.registry import time_parameterize
 
 Array = NDArray[np.float64]
@@ -133,7 +134,8 @@ def place_cycle(robot: Robot, up: float = 0.025, across: float = 0.305,
 
 
 def cycle_time(robot: Robot, up: float = 0.025, across: float = 0.305, down: float = 0.025,
-               limits: ToolLimits | None = None, blend: float = 0.0) -> CycleResult:
+               limits: ToolLimits | None = None, blend: float = 0.0, *,
+               vmax: object | None = None, amax: object | None = None) -> CycleResult:
     """Time the pick-and-place cycle (A up, across, down to B, and back) three ways.
 
     Args:
@@ -144,9 +146,14 @@ def cycle_time(robot: Robot, up: float = 0.025, across: float = 0.305, down: flo
         limits: optional tool limits for the LIN strokes of the toppra plan.
         blend: radius [m] within which a second toppra plan rounds the upper corners
             (``durations["toppra_blended"]``; 0: none); at most half a vertical stroke.
+        vmax: joint velocity limits, scalar or (nq,) [rad/s or m/s]; default the robot's.
+        amax: joint acceleration limits, scalar or (nq,) [rad/s² or m/s²]; default the
+            robot's (a URDF carries none: pass it).
 
     Raises:
-        InputError: strokes not positive, or no reachable placement.
+        InputError: strokes not positive, bad limits, or no reachable placement.
+        TrajectoryError: a joint without a limit of its own and none given (checked before
+            any IK).
         MoveError: a blend radius above half of a stroke (the largest allowed is named).
     """
     robot = check_robot(robot)
@@ -154,6 +161,8 @@ def cycle_time(robot: Robot, up: float = 0.025, across: float = 0.305, down: flo
     down = check_real("down", down, 0.0, 1.0, low_open=True, unit="m")
     across = check_real("across", across, 0.0, 10.0, low_open=True, unit="m")
     blend = check_real("blend", blend, 0.0, 1.0, unit="m")
+    joint = resolve_limits(robot, robot.nq, vmax, amax)  # before any IK
+    vmax, amax = joint.vmax, joint.amax
     A, B, q0, elbow = place_cycle(robot, up, across, down)
     n = branch.geometry(robot).n
     Au, Bu = A + up * n, B + down * n
@@ -164,16 +173,18 @@ def cycle_time(robot: Robot, up: float = 0.025, across: float = 0.305, down: flo
                                                               blend=r), LIN(Target(A))]
 
     try:
-        stops = plan(robot, program(0.0), limits, start=q0)
+        stops = plan(robot, program(0.0), limits, start=q0, vmax=vmax, amax=amax)
     except MoveError as exc:  # pragma: no cover - placement checked the corners
         raise InputError(f"the placed cycle does not plan: {exc}; pass shorter strokes") from None
     corners = stops.waypoints
     durations = {"toppra": stops.duration,
-                 "ruckig": plan(robot, program(0.0), limits, start=q0, method="ruckig").duration,
-                 "quintic": time_parameterize(corners, robot, method="quintic").duration}
+                 "ruckig": plan(robot, program(0.0), limits, start=q0, method="ruckig",
+                                vmax=vmax, amax=amax).duration,
+                 "quintic": time_parameterize(corners, robot, method="quintic", vmax=vmax,
+                                              amax=amax).duration}
     traj = stops
     if blend:
-        traj = plan(robot, program(blend), limits, start=q0)
+        traj = plan(robot, program(blend), limits, start=q0, vmax=vmax, amax=amax)
         durations["toppra_blended"] = traj.duration
     return CycleResult(robot.name, up, across, down, A, B, durations, traj, corners, blend)
 
@@ -182,10 +193,12 @@ def cycle_with_payload(robot: Robot, result: CycleResult, payload: object,
                        limits: ToolLimits | None = None) -> MotionTrajectory:
     """The placed cycle of ``result`` timed by toppra under the robot's torque limits too.
 
-    ``payload``: the load at the tool, ``mass`` [kg] or ``(mass, com[, inertia])``.
+    ``payload``: the load at the tool, ``mass`` [kg] or ``(mass, com[, inertia])``. The
+    joint limits are those ``result`` was timed with.
 
     Raises:
         DynamicsError: the robot has no inertias or torque limits, or cannot hold the load.
     """
+    joint = result.trajectory.limits
     return plan(robot, result.trajectory.moves, limits, start=result.corners[0],
-                payload=payload)
+                vmax=joint.vmax, amax=joint.amax, payload=payload)

@@ -44,6 +44,8 @@ DISTINCT = 1e-6
 FIRST_STARTS, LATER_STARTS = 8, 2
 #: most solutions kept per point by the multi-start (continuations of the tracks first)
 MAX_CANDIDATES = 8
+#: task dimension of each target kind (position, tool angle, rotation)
+TASK_DIMENSION = {"position": 3, "yaw": 4, "rotation": 6}
 
 
 @dataclass(frozen=True)
@@ -138,6 +140,17 @@ def least_cost_walk(Q: Array, valid: Mask, threshold: Array, weights: Array,
     forced = tuple(_forcing_point(allowed, j - 1, int(choice[j - 1])) for j in jumps)
     walked = float(travel[steps, choice[:-1], choice[1:]].sum()) + float(t0[choice[0]])
     return Walk(choice, jumps, forced, bool(o0[choice[0]]), walked)
+
+
+def redundant(robot: Robot, targets: Sequence[Target]) -> bool:
+    """Whether some target leaves the robot joints to spare: its solutions form a continuum.
+
+    There the multi-start's tracks are samples of the continuum rather than branches, and
+    their travels compare arbitrary choices (a track riding on a joint limit may travel
+    least): the caller keeps the first track, the greedy walk, unless another has fewer
+    jumps.
+    """
+    return any(TASK_DIMENSION[t.kind] < robot.nq for t in targets)
 
 
 def _forcing_point(allowed: Mask, i: int, k: int) -> int | None:

@@ -275,7 +275,9 @@ def ik_path(robot: Robot, targets: object, method: str = "auto", q_start: object
             SCARA-type robot without redundant joints the closed form lists the solutions
             (both elbow branches, every whole turn), whatever the method (their results say
             ``method="analytic"``); the method solves only the points it misses, whose
-            verdicts say why. Elsewhere the method's own multi-start finds them.
+            verdicts say why. Elsewhere the method's own multi-start finds them; where the
+            robot has joints to spare for the targets (a continuum of solutions) the greedy
+            walk is kept unless another track has fewer jumps.
             ``"greedy"`` (the default for the metaheuristics): each point from the
             previous solution, in order.
         **options: options of the IK method (an unknown one raises SolverOptionError).
@@ -338,6 +340,10 @@ def _global(robot: Robot, ts: list[Target], solver: Solver, method: str, q_start
     if listed is None:
         Q, valid, kept = walk.candidates_searched(robot, ts, solver, q_start, seed, tol)
         w = walk.least_cost_walk(Q, valid, threshold, weights, q_start)
+        if walk.redundant(robot, ts):  # a continuum: the greedy walk unless it jumps more
+            first = walk.least_cost_walk(Q[:, :1], valid[:, :1], threshold, weights, q_start)
+            if (first.start_jump, len(first.jumps)) <= (w.start_jump, len(w.jumps)):
+                w = first
         results = [kept[i][k] for i, k in enumerate(w.choice)]
         return _assemble(Q[np.arange(len(ts)), w.choice], results, ts, threshold, method,
                          robot.joint_names, time.perf_counter() - start, "global",

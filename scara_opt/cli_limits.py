@@ -1,0 +1,70 @@
+"""``--vmax/--amax/--jmax`` of the commands that time a motion (``path``, ``cycle``).
+
+One value for every joint or one per joint, in SI (rad/s or m/s and their derivatives,
+whatever ``--deg``/``--mm`` say about positions); a joint without a limit of its own (a
+URDF carries no acceleration limit) needs the option. The limits are resolved before any
+IK runs, so a missing or bad one is refused at once, naming the option.
+"""
+
+from __future__ import annotations
+
+import argparse
+import math
+from typing import Any
+
+import numpy as np
+
+from scara_opt.errors import InputError, TrajectoryError
+
+#: unit of each option, for the help and the messages
+UNITS = {"vmax": "rad/s or m/s", "amax": "rad/s² or m/s²", "jmax": "rad/s³ or m/s³"}
+
+
+def _positive(text: str) -> float:
+    try:
+        value = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected a number, got {text!r}") from None
+    if not (value > 0 and math.isfinite(value)):
+        raise argparse.ArgumentTypeError(f"must be a finite number > 0; got {text}")
+    return value
+
+
+def add_limit_options(p: argparse.ArgumentParser, jerk: str | None = None) -> None:
+    """Add ``--vmax``, ``--amax`` (and ``--jmax`` with its help ``jerk``) to ``p``."""
+    names = {"vmax": "joint velocity", "amax": "joint acceleration"}
+    if jerk is not None:
+        names["jmax"] = "joint jerk"
+    for name, what in names.items():
+        extra = f"; {jerk}" if name == "jmax" else ""
+        p.add_argument(f"--{name}", type=_positive, nargs="+", metavar="V",
+                       help=f"{what} limit [{UNITS[name]}, SI], one value for all joints or "
+                            f"one per joint (default: the robot's own){extra}")
+
+
+def joint_limits(args: argparse.Namespace, robot: Any, need_jerk: bool) -> Any:
+    """The :class:`~scara_opt.trajectory.Limits` of the options and the robot, checked now.
+
+    Raises:
+        InputError: a count that is neither 1 nor the robot's joint count, a value out of
+            range, ``--jmax`` where no jerk limit is used, or a joint with no limit of its
+            own and none given (the message names the option to pass).
+    """
+    from scara_opt.trajectory.limits import resolve_limits
+
+    values = {}
+    for name in ("vmax", "amax", "jmax"):
+        given = getattr(args, name, None)
+        if given is not None and len(given) not in (1, robot.nq):
+            raise InputError(f"--{name} takes one value for all joints or {robot.nq}, one per "
+                             f"joint {robot.joint_names} [{UNITS[name]}]; got {len(given)}")
+        values[name] = None if given is None else np.broadcast_to(
+            np.asarray(given, float), (robot.nq,)).copy()
+    if values["jmax"] is not None and not need_jerk:
+        raise InputError("--jmax limits the jerk of --time ruckig only; drop it or pass "
+                         "--time ruckig")
+    try:
+        return resolve_limits(robot, robot.nq, values["vmax"], values["amax"], values["jmax"],
+                              need_jerk, option="--{}")
+    except TrajectoryError as exc:  # a joint without a limit of its own: bad input here
+        raise InputError(str(exc)) from None
