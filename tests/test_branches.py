@@ -19,6 +19,7 @@ from scara_opt.ik.result import Status
 from scara_opt.ik.verdict import judge
 from scara_opt.trajectory.branches import least_cost_walk
 from scara_opt.trajectory.path import JudgedResults
+from tests.conftest import ROOT
 
 
 def arc41() -> list[so.Target]:
@@ -173,3 +174,19 @@ def test_branches_option_is_checked(robots):
         so.ik_path(robot, ts, method="pso", branches="global")
     jp = so.ik_path(robot, ts, method="pso", population=20, iterations=20)
     assert jp.branches == "greedy"
+
+
+def test_a_redundant_task_keeps_the_greedy_walk_unless_another_jumps_less():
+    """arm6 (6 joints) on a 12-point line, position only: a continuum of solutions.
+
+    The multi-start's tracks are samples of it; one rides the elbow's limit (3.14 rad) with
+    less travel, and toppra's spline through it leaves the limit. The greedy track has no
+    jump, so it is kept, and toppra times it. Mutation caught: the rule dropped (``if
+    walk.redundant(robot, ts)`` -> ``if False``) -> the limit-riding track, toppra refuses.
+    """
+    robot = so.load_robot(str(ROOT / "examples" / "arm6.urdf"))
+    ts = so.paths.line([0.6, 0.1, 0.2], [0.6, 0.3, 0.2], 36)
+    jp = so.ik_path(robot, ts)
+    greedy = so.ik_path(robot, ts, branches="greedy")
+    assert jp.ok and np.array_equal(jp.q, greedy.q)
+    assert so.time_parameterize(jp, robot, amax=5.0).duration > 0
