@@ -177,7 +177,7 @@ def test_branches_option_is_checked(robots):
 
 
 def test_a_redundant_task_keeps_the_greedy_walk_unless_another_jumps_less():
-    """arm6 (6 joints) on a 12-point line, position only: a continuum of solutions.
+    """arm6 (6 joints) on a 36-point line, position only: a continuum of solutions.
 
     The multi-start's tracks are samples of it; one rides the elbow's limit (3.14 rad) with
     less travel, and toppra's spline through it leaves the limit. The greedy track has no
