@@ -1,8 +1,11 @@
 """Cycle time of the standard SCARA pick-and-place cycle: 25 mm up, 305 mm across, 25 mm down, back.
 
-The cycle is placed where the robot reaches it (:func:`place_cycle`): the horizontal stroke
-perpendicular to a ray from the shoulder axis, its ends at the same distance, the vertical
-strokes centred in the height range; the first placement (nearest the middle of the reach,
+The cycle is placed where the robot reaches it (:func:`place_cycle`), up along the world z
+axis (the robot files put the base's z against gravity): on a SCARA with a vertical axis
+the horizontal stroke perpendicular to a ray from the shoulder axis, its ends at the same
+distance, the vertical strokes centred in the height range; on an arm whose axis is
+horizontal (nguyen, moving in the x-z plane) all three strokes in its plane, the across
+stroke horizontal; the first placement (nearest the middle of the reach,
 the ray along the first joint's zero first) whose six corners the closed-form IK reaches on one
 elbow branch and whose program plans is used. The program is LIN up, PTP across, LIN down,
 and the same back, stopping at each corner (as cycle-time specifications are measured).
@@ -80,7 +83,17 @@ class CycleResult:
                 f"{self.down * 1e3:g} mm{blend}, {times})")
 
 
+#: world up: the robot files put the base's z axis against gravity
+UP = np.array([0.0, 0.0, 1.0])
+
+
 def _candidates(robot: Robot, up: float, across: float, down: float):
+    """Placements ``(A, B, up_direction)``: lower corners [m] and world up, nearest first.
+
+    A SCARA with a vertical axis (the usual one) strokes up and down along it, across in
+    its plane; an arm whose axis is horizontal (nguyen: it moves in the x-z plane) strokes
+    up and down and across in its plane, across horizontal, at mid-range of its heights.
+    """
     g = branch.geometry(robot)
     if g is None:
         raise InputError(f"cycle_time needs a SCARA-type robot; {robot.name!r} is not")
@@ -88,13 +101,17 @@ def _candidates(robot: Robot, up: float, across: float, down: float):
                     for k in g.heights)
     hi = g.h0 + sum(max(g.sigma[k] * robot.lower[k], g.sigma[k] * robot.upper[k])
                     for k in g.heights)
+    vertical = abs(float(g.n @ UP)) > 0.5
     stroke = max(up, down)
-    if hi - lo < stroke:
+    if vertical and hi - lo < stroke:
         raise InputError(f"robot {robot.name!r} has a vertical stroke of {(hi - lo) * 1e3:.4g} "
                          f"mm, less than the {stroke * 1e3:g} mm asked; pass up= and down= "
                          f"<= {(hi - lo):.4g} m")
-    h_pick = (lo + hi) / 2 - up / 2
-    h_place = h_pick + up - down
+    side = math.copysign(1.0, float(g.n @ UP))  # the axis n points up (+1) or down (-1)
+    mid = (lo + hi) / 2  # along n
+    h_pick = mid - side * up / 2 if vertical else mid
+    h_place = h_pick + side * (up - down) if vertical else mid
+    level = np.cross(g.n, UP) / max(float(np.linalg.norm(np.cross(g.n, UP))), 1e-300)
     reach = g.l1 + g.l2
     base = g.base[0] * g.e1 + g.base[1] * g.e2
     phi0 = g.phi1
@@ -103,11 +120,11 @@ def _candidates(robot: Robot, up: float, across: float, down: float):
             continue
         for a in ANGLES:
             u = math.cos(phi0 + a) * g.e1 + math.sin(phi0 + a) * g.e2
-            w = np.cross(g.n, u)
+            w = np.cross(g.n, u) if vertical else level
             centre = base + d * u
             A = centre - across / 2 * w + h_pick * g.n
             B = centre + across / 2 * w + h_place * g.n
-            yield A, B, g.n
+            yield A, B, UP
 
 
 def place_cycle(robot: Robot, up: float = 0.025, across: float = 0.305,
@@ -164,8 +181,7 @@ def cycle_time(robot: Robot, up: float = 0.025, across: float = 0.305, down: flo
     joint = resolve_limits(robot, robot.nq, vmax, amax)  # before any IK
     vmax, amax = joint.vmax, joint.amax
     A, B, q0, elbow = place_cycle(robot, up, across, down)
-    n = branch.geometry(robot).n
-    Au, Bu = A + up * n, B + down * n
+    Au, Bu = A + up * UP, B + down * UP
 
     def program(r: float) -> list:
         return [LIN(Target(Au), blend=r), PTP(Target(Bu), elbow=elbow, blend=r),
