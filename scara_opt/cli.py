@@ -23,7 +23,7 @@ import numpy as np
 
 from scara_opt import cli_motion, interrupt
 from scara_opt.checks import count_text
-from scara_opt.cli_limits import add_limit_options, joint_limits
+from scara_opt.cli_args import add_limit_options, degrees, joint_limits
 from scara_opt.errors import InputError, ScaraOptError
 from scara_opt.outputs import (
     COMPARE_FILES,
@@ -264,10 +264,7 @@ def _yaw_arg(text: str) -> float | str:
     """``--yaw`` of a path: degrees, or ``tangent``."""
     if text == "tangent":
         return text
-    try:
-        return math.radians(float(text))
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"expected degrees or 'tangent', got {text!r}") from None
+    return math.radians(degrees(text))
 
 
 def _path_targets(args: argparse.Namespace) -> list[Any]:

@@ -10,7 +10,7 @@ import argparse
 import json
 import math
 
-from scara_opt.cli_limits import add_limit_options, joint_limits
+from scara_opt.cli_args import add_limit_options, joint_limits
 from scara_opt.outputs import FORCE_HELP
 
 #: the files ``cycle`` writes into ``--out`` when asked, by option
@@ -21,7 +21,7 @@ def cmd_cycle(args: argparse.Namespace) -> int:
     """Place and time the cycle; print the times; write CSV / ROS YAML / figure / 3-D view."""
     import scara_opt as so
     from scara_opt.errors import InputError
-    from scara_opt.motion.cycle import cycle_time, cycle_with_payload
+    from scara_opt.motion.cycle import check_cycle_blend, cycle_time, cycle_with_payload
     from scara_opt.motion.plot import plot_motion
     from scara_opt.outputs import OutputDir, write_animation
 
@@ -31,6 +31,7 @@ def cmd_cycle(args: argparse.Namespace) -> int:
                          "--out DIR")
     robot = so.load_robot(args.robot)
     joint = joint_limits(args, robot, need_jerk=False)  # before any IK
+    check_cycle_blend(args.blend, args.up, args.across, args.down, "mm", 1.0, "--blend")
     limits = None
     if args.speed is not None or args.acceleration is not None:
         limits = so.ToolLimits(speed=args.speed, acceleration=args.acceleration)

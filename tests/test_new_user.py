@@ -27,3 +27,47 @@ def test_nguyen_cycle_strokes_up_against_gravity_and_across_level(robots):
         assert abs(steps[k, 2]) < 1e-9 and np.linalg.norm(steps[k]) == pytest.approx(0.305)
     zavar = so.cycle_time(robots["zavar2024"])
     assert zavar.durations["toppra"] == pytest.approx(2.2303, abs=1e-4)
+
+
+def test_a_blend_of_exactly_half_the_stroke_is_allowed(robots):
+    """peng2025's cycle, whose 25 mm strokes measure 0.024999999999999994 m by FK: blend
+    0.0125 m (half) plans; 0.0126 m is refused naming a value that is itself allowed.
+
+    Before: 0.0125 refused with "pass blend <= 0.0125". Mutation caught: no round-off
+    allowance (``radius > half * (1.0 + BLEND_SLACK)`` -> ``radius > half``) -> refused,
+    fails.
+    """
+    robot = robots["peng2025"]
+    res = so.cycle_time(robot, blend=0.0125)
+    assert res.durations["toppra_blended"] < res.durations["toppra"]
+    with pytest.raises(so.errors.InputError) as info:
+        so.cycle_time(robot, blend=0.0126)
+    allowed = float(str(info.value).rsplit("<= ", 1)[1])
+    assert allowed == 0.0125 and so.cycle_time(robot, blend=allowed).blend == allowed
+
+
+def test_errors_quote_the_users_units(tmp_path, capsys):
+    """What the user gave in mm or degrees comes back in mm or degrees.
+
+    Before: ``cycle --blend 50`` answered "move 0: blend radius 0.05 m ... pass blend <=
+    0.0125"; ``ik --yaw 1e9`` quoted 17453292.5 rad; a TOML in degrees with lower 130 >
+    upper 120 quoted 2.2689 and 2.0944. Mutations caught: the CLI's blend check dropped
+    (``check_cycle_blend(...)`` removed from cmd_cycle) -> metres; ``--yaw``
+    parsed as a plain float -> radians; the file's limits not checked in its units
+    (``_check_limits(...)`` removed) -> radians; each fails.
+    """
+    from scara_opt import cli
+
+    assert cli.main(["cycle", "zavar2024", "--blend", "50"]) == 2
+    err = capsys.readouterr().err
+    assert "--blend 50 mm" in err and "pass --blend <= 12.5" in err and "move 0" not in err
+    assert cli.main(["ik", "zavar2024", "--xyz", "-230", "200", "-70", "--mm", "--yaw",
+                     "1e9"]) == 2
+    err = capsys.readouterr().err
+    assert "1e9 deg" in err and "rad" not in err
+    text = (so.model.dh_file.bundled_dir() / "zavar2024.toml").read_text()
+    bad = tmp_path / "bad.toml"
+    bad.write_text(text.replace("lower = -120\n", "lower = 130\n", 1))
+    assert cli.main(["fk", str(bad), "0", "0", "0", "0"]) == 2
+    err = capsys.readouterr().err
+    assert "lower limit 130 deg is not below upper limit 120 deg" in err

@@ -34,7 +34,7 @@ from scara_opt.checks import check_real
 from scara_opt.errors import InputError, MoveError
 from scara_opt.ik.analytic import ik_all
 from scara_opt.model.robot import Robot, check_robot
-from scara_opt.motion import branch
+from scara_opt.motion import branch, geometry
 from scara_opt.motion.moves import LIN, PTP
 from scara_opt.motion.plan import plan
 from scara_opt.motion.result import MotionTrajectory
@@ -150,6 +150,26 @@ def place_cycle(robot: Robot, up: float = 0.025, across: float = 0.305,
                      "across= (and up=/down=) for a small robot")
 
 
+def check_cycle_blend(blend: float, up: float, across: float, down: float,
+                      unit: str = "m", scale: float = 1.0, option: str = "blend") -> None:
+    """Refuse a blend radius above half the shortest stroke (up to round-off).
+
+    ``unit``, ``scale`` and ``option``: how the message quotes the values (the command
+    line's are in mm and named ``--blend``, ``--up``, ...).
+
+    Raises:
+        InputError: the radius, the strokes and the largest radius allowed, in ``unit``.
+    """
+    most = min(up, across, down) / 2
+    if blend > most * (1.0 + geometry.BLEND_SLACK):
+        dash = "--" if option.startswith("--") else ""
+        raise InputError(
+            f"{option} {blend * scale:.10g} {unit} is more than half of the shortest stroke "
+            f"({dash}up {up * scale:.10g}, {dash}across {across * scale:.10g}, {dash}down "
+            f"{down * scale:.10g} {unit}): the rounded corner would pass the stroke's middle; "
+            f"pass {option} <= {most * scale:.10g}")
+
+
 def cycle_time(robot: Robot, up: float = 0.025, across: float = 0.305, down: float = 0.025,
                limits: ToolLimits | None = None, blend: float = 0.0, *,
                vmax: object | None = None, amax: object | None = None) -> CycleResult:
@@ -171,13 +191,15 @@ def cycle_time(robot: Robot, up: float = 0.025, across: float = 0.305, down: flo
         InputError: strokes not positive, bad limits, or no reachable placement.
         TrajectoryError: a joint without a limit of its own and none given (checked before
             any IK).
-        MoveError: a blend radius above half of a stroke (the largest allowed is named).
+        InputError: a blend radius above half of the shortest stroke (the largest allowed
+            is named).
     """
     robot = check_robot(robot)
     up = check_real("up", up, 0.0, 1.0, low_open=True, unit="m")
     down = check_real("down", down, 0.0, 1.0, low_open=True, unit="m")
     across = check_real("across", across, 0.0, 10.0, low_open=True, unit="m")
     blend = check_real("blend", blend, 0.0, 1.0, unit="m")
+    check_cycle_blend(blend, up, across, down)
     joint = resolve_limits(robot, robot.nq, vmax, amax)  # before any IK
     vmax, amax = joint.vmax, joint.amax
     A, B, q0, elbow = place_cycle(robot, up, across, down)

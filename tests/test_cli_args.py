@@ -1,4 +1,6 @@
-"""``path`` and ``cycle`` reach the end for any robot: --vmax/--amax/--jmax, checked before IK.
+"""Shared CLI arguments: --vmax/--amax/--jmax checked before IK, angles in degrees.
+
+``path`` and ``cycle`` reach the end for any robot.
 
 A URDF carries no acceleration limit. Before: ``scara-opt path`` on such a robot ran its IK
 (7-13 s) and then failed with "pass amax=", an option it did not have. Driven in-process

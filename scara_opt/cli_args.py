@@ -1,6 +1,8 @@
-"""``--vmax/--amax/--jmax`` of the commands that time a motion (``path``, ``cycle``).
+"""Arguments several commands share, checked in the units the user typed them in.
 
-One value for every joint or one per joint, in SI (rad/s or m/s and their derivatives,
+``degrees``: an angle option in degrees (``--yaw``). ``--vmax/--amax/--jmax`` of the
+commands that time a motion (``path``, ``cycle``): one value for every joint or one per
+joint, in SI (rad/s or m/s and their derivatives,
 whatever ``--deg``/``--mm`` say about positions); a joint without a limit of its own (a
 URDF carries no acceleration limit) needs the option. The limits are resolved before any
 IK runs, so a missing or bad one is refused at once, naming the option.
@@ -18,6 +20,27 @@ from scara_opt.errors import InputError, TrajectoryError
 
 #: unit of each option, for the help and the messages
 UNITS = {"vmax": "rad/s or m/s", "amax": "rad/s² or m/s²", "jmax": "rad/s³ or m/s³"}
+
+
+def degrees(text: str) -> float:
+    """An argparse type: an angle in degrees, checked in degrees (the unit the user typed).
+
+    Raises:
+        argparse.ArgumentTypeError: not a number, not finite, or beyond the largest angle a
+            target takes (:data:`scara_opt.target.MAX_ANGLE` rad, in degrees).
+    """
+    from scara_opt.target import MAX_ANGLE
+
+    most = math.degrees(MAX_ANGLE)
+    try:
+        value = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected an angle in degrees, got {text!r}") from None
+    if not (math.isfinite(value) and abs(value) <= most):
+        raise argparse.ArgumentTypeError(
+            f"{text} deg: an angle must be finite and within ±{most:.6g} deg (beyond, a float "
+            "cannot resolve it); give it within a turn, e.g. in [-180, 180]")
+    return value
 
 
 def _positive(text: str) -> float:
