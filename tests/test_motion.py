@@ -212,7 +212,7 @@ def test_exports_round_trip(robot, tmp_path):
     q, qd, qdd = traj.sample(t)
     csv = np.loadtxt(traj.to_csv(tmp_path / "t.csv", dt=0.01), delimiter=",", skiprows=1)
     header = (tmp_path / "t.csv").read_text().splitlines()[0].split(",")
-    assert header[:4] == ["t_s", "theta1_rad", "theta1_rad_per_s", "theta1_rad_per_s2"]
+    assert header[:5] == ["t_s", "theta1_rad", "theta2_rad", "d3_m", "theta4_rad"]
     assert np.allclose(csv[:, 0], t) and np.allclose(csv[:, 1], q[:, 0], atol=1e-9)
     data = json.loads(export.to_json(traj, tmp_path / "t.json").read_text())
     assert data["units"] == ["rad", "rad", "m", "rad"]

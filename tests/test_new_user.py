@@ -71,3 +71,26 @@ def test_errors_quote_the_users_units(tmp_path, capsys):
     assert cli.main(["fk", str(bad), "0", "0", "0", "0"]) == 2
     err = capsys.readouterr().err
     assert "lower limit 130 deg is not below upper limit 120 deg" in err
+
+
+def test_csv_columns_are_t_q_qd_qdd_as_the_docs_and_json_say(robots, tmp_path):
+    """to_csv writes t, then q, qd, qdd (each over every joint), the order of to_json.
+
+    Before: the docs said "t, q, qd, qdd" while the header interleaved each joint's q, qd,
+    qdd. Mutation caught: the per-joint interleaving back (``cols, header = [t, q, qd, qdd],
+    ...`` -> the old loop) -> fails.
+    """
+    import json
+
+    robot = robots["fang"]
+    traj = so.time_parameterize([[0, 0, 0, 0], [0.5, -0.4, 0.02, 1.0]], robot)
+    path = traj.to_csv(tmp_path / "t.csv", dt=0.01)
+    header = path.read_text().splitlines()[0].split(",")
+    names, units = robot.joint_names, ["rad", "rad", "m", "rad"]
+    expected = ["t_s"] + [f"{n}_{u}{s}" for s in ("", "_per_s", "_per_s2")
+                          for n, u in zip(names, units, strict=True)]
+    assert header == expected
+    data = np.loadtxt(path, delimiter=",", skiprows=1)
+    doc = json.loads(so.motion.export.to_json(traj, tmp_path / "t.json", dt=0.01).read_text())
+    flat = np.column_stack([doc["t_s"], doc["q"], doc["qd"], doc["qdd"]])
+    np.testing.assert_allclose(data, flat, rtol=1e-9, atol=1e-12)

@@ -190,8 +190,7 @@ def test_trajectory_sampling_grid_csv_and_plot(fang, tmp_path):
     assert traj.positions(0.1).shape == (len(t), 4)
     csv = traj.to_csv(tmp_path / "traj.csv", dt=0.05)
     header = csv.read_text().splitlines()[0].split(",")
-    assert header[:4] == ["t_s", "theta1_rad", "theta1_rad_per_s", "theta1_rad_per_s2"]
-    assert "d3_m" in header
+    assert header[:5] == ["t_s", "theta1_rad", "theta2_rad", "d3_m", "theta4_rad"]
     assert np.loadtxt(csv, delimiter=",", skiprows=1).shape == (len(traj.times(0.05)), 13)
     png = traj.plot(tmp_path / "traj.png")
     assert png.read_bytes()[:4] == b"\x89PNG"
