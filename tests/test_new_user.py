@@ -94,3 +94,24 @@ def test_csv_columns_are_t_q_qd_qdd_as_the_docs_and_json_say(robots, tmp_path):
     doc = json.loads(so.motion.export.to_json(traj, tmp_path / "t.json", dt=0.01).read_text())
     flat = np.column_stack([doc["t_s"], doc["q"], doc["qd"], doc["qdd"]])
     np.testing.assert_allclose(data, flat, rtol=1e-9, atol=1e-12)
+
+
+def test_summarize_reports_the_success_rate_compare_judged(robots):
+    """summarize(df) uses the table's own verdict: one table, one success rate.
+
+    Before: summarize defaulted to tol 1e-6 whatever tol compare had judged at (1e-9 by
+    default), so solves with errors between the two counted as reached in one and missed
+    in the other. Here compare judges at 1e-3. Mutation caught: the default back to 1e-6
+    (``tol: float | None = None`` -> ``1e-6``) -> the rates differ, fails.
+    """
+    robot = robots["zavar2024"]
+    table = so.compare(robot, [[-0.23, 0.20, -0.07]], methods=["pso", "fa"], populations=[20],
+                       iterations=40, seeds=range(6), progress=False, reference=False,
+                       tol=1e-3)
+    between = (table["error"] > 1e-6) & (table["error"] <= 1e-3)
+    assert between.any()  # else the test could not tell the two rates apart
+    summary = so.comparison.summarize(table)
+    rate = table.groupby("method", sort=False)["success"].mean()
+    np.testing.assert_allclose(summary.set_index("method")["within_tol"], rate[summary.method])
+    strict = so.comparison.summarize(table, tol=1e-6)
+    assert (strict["within_tol"] <= summary["within_tol"]).all()
