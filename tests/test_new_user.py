@@ -115,3 +115,24 @@ def test_summarize_reports_the_success_rate_compare_judged(robots):
     np.testing.assert_allclose(summary.set_index("method")["within_tol"], rate[summary.method])
     strict = so.comparison.summarize(table, tol=1e-6)
     assert (strict["within_tol"] <= summary["within_tol"]).all()
+
+
+def test_readme_pso_example_shows_what_it_claims(capsys):
+    """The README's ``ik ... --method pso`` line, run as printed: solved at its --tol, exit 0.
+
+    Before: it exited 1 (``max_iter``, residual 2.6e-7 at the default tol 1e-9) under a
+    heading of working examples. Mutation caught: the README line without ``--tol 1e-6``
+    -> exit 1, fails.
+    """
+    import json
+    import shlex
+
+    from scara_opt import cli
+    from tests.conftest import ROOT
+
+    line = next(raw for raw in (ROOT / "README.md").read_text().splitlines()
+                if raw.startswith("scara-opt ik zavar2024") and "--method pso" in raw)
+    argv = shlex.split(line.split("#")[0])[1:]
+    assert cli.main(argv) == 0
+    out = json.loads(capsys.readouterr().out)
+    assert out["status"] == "solved" and 1e-9 < out["error"] <= 1e-6
