@@ -48,9 +48,9 @@ def cmd_cycle(args: argparse.Namespace) -> int:
             if args.ros:
                 traj.to_ros_yaml(out / FILES["ros"], dt=args.dt)
             if args.plot:
-                plot_motion(robot, traj, out / FILES["plot"], title=f"{robot.name}: {res!r}")
+                plot_motion(robot, traj, out / FILES["plot"], title=res.title)
             if args.html:
-                write_animation(robot, traj, out / FILES["html"], f"{robot.name}: {res!r}")
+                write_animation(robot, traj, out / FILES["html"], res.title.replace("\n", "; "))
         written = [str(out.final / FILES[k]) for k in asked]
     if args.json:
         print(json.dumps({"robot": robot.name, "up_mm": args.up, "across_mm": args.across,

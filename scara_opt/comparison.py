@@ -84,7 +84,8 @@ def _row(job: _Job, res: IKResult) -> dict[str, Any]:
         "y": job.target.position[1], "z": job.target.position[2],
         **{f"reached_{a}": job.target.position[k] + res.position_error[k]
            for k, a in enumerate("xyz")}, "abs_err_x": err[0],
-        "abs_err_y": err[1], "abs_err_z": err[2], "yaw_error": res.yaw_error,
+        "abs_err_y": err[1], "abs_err_z": err[2],
+        "yaw_error": math.nan if res.yaw_error is None else res.yaw_error,
         "error": res.error, "cost": res.cost, "status": res.status.value, "success": res.success,
         "reason": res.reason.value, "time_s": res.time_s, "setup_s": res.setup_s,
         "evaluations": res.evaluations, "iterations": res.iterations,
@@ -148,7 +149,8 @@ def compare(robot: Robot, targets: Iterable[Target | object], methods: Sequence[
 
     Returns:
         DataFrame with columns :data:`COLUMNS`: target and reached position [m], per-axis
-        absolute error [m], error, cost,
+        absolute error [m], the tool-angle error [rad] (a float column: NaN for a
+        position-only target, which has none), error, cost,
         status, time [s], evaluations, iterations, history length and the history itself.
 
     Raises:

@@ -136,3 +136,91 @@ def test_readme_pso_example_shows_what_it_claims(capsys):
     assert cli.main(argv) == 0
     out = json.loads(capsys.readouterr().out)
     assert out["status"] == "solved" and 1e-9 < out["error"] <= 1e-6
+
+
+def test_cycle_plot_title_fits_and_says_the_times(monkeypatch, tmp_path):
+    """cycle --plot's title: the robot, strokes and each time, within the figure's width.
+
+    Before: ``f"{robot.name}: {res!r}"``, a Python repr cut at both ends of the figure.
+    Mutation caught: that title back in cmd_cycle -> wider than the figure, fails.
+    """
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    from scara_opt import cli
+
+    seen = {}
+
+    def capture(robot, traj, path, title=""):
+        seen["title"] = title
+        return path
+
+    monkeypatch.setattr("scara_opt.motion.plot.plot_motion", capture)
+    assert cli.main(["cycle", "zavar2024", "--blend", "10", "--plot", "--out",
+                     str(tmp_path / "c")]) == 0
+    title = seen["title"]
+    assert "CycleResult(" not in title and "zavar2024" in title and "toppra_blended" in title
+    fig = plt.figure(figsize=(8, 8), dpi=110)
+    text = fig.suptitle(title)
+    fig.canvas.draw()
+    box = text.get_window_extent()
+    assert box.x0 >= 0 and box.x1 <= fig.bbox.width
+    plt.close(fig)
+
+
+def test_compare_yaw_error_is_a_float_column(robots):
+    """compare's yaw_error: float, NaN for a position-only target (it has no tool angle).
+
+    Before: an object column holding None. Mutation caught: ``res.yaw_error`` stored as it
+    is -> object dtype, fails.
+    """
+    robot = robots["zavar2024"]
+    table = so.compare(robot, [[-0.23, 0.20, -0.07], [0.3, 0.1, -0.07]], methods=["lm"],
+                       progress=False, reference=False)
+    assert table["yaw_error"].dtype == np.float64 and table["yaw_error"].isna().all()
+    mixed = so.compare(robot, [[-0.23, 0.20, -0.07], so.Target([-0.23, 0.20, -0.07], yaw=0.5)],
+                       methods=["lm"], progress=False, reference=False)
+    assert np.isnan(mixed["yaw_error"][0]) and np.isfinite(mixed["yaw_error"][1])
+
+
+def test_blended_moves_end_among_the_waypoint_times(robots):
+    """A blended cycle's waypoint_times: every move's end, the blended ones where the tip
+    passes closest to the corner, moving; the stops apart in ``stops``.
+
+    Before: only the three stops (0, the place, the return). Mutation caught: the passages
+    not added (``traj.with_corner_passages()`` -> ``traj`` in plan) -> 3 times, fails.
+    """
+    robot = robots["zavar2024"]
+    traj = so.cycle_time(robot, blend=0.01).trajectory
+    assert len(traj.waypoint_times) == 7 and len(traj.stops) == 3
+    assert np.all(np.diff(traj.waypoint_times) > 0)
+    assert set(traj.stops) <= set(traj.waypoint_times)
+    passing = [t for t in traj.waypoint_times if t not in set(traj.stops)]
+    P = robot.positions(traj.evaluate(np.array(passing)))
+    corners = np.array([c for c, _, _ in traj.corners])
+    np.testing.assert_allclose(np.linalg.norm(P - corners, axis=1), traj.blend_deviations(),
+                               atol=1e-9)
+    assert (np.linalg.norm(traj.evaluate(np.array(passing), 1), axis=1) > 0.05).all()
+    np.testing.assert_allclose(traj.evaluate(traj.waypoint_times), traj.waypoints, atol=1e-12)
+
+
+def test_tool_limits_are_each_moves_and_no_limit_reads_none(robots):
+    """traj.tool_limits: one per move, its own; a ToolProfile shows "none", not 1e+12.
+
+    Before: a blended run of a 1 m/s LIN and a 0.5 m/s LIN reported 0.5 m/s for both
+    (the run's tightest), and the profile printed 1e+12 for "no limit". Mutations caught:
+    the run's tightest back -> (0.5,), fails; ``math.inf`` -> ``UNLIMITED`` in
+    ToolProfile.per_point -> "1e+12 m/s²" printed, fails.
+    """
+    from scara_opt.motion import LIN, plan
+
+    robot = robots["zavar2024"]
+    q0 = np.array([-1.0, 1.15, 0.01, 0.0])
+    p = robot.position(q0)
+    traj = plan(robot, [LIN(p + [0, 0.1, 0], speed=1.0, blend=0.02),
+                        LIN(p + [0, 0.2, 0], speed=0.5)], start=q0)
+    assert [t.speed for t in traj.tool_limits] == [1.0, 0.5]
+    text = repr(traj.profiles[0][1])
+    assert "1e+12" not in text and "acceleration none" in text and "1 m/s on" in text

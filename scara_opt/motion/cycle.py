@@ -76,6 +76,14 @@ class CycleResult:
     corners: Array
     blend: float = 0.0
 
+    @property
+    def title(self) -> str:
+        """Two lines for a figure: robot, strokes and blend; then each method's time."""
+        blend = f", corners blended within {self.blend * 1e3:g} mm" if self.blend else ""
+        times = ", ".join(f"{k} {v:.3f} s" for k, v in self.durations.items())
+        return (f"{self.robot}: pick-and-place cycle {self.up * 1e3:g}/{self.across * 1e3:g}/"
+                f"{self.down * 1e3:g} mm{blend}\n{times}")
+
     def __repr__(self) -> str:
         times = ", ".join(f"{k} {v:.4f} s" for k, v in self.durations.items())
         blend = f", blend {self.blend * 1e3:g} mm" if self.blend else ""

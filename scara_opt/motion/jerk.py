@@ -25,7 +25,7 @@ from scipy.interpolate import PPoly
 
 from scara_opt.model.robot import Robot
 from scara_opt.motion.timing import _factor
-from scara_opt.motion.tool_limits import UNLIMITED, ToolProfile, path_derivatives
+from scara_opt.motion.tool_limits import ToolProfile, path_derivatives
 from scara_opt.trajectory.limits import JERK_PER_ACCELERATION, Limits, resolve_limits
 from scara_opt.trajectory.passing import bounds_grid, check_bounds, compose, path_bounds
 from scara_opt.trajectory.registry import time_parameterize
@@ -45,10 +45,10 @@ def _bounds(robot: Robot, path, s: Array, limits: Limits, tool: ToolProfile) -> 
         if dyaw is not None:
             cap = min(cap, float(np.min(tool.at("yaw_rate", grid, s) / np.abs(dyaw))))
         acc = tool.at("acceleration", grid, s)
-        if (acc < UNLIMITED).any():
+        if np.isfinite(acc).any():
             cap = min(cap, float(np.min(np.sqrt(0.5 * acc / spp))))
         V, U, _, _ = path_bounds(path, s, limits, cap)
-        if (acc < UNLIMITED).any():
+        if np.isfinite(acc).any():
             U = min(U, float(np.min((acc - spp * V**2) / sp)))
     check_bounds(V, U, "the jerk-limited variant")
     return V, U
