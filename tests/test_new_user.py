@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import re
+
 import numpy as np
 import pytest
 
@@ -224,3 +226,35 @@ def test_tool_limits_are_each_moves_and_no_limit_reads_none(robots):
     assert [t.speed for t in traj.tool_limits] == [1.0, 0.5]
     text = repr(traj.profiles[0][1])
     assert "1e+12" not in text and "acceleration none" in text and "1 m/s on" in text
+
+
+def test_docstring_math_keeps_its_parentheses_and_is_typeset():
+    """:math: roles become arithmatex LaTeX, whole; mkdocs.yml loads KaTeX from the repo.
+
+    Before: the API pages showed LaTeX as inline code (arithmatex with neither MathJax nor
+    KaTeX), and 8 inline formulas lost their closing parenthesis (``U(0, 1``: the role's
+    target had ``rstrip("()")`` applied, as for ``:func:`f()```). Mutation caught: math
+    through the cross-reference path again (``MATH.sub(...)`` dropped) -> inline code,
+    stripped, fails.
+    """
+    import importlib.util
+
+    import yaml  # mkdocs' own dependency
+
+    from tests.conftest import ROOT
+
+    spec = importlib.util.spec_from_file_location(
+        "roles", ROOT / "docs_ext" / "griffe_sphinx_roles.py")
+    roles = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(roles)
+    assert roles.convert(r"with :math:`r \sim U(0, 1)` per leap") == (
+        r"with \(r \sim U(0, 1)\) per leap")
+    assert roles.convert(":math:`a = a_0 (1 - (t + 1)/T)`") == r"\(a = a_0 (1 - (t + 1)/T)\)"
+    config = yaml.load((ROOT / "mkdocs.yml").read_text(), Loader=yaml.BaseLoader)
+    assets = config["extra_javascript"] + config["extra_css"]
+    assert any("katex.min.js" in a for a in assets)
+    for asset in assets:
+        assert (ROOT / "docs" / asset).is_file(), asset
+    css = (ROOT / "docs" / "javascripts" / "katex" / "katex.min.css").read_text()
+    fonts = {f for f in re.findall(r"url\((fonts/[^)]+\.woff2)\)", css)}
+    assert fonts and all((ROOT / "docs" / "javascripts" / "katex" / f).is_file() for f in fonts)

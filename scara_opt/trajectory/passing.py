@@ -17,8 +17,8 @@ chosen from the path, each within the joint velocity, acceleration and jerk limi
   an acceleration (``amax / jmax``, 0.1 s by default).
 * **along the path** (:func:`along_path`): Ruckig times the path parameter
   :math:`s: 0 \to 1` of that spline rest to rest under constant bounds on
-  :math:`\dot s`, :math:`\ddot s` (:func:`path_bounds`) and :math:`\dddot s = 10/s
-  \times \ddot s_{max}`, and :math:`q(s(t))` is written exactly as degree-9 polynomials
+  :math:`\dot s`, :math:`\ddot s` (:func:`path_bounds`) and the path jerk,
+  :math:`10/s \times \ddot s_{max}`, and :math:`q(s(t))` is written exactly as degree-9 polynomials
   (:func:`compose`); any joint ratio still above 1 (the jerk's curvature terms) is removed
   by a uniform time stretch. Good on dense waypoints (an arc, a contour), which the first
   way would cross in jerk-limited bumps.
