@@ -27,7 +27,7 @@ from numpy.typing import NDArray
 
 from scara_opt.checks import describe, float_array
 from scara_opt.errors import InputError, TrajectoryError
-from scara_opt.ik.base import Solver, check_seed
+from scara_opt.ik.base import Solver, check_seed, check_tol
 from scara_opt.ik.registry import get_solver
 from scara_opt.ik.result import IKResult, SolverOutput, Status
 from scara_opt.ik.task import default_q0, wrap_angle
@@ -288,8 +288,8 @@ def ik_path(robot: Robot, targets: object, method: str = "auto", q_start: object
         :meth:`JointPath.raise_if_invalid`.
 
     Raises:
-        InputError: ``robot`` not a Robot; malformed targets, threshold, ``seed`` or
-            ``branches`` (``"global"`` with a method that does not honour ``q0``).
+        InputError: ``robot`` not a Robot; malformed targets, threshold, ``seed``, ``tol``
+            or ``branches`` (``"global"`` with a method that does not honour ``q0``).
         UnknownSolverError, SolverOptionError, JointLimitError, TargetError: as for
             :func:`~scara_opt.solve_ik`.
     """
@@ -297,6 +297,7 @@ def ik_path(robot: Robot, targets: object, method: str = "auto", q_start: object
     ts = as_targets(targets)
     threshold = _threshold(robot, jump_threshold)
     check_seed(seed)
+    tol = check_tol(tol)
     solver = get_solver(method, **options)
     choice = _branches(branches, method)
     q0 = None if q_start is None else robot.check_q(q_start, "q_start")
