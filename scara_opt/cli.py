@@ -264,6 +264,10 @@ def _yaw_arg(text: str) -> float | str:
     """``--yaw`` of a path: degrees, or ``tangent``."""
     if text == "tangent":
         return text
+    try:
+        float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected degrees or 'tangent', got {text!r}") from None
     return math.radians(degrees(text))
 
 

@@ -175,7 +175,7 @@ def load_dh(path: str | Path) -> DHRobot:
         _check_keys(row, JOINT_KEYS, at)
         jtype = _text(row, "type", at, "")
         unit = A if jtype == "revolute" else L  # unit of the joint variable
-        if jtype != "fixed":
+        if jtype in ("revolute", "prismatic"):  # another type: DHJoint says what is wrong
             _check_limits(row, at, name, au if jtype == "revolute" else lu)
         joints.append(
             DHJoint(
