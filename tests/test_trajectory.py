@@ -331,8 +331,8 @@ def test_ik_path_reports_the_elbow_flip_on_the_reachable_circle(zavar, circle_pa
     The righty branch reaches points 0-7 and the lefty 7-9 (θ1 within ±120°): the global
     walk flips once, where it costs least (step 6→7), and names point 8 as the one forcing
     it; the greedy walk flips where its branch ends (7→8). Mutation caught: the forcing
-    point searched from the candidate after the jump (``choice[j - 1]`` -> ``choice[j]``
-    in branches.py) -> no forcing point, fails.
+    point searched from the candidate after the jump (``int(choice[j - 1])`` ->
+    ``int(choice[j])`` in branches._forcing_points) -> no forcing point, fails.
     """
     jp = circle_path
     assert jp.solved.all() and jp.error.max() < 1e-12 and not jp.ok

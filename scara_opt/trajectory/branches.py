@@ -26,7 +26,7 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import NDArray
 from scipy.sparse import csr_matrix
-from scipy.sparse.csgraph import dijkstra
+from scipy.sparse.csgraph import breadth_first_order, dijkstra
 
 from scara_opt.ik.base import Solver
 from scara_opt.ik.geometry import NotScaraError, scara_geometry, solve_batch
@@ -136,8 +136,7 @@ def least_cost_walk(Q: Array, valid: Mask, threshold: Array, weights: Array,
     steps = np.arange(n - 1)
     jumped = over[steps, choice[:-1], choice[1:]]
     jumps = tuple(int(s) + 1 for s in np.flatnonzero(jumped))
-    allowed = edge & ~over
-    forced = tuple(_forcing_point(allowed, j - 1, int(choice[j - 1])) for j in jumps)
+    forced = _forcing_points(edge & ~over, jumps, choice) if jumps else ()
     walked = float(travel[steps, choice[:-1], choice[1:]].sum()) + float(t0[choice[0]])
     return Walk(choice, jumps, forced, bool(o0[choice[0]]), walked)
 
@@ -153,15 +152,25 @@ def redundant(robot: Robot, targets: Sequence[Target]) -> bool:
     return any(TASK_DIMENSION[t.kind] < robot.nq for t in targets)
 
 
-def _forcing_point(allowed: Mask, i: int, k: int) -> int | None:
-    """The first point after ``i`` that candidate ``k`` of point ``i`` reaches only by a jump."""
-    reach = np.zeros(allowed.shape[1], dtype=bool)
-    reach[k] = True
-    for j in range(i, allowed.shape[0]):
-        reach = (reach[:, None] & allowed[j]).any(axis=0)
-        if not reach.any():
-            return j + 1
-    return None
+def _forcing_points(allowed: Mask, jumps: tuple[int, ...],
+                    choice: NDArray[np.intp]) -> tuple[int | None, ...]:
+    """Per jump at step ``j``, the first point candidate ``choice[j - 1]`` reaches by a jump.
+
+    ``None`` where it reaches the end without one. A breadth-first search (SciPy) over
+    the steps within the threshold, ``allowed`` (n - 1, K, K): the first layer after the
+    last one it reaches.
+    """
+    m, K, _ = allowed.shape
+    i, a, b = np.nonzero(allowed)
+    graph = csr_matrix((np.ones(i.size), (i * K + a, (i + 1) * K + b)),
+                       shape=((m + 1) * K, (m + 1) * K))
+    out = []
+    for j in jumps:
+        reached = breadth_first_order(graph, (j - 1) * K + int(choice[j - 1]), directed=True,
+                                      return_predecessors=False)
+        last = int(reached.max()) // K
+        out.append(None if last == m else last + 1)
+    return tuple(out)
 
 
 def _geometry(robot: Robot):
