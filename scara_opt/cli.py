@@ -24,8 +24,9 @@ import numpy as np
 
 from scara_opt import cli_motion, cli_plan, interrupt
 from scara_opt.checks import count_text
-from scara_opt.cli_units import joint_scale as _joint_scale
-from scara_opt.cli_units import joint_units as _units
+from scara_opt.cli_args import add_limit_options, degrees, joint_limits
+from scara_opt.cli_args import joint_scale as _joint_scale
+from scara_opt.cli_args import joint_units as _units
 from scara_opt.errors import InputError, ScaraOptError
 from scara_opt.outputs import (
     COMPARE_FILES,
@@ -256,9 +257,10 @@ def _yaw_arg(text: str) -> float | str:
     if text == "tangent":
         return text
     try:
-        return math.radians(float(text))
+        float(text)
     except ValueError:
         raise argparse.ArgumentTypeError(f"expected degrees or 'tangent', got {text!r}") from None
+    return math.radians(degrees(text))
 
 
 def _path_targets(args: argparse.Namespace) -> list[Any]:
@@ -283,6 +285,7 @@ def cmd_path(args: argparse.Namespace) -> int:
         q_start = robot.check_q(args.q_start, "--q-start") / _joint_scale(robot, args.deg,
                                                                            args.mm)
     targets = _path_targets(args)
+    limits = joint_limits(args, robot, need_jerk=args.time == "ruckig")  # before any IK
     names = ["joint_path.csv", "trajectory.csv", "trajectory.png"]
     if args.html is not None:
         names.append(html_name(args.html))
@@ -294,7 +297,9 @@ def cmd_path(args: argparse.Namespace) -> int:
         if not args.json:
             print(jp.summary())
         jp.raise_if_invalid(allow_jumps=args.allow_jumps)  # exit 2
-        traj = so.time_parameterize(jp, robot, method=args.time, allow_jumps=args.allow_jumps)
+        traj = so.time_parameterize(jp, robot, method=args.time, vmax=limits.vmax,
+                                    amax=limits.amax, jmax=limits.jmax,
+                                    allow_jumps=args.allow_jumps)
         traj.to_csv(out / "trajectory.csv")
         traj.plot(out / "trajectory.png")
         if args.html is not None:
@@ -436,6 +441,7 @@ def build_parser() -> argparse.ArgumentParser:
                    help="configuration the path starts from (units per --deg/--mm)")
     p.add_argument("--allow-jumps", action="store_true",
                    help="time the path even if the joints jump (elbow flip, wrist turn)")
+    add_limit_options(p, jerk="--time ruckig only (default 10/s x amax)")
     p.add_argument("--seed", type=_int_at_least(0), default=0, help="random seed (default 0)")
     p.add_argument("--tol", type=float, default=1e-9, help="residual counted as solved [m]")
     p.add_argument("--out", required=True, help="output folder")

@@ -84,7 +84,8 @@ def _row(job: _Job, res: IKResult) -> dict[str, Any]:
         "y": job.target.position[1], "z": job.target.position[2],
         **{f"reached_{a}": job.target.position[k] + res.position_error[k]
            for k, a in enumerate("xyz")}, "abs_err_x": err[0],
-        "abs_err_y": err[1], "abs_err_z": err[2], "yaw_error": res.yaw_error,
+        "abs_err_y": err[1], "abs_err_z": err[2],
+        "yaw_error": math.nan if res.yaw_error is None else res.yaw_error,
         "error": res.error, "cost": res.cost, "status": res.status.value, "success": res.success,
         "reason": res.reason.value, "time_s": res.time_s, "setup_s": res.setup_s,
         "evaluations": res.evaluations, "iterations": res.iterations,
@@ -148,7 +149,8 @@ def compare(robot: Robot, targets: Iterable[Target | object], methods: Sequence[
 
     Returns:
         DataFrame with columns :data:`COLUMNS`: target and reached position [m], per-axis
-        absolute error [m], error, cost,
+        absolute error [m], the tool-angle error [rad] (a float column: NaN for a
+        position-only target, which has none), error, cost,
         status, time [s], evaluations, iterations, history length and the history itself.
 
     Raises:
@@ -318,14 +320,17 @@ def _progress(total: int, enabled: bool) -> Any:
     return tqdm(total=total, desc="IK solves", unit="solve", disable=not enabled or total < 2)
 
 
-def summarize(table: pd.DataFrame, tol: float = 1e-6) -> pd.DataFrame:
+def summarize(table: pd.DataFrame, tol: float | None = None) -> pd.DataFrame:
     """Median per (method, population) of per-axis error, error, cost and time.
 
     ``time_s`` is the median search time (setup excluded); ``setup_s`` the largest one-off
-    setup any of the group's solves paid. Adds ``within_tol``, the share of solves whose
-    error is at most ``tol``: the papers' Table 2 with the success rate the papers leave out.
+    setup any of the group's solves paid. Adds ``within_tol``, the share of solves reached:
+    by default the table's own verdict (``success``, judged at the ``tol`` :func:`compare`
+    was given, so one table has one success rate), or with ``tol`` [m, rad] the share
+    whose error is at most it: the papers' Table 2 with the success rate they leave out.
     """
-    g = table.assign(within_tol=table["error"] <= tol).groupby(
+    within = table["success"].astype(bool) if tol is None else table["error"] <= check_tol(tol)
+    g = table.assign(within_tol=within).groupby(
         ["method", "population"], dropna=False, sort=False)
     out = g.agg(abs_err_x=("abs_err_x", "median"), abs_err_y=("abs_err_y", "median"),
                 abs_err_z=("abs_err_z", "median"), error=("error", "median"),

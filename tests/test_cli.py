@@ -90,7 +90,8 @@ def test_ik_all_lists_the_branches():
      "unknown IK method 'bogus'; registered:"),
     (("fk", "zavar2024", "1", "2"), "must have shape (4,)"),
     (("fk", "no_such_robot", "1"), "no bundled robot named 'no_such_robot'"),
-    (("ik", "zavar2024", "--xyz", "0.2", "0.1", "-0.06", "--yaw", "nan"), "yaw must be finite"),
+    (("ik", "zavar2024", "--xyz", "0.2", "0.1", "-0.06", "--yaw", "nan"),
+     "--yaw: nan deg: an angle must be finite"),
     (("workspace", "zavar2024", "-n", "0", "--out", "OUT"), "n"),
     # zavar2024 Table 3's circle (r = 16 cm, z = -6 cm) lies inside the hole around the base
     (("path", "zavar2024", "--circle", "0", "0", "160", "-60", "--mm", "-n", "10", "--out",

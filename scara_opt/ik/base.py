@@ -5,6 +5,10 @@ timed apart as ``setup_s``), times the search and hands the answer to
 :func:`scara_opt.ik.verdict.judge`; a subclass implements :meth:`Solver._solve` (and, if it
 builds something once, :meth:`Solver.prepare`).
 
+Where ``q0`` is given, the answer is first turned to the whole turn of each revolute joint
+nearest ``q0`` (:func:`scara_opt.ik.turns.nearest_turn`: the same pose, no joint wound
+round where it need not be), for every method alike.
+
 Every solver's answer is judged by the verdict, the same way: the final ``q`` goes through
 the robot's FK, the residual is recomputed, ``solved`` is granted only within ``tol`` and
 ``unreachable`` only with a certificate (see :mod:`scara_opt.ik.verdict`).
@@ -16,6 +20,7 @@ import math
 import numbers
 import time
 from abc import ABC, abstractmethod
+from dataclasses import replace
 from typing import Any, ClassVar, cast
 
 import numpy as np
@@ -24,6 +29,7 @@ from numpy.typing import NDArray
 from scara_opt.errors import InputError, JointLimitError, SolverOptionError
 from scara_opt.ik.result import IKResult, SolverOutput
 from scara_opt.ik.task import LIMIT_SLACK, check_task, default_q0
+from scara_opt.ik.turns import nearest_turn
 from scara_opt.ik.verdict import judge
 from scara_opt.model.robot import Robot
 from scara_opt.target import Target, as_target
@@ -226,7 +232,9 @@ class Solver(ABC):
         Args:
             robot: the robot.
             target: a :class:`Target` or a bare (3,) position [m].
-            q0: (nq,) start / preferred configuration within the limits, or ``None``.
+            q0: (nq,) start / preferred configuration within the limits, or ``None``; of
+                the answers equal up to whole turns of the revolute joints, the one
+                nearest ``q0`` is returned.
             seed: seed of the solver's ``numpy.random.Generator`` (same seed, same result).
             tol: residual [m and rad] below which the target counts as reached.
 
@@ -247,6 +255,10 @@ class Solver(ABC):
         setup = self.timed_prepare(robot, target.kind)
         start = time.perf_counter()
         out = self._solve(robot, target, q0a, rng, tol)
+        if q0a is not None:  # of the answers equivalent by whole turns, the nearest q0
+            turned = nearest_turn(robot, out.q, q0a)
+            if turned is not out.q:
+                out = replace(out, q=turned)
         elapsed = time.perf_counter() - start - out.setup_s
         return judge(robot, target, out, tol=tol, method=self.name, seed=seed, time_s=elapsed,
                      setup_s=setup + out.setup_s,
