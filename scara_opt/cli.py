@@ -16,6 +16,7 @@ import json
 import math
 import os
 import sys
+import warnings
 from collections.abc import Sequence
 from typing import Any
 
@@ -23,7 +24,7 @@ import numpy as np
 
 from scara_opt import cli_motion, interrupt
 from scara_opt.checks import count_text
-from scara_opt.errors import InputError, ScaraOptError
+from scara_opt.errors import InputError, ScaraOptError, ScaraOptWarning
 from scara_opt.outputs import (
     COMPARE_FILES,
     FORCE_HELP,
@@ -191,10 +192,16 @@ def _int_list(text: str) -> list[int]:
 
 
 def _ignore_sigint() -> None:
-    """A worker's initializer: Ctrl-C is handled by the main process (one line, exit 130)."""
+    """A worker's initializer: Ctrl-C and scara_opt's warnings as in the main process.
+
+    Ctrl-C is handled by the main process (one line, exit 130); a warning is one ``note:``
+    line.
+    """
     import signal
+    import warnings
 
     signal.signal(signal.SIGINT, signal.SIG_IGN)
+    warnings.showwarning = _show_warning
 
 
 def _executor(args: argparse.Namespace) -> Any:
@@ -340,6 +347,14 @@ def cmd_reproduce(args: argparse.Namespace) -> int:
     return 0
 
 
+def cmd_doctor(args: argparse.Namespace) -> int:
+    """Versions, compiler, cache folder, and what is compiled or falls back (exit 0)."""
+    from scara_opt.doctor import report
+
+    print("\n".join(report()))
+    return 0
+
+
 def cmd_solvers(args: argparse.Namespace) -> int:
     """List the registered IK methods."""
     import scara_opt as so
@@ -376,6 +391,10 @@ def build_parser() -> argparse.ArgumentParser:
 
     p = sub.add_parser("solvers", help="list the registered IK methods")
     p.set_defaults(func=cmd_solvers)
+
+    p = sub.add_parser("doctor", help="versions, C compiler, cache folder, and what is "
+                       "compiled or falls back")
+    p.set_defaults(func=cmd_doctor)
 
     units = argparse.ArgumentParser(add_help=False)
     units.add_argument("--mm", action="store_true",
@@ -480,10 +499,24 @@ def _one_line(exc: BaseException) -> str:
     return " ".join(str(exc).split()) or type(exc).__name__
 
 
+_PYTHON_SHOWWARNING = warnings.showwarning
+
+
+def _show_warning(message: Warning | str, category: type[Warning], filename: str, lineno: int,
+                  file: Any = None, line: str | None = None) -> None:
+    """scara_opt's warnings as one line ``scara-opt: note: ...`` on stderr; others as Python."""
+    if issubclass(category, ScaraOptWarning):
+        print(f"scara-opt: note: {' '.join(str(message).split())}", file=sys.stderr)
+    else:
+        _PYTHON_SHOWWARNING(message, category, filename, lineno, file, line)
+
+
 def main(argv: Sequence[str] | None = None) -> int:
     """Run the command line; returns the exit code (0, 2 bad input, 130 interrupted)."""
     try:
-        with interrupt.quiet_casadi_warning(), interrupt.watch() as sigint:  # one line below
+        with interrupt.quiet_casadi_warning(), interrupt.watch() as sigint, \
+                warnings.catch_warnings():  # one line below
+            warnings.showwarning = _show_warning
             try:
                 args = build_parser().parse_args(argv)
                 return int(args.func(args))
