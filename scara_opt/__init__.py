@@ -26,6 +26,8 @@ _EXPORTS = {
                      "JointLimitError", "MoveError", "RobotNotFoundError", "ScaraOptError",
                      "SolverOptionError", "TargetError", "TrajectoryError", "UnknownSolverError",
                      "URDFError"), "scara_opt.errors"),
+    **dict.fromkeys(("CompilingWarning", "FallbackWarning", "NativeCodeWarning",
+                     "ScaraOptWarning"), "scara_opt.errors"),
     **dict.fromkeys(("CIRC", "LIN", "PTP", "MotionTrajectory", "ToolLimits", "cycle_time",
                      "plan"), "scara_opt.motion"),
     **dict.fromkeys(("IKResult", "Reason", "Status", "get_solver", "ik_all", "register_solver",
@@ -53,6 +55,7 @@ __all__ = [
     "RobotNotFoundError", "ScaraOptError", "solve_ik", "solve_many", "SolverOptionError",
     "solvers", "Status", "Target", "TargetError", "time_parameterize", "timing_methods",
     "Trajectory", "TrajectoryError", "UnknownSolverError", "URDFError", "Workspace", "workspace",
+    "CompilingWarning", "FallbackWarning", "NativeCodeWarning", "ScaraOptWarning",
 ]
 
 

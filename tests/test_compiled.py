@@ -336,3 +336,40 @@ def test_fallback_is_said_once_and_only_for_a_real_fallback(tmp_path, monkeypatc
         monkeypatch.delenv("CC", raising=False)
         assert [compiled.c_library(s) for s in srcs] == [None, None]
     assert [w.category for w in caught] == [FallbackWarning]
+
+
+def test_the_cli_says_a_fallback_in_one_note_line(tmp_path):
+    """``scara-opt ik`` without a compiler: the answer, and on stderr exactly one line
+    ``scara-opt: note: native code falls back: no C compiler found ...``.
+
+    Mutation caught: the CLI's warning display not installed -> Python's two-line
+    ``file:line: FallbackWarning`` format; fails.
+    """
+    env = _env(tmp_path / "cache", PATH=str(Path(sys.executable).parent))
+    run = subprocess.run([sys.executable, "-m", "scara_opt.cli", "ik", "zavar2024", "--xyz",
+                          "0.3", "0.1", "-0.07"], env=env, capture_output=True, text=True,
+                         timeout=300)
+    assert run.returncode == 0, run.stderr
+    assert run.stdout.startswith("solved:")
+    lines = run.stderr.splitlines()
+    assert len(lines) == 1 and lines[0].startswith(
+        "scara-opt: note: native code falls back: no C compiler found"), run.stderr
+
+
+def test_doctor_lists_versions_compiler_cache_and_every_library(capsys):
+    """``scara-opt doctor`` prints the versions, the compiler, the cache folder and one line
+    per native library of every kind, compiled or falling back (exit 0).
+
+    Mutation caught: a kernel left out of ``doctor.exercise`` -> its line missing; fails.
+    """
+    from scara_opt.cli import main
+
+    assert main(["doctor"]) == 0
+    out = capsys.readouterr().out
+    assert out.startswith("versions: python ")
+    for word in ("casadi ", "pin ", "numpy ", "platform: ", "C compiler: ", "cache folder: "):
+        assert word in out
+    listed = [line.split()[0] for line in out.split("native code, after")[1].splitlines()[1:]
+              if line.startswith("  ") and not line.startswith("      why")]
+    for kind in KINDS:
+        assert any(name.startswith(kind.rstrip("_")) for name in listed), kind

@@ -15,7 +15,7 @@ import pytest
 from tests.conftest import ROOT
 
 GUIDES = ["index.md", "getting-started.md", "own-robot.md", "ik-methods.md", "time-optimal.md",
-          "motion.md"]
+          "motion.md", "native-code.md"]
 
 
 def _roles():
