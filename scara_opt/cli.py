@@ -17,7 +17,8 @@ import math
 import os
 import sys
 import warnings
-from collections.abc import Sequence
+from collections.abc import Iterator, Sequence
+from contextlib import contextmanager
 from typing import Any
 
 import numpy as np
@@ -204,8 +205,12 @@ def _ignore_sigint() -> None:
     warnings.showwarning = _show_warning
 
 
-def _executor(args: argparse.Namespace) -> Any:
-    """A process pool for --workers N, a dask client's executor for --dask ADDRESS, or None."""
+@contextmanager
+def _executor(args: argparse.Namespace) -> Iterator[Any]:
+    """A process pool for --workers N, a dask client's executor for --dask ADDRESS, or None.
+
+    On leaving, the pool is shut down (its queued jobs cancelled), the dask client closed.
+    """
     if args.dask:
         try:
             from distributed import Client
@@ -213,15 +218,24 @@ def _executor(args: argparse.Namespace) -> Any:
             raise ScaraOptError(
                 "--dask needs dask.distributed: pip install 'scara-opt[dask]'") from None
         try:
-            return Client(args.dask, timeout=10).get_executor()
+            client = Client(args.dask, timeout=10)
         except (OSError, ValueError, TypeError) as exc:
             raise ScaraOptError(f"cannot reach a dask scheduler at {args.dask!r} ({exc}); "
                                 "pass its address, e.g. --dask tcp://host:8786") from None
-    if args.workers and args.workers > 1:
+        try:
+            yield client.get_executor()
+        finally:
+            client.close()
+    elif args.workers and args.workers > 1:
         from concurrent.futures import ProcessPoolExecutor
 
-        return ProcessPoolExecutor(args.workers, initializer=_ignore_sigint)
-    return None
+        pool = ProcessPoolExecutor(args.workers, initializer=_ignore_sigint)
+        try:
+            yield pool
+        finally:
+            pool.shutdown(cancel_futures=True)
+    else:
+        yield None
 
 
 def cmd_compare(args: argparse.Namespace) -> int:
@@ -235,15 +249,11 @@ def cmd_compare(args: argparse.Namespace) -> int:
     methods = "all" if args.methods == "all" else [m.strip() for m in args.methods.split(",")]
     out = OutputDir(args.out, COMPARE_FILES, args.force, last=["summary.csv"])
     with out:
-        executor = _executor(args)
-        try:
+        with _executor(args) as executor:
             table = compare(robot, [np.asarray(args.target, float) / L], methods=methods,
                             populations=args.populations, iterations=args.iterations,
                             seeds=range(args.seeds), executor=executor, progress=True,
                             tol=args.tol)
-        finally:
-            if executor is not None:
-                executor.shutdown(cancel_futures=True)
         summary = write_compare(out, table, args.tol)
     print(summary.to_string(index=False))
     print(f"wrote runs.csv, summary.csv and 3 figures in {out.final}")
