@@ -155,6 +155,19 @@ def test_missing_file_and_unknown_robot():
         so.load_robot("no_such_robot")
 
 
+def test_a_path_too_long_is_a_urdf_error_not_an_os_error():
+    """load_robot('a' * 5000) raised OSError [Errno 36]: now a URDFError that says why, in
+    short, and lists the bundled robots; Robot.from_urdf likewise.
+
+    Mutation caught: ``path.stat()``'s OSError not caught in load_robot -> OSError; fails.
+    """
+    with pytest.raises(so.URDFError, match=r"'a{56}\.\.\. \(5,000 characters\) cannot be "
+                                           r"looked up: File name too long; .*zavar2024"):
+        so.load_robot("a" * 5000)
+    with pytest.raises(so.URDFError, match="cannot be read: File name too long"):
+        so.Robot.from_urdf("a" * 5000 + ".urdf")
+
+
 def _write(tmp_path, text):
     path = tmp_path / "r.urdf"
     path.write_text(text)
