@@ -136,8 +136,8 @@ def cmd_ik(args: argparse.Namespace) -> int:
                              f"{' or '.join(given)}; drop {' and '.join(given)} or --all")
         results = so.ik_all(robot, target, tol=args.tol)
     else:
-        results = [so.solve_ik(robot, target, method=args.method or "auto",
-                               seed=args.seed or 0, tol=args.tol)]
+        results = [so.solve_ik(robot, target, method="auto" if args.method is None
+                               else args.method, seed=args.seed or 0, tol=args.tol)]
     rows = [_result_dict(robot, r, args.deg, args.mm) for r in results]
     if target.kind == "rotation":  # the angle error is the rotation's, not a yaw's
         for row, res in zip(rows, results, strict=True):
@@ -181,15 +181,33 @@ def _int_at_least(low: int, high: int | None = None) -> Any:
 MAX_WORKERS = 256
 
 
+def _entries(text: str, what: str) -> list[str]:
+    """The comma-separated entries of ``text``, stripped.
+
+    An empty entry (``10,,20``, a trailing comma) is refused, not skipped.
+    """
+    entries = [v.strip() for v in text.split(",")]
+    if "" in entries:
+        raise argparse.ArgumentTypeError(
+            f"expected comma-separated {what}, got {text!r}, which has an empty entry")
+    return entries
+
+
 def _int_list(text: str) -> list[int]:
+    entries = _entries(text, "integers")
     try:
-        values = [int(v) for v in text.split(",") if v.strip()]
+        values = [int(v) for v in entries]
     except ValueError:
         raise argparse.ArgumentTypeError(
             f"expected comma-separated integers, got {text!r}") from None
     if not values or any(v <= 0 for v in values):
         raise argparse.ArgumentTypeError(f"expected positive integers, got {text!r}")
     return values
+
+
+def _methods(text: str) -> list[str] | str:
+    """``--methods``: ``all``, or comma-separated names (none empty)."""
+    return text if text == "all" else _entries(text, "method names")
 
 
 def _ignore_sigint() -> None:
@@ -246,7 +264,7 @@ def cmd_compare(args: argparse.Namespace) -> int:
     robot = so.load_robot(args.robot)
     L = 1000.0 if args.mm else 1.0
     # "all" goes to the library as is: it leaves out methods that do not apply to the robot
-    methods = "all" if args.methods == "all" else [m.strip() for m in args.methods.split(",")]
+    methods = "all" if args.methods == "all" else args.methods
     out = OutputDir(args.out, COMPARE_FILES, args.force, last=["summary.csv"])
     with out:
         with _executor(args) as executor:
@@ -436,7 +454,8 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--target", type=float, nargs=3, required=True, metavar=("X", "Y", "Z"),
                    help="target position (m, or mm with --mm)")
     p.add_argument("--mm", action="store_true", help="target in mm")
-    p.add_argument("--methods", default="all", help="comma-separated names, or all")
+    p.add_argument("--methods", type=_methods, default="all",
+                   help="comma-separated names, or all")
     p.add_argument("--populations", type=_int_list, default=[20, 40, 60, 80, 100],
                    help="comma-separated population sizes (default 20,40,60,80,100)")
     p.add_argument("--iterations", type=_int_at_least(1), default=200,
