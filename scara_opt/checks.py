@@ -102,8 +102,9 @@ def check_memory(what: str, count: int, per_item: int, advice: str) -> int:
     if estimate > MAX_BYTES:
         raise InputError(
             f"{what} would need about {human_bytes(estimate)} of memory ({count_text(count)} x "
-            f"{count_text(per_item)} B), more than the {human_bytes(MAX_BYTES)} allowed; {advice}, or, if "
-            "this machine really has the memory, raise scara_opt.checks.MAX_BYTES")
+            f"{count_text(per_item)} B), more than the {human_bytes(MAX_BYTES)} allowed; "
+            f"{advice}, or, if this machine really has the memory, raise "
+            "scara_opt.checks.MAX_BYTES")
     return estimate
 
 

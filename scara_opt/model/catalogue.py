@@ -35,8 +35,8 @@ def load_robot(name: str | Path, tip: str | None = None) -> Robot:
         InputError: ``name`` not a str or Path or with a NUL byte, ``tip`` not a str or None.
         RobotNotFoundError: neither a bundled name nor an existing file (lists the names).
         URDFError: ``name`` is a folder or a path that cannot be looked up (too long, in a
-            folder that may not be entered), or the file is malformed (see :meth:`Robot.from_urdf` and
-            :func:`scara_opt.dh.load_dh`).
+            folder that may not be entered), or the file is malformed (see
+            :meth:`Robot.from_urdf` and :func:`scara_opt.dh.load_dh`).
     """
     from scara_opt.model.dh_file import bundled_dir, load_dh
 
