@@ -563,7 +563,5 @@ def main(argv: Sequence[str] | None = None) -> int:
         return 2
 
 
-if __name__ == "__main__":  # python -m scara_opt.cli: as the scara-opt console script
-    from scara_opt.console import main as console_main
-
-    console_main()
+if __name__ == "__main__":  # python -m scara_opt.cli: it ends as the scara-opt script does
+    interrupt.exit_now(main())

@@ -63,15 +63,16 @@ def test_ctrl_c_during_the_teardown_after_a_command_changes_nothing():
     start = time.perf_counter()
     proc = subprocess.Popen([sys.executable, "-c", code], stdout=subprocess.PIPE,
                             stderr=subprocess.PIPE, text=True, env=env)
-    first = proc.stdout.readline()
+    lines = [proc.stdout.readline(), proc.stdout.readline()]  # the command's whole output
     for _ in range(50):  # Ctrl-C as the process ends, until it has
         if proc.poll() is not None:
             break
         proc.send_signal(signal.SIGINT)
         time.sleep(0.02)
-    out, err = proc.communicate(timeout=60)
-    assert first.startswith("zavar2024: tip at")
-    assert proc.returncode == 0 and err == ""
+    _, err = proc.communicate(timeout=60)
+    assert lines[0].startswith("zavar2024: tip at") and "orientation" in lines[1]
+    # 130 and its one line only if the Ctrl-C beat main()'s last few steps
+    assert (proc.returncode, err) in ((0, ""), (130, "scara-opt: interrupted\n")), err
     assert time.perf_counter() - start < 15
 
 
