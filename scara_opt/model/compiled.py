@@ -62,6 +62,7 @@ from collections.abc import Callable, Iterator
 from contextlib import contextmanager
 from dataclasses import dataclass
 from pathlib import Path
+from types import FrameType
 from typing import Any, TypeVar
 
 import casadi as ca
@@ -91,6 +92,8 @@ BUILD_TIMEOUT_S = 600.0
 ERROR_TEXT_CHARS = 1200
 
 T = TypeVar("T")
+
+_CASADI = str(getattr(ca, "__version__", "unknown"))  # part of every key
 
 _LOCK = threading.Lock()                    # guards the dicts and the set below
 _KEY_LOCKS: dict[str, threading.Lock] = {}  # one per library path: one build per key
@@ -215,7 +218,7 @@ def _compiler() -> Toolchain | None:
 
 def _library(stem: str, key: str, chain: Toolchain) -> Path:
     """The library's path in the cache folder for ``key`` on this platform and compiler."""
-    text = repr((key, ca.__version__, FLAGS, platform_id(), chain.identity))
+    text = repr((key, _CASADI, FLAGS, platform_id(), chain.identity))
     return cache_dir() / f"{stem}_{hashlib.sha256(text.encode()).hexdigest()[:24]}.so"
 
 
@@ -295,7 +298,7 @@ def _build(chain: Toolchain, library: Path, source: Callable[[str], tuple[str, t
         seconds = time.perf_counter() - start
         record = {"size": len(data), "sha256": hashlib.sha256(data).hexdigest(),
                   "compiler": chain.identity, "platform": platform_id(),
-                  "casadi": ca.__version__, "flags": list(FLAGS), "build_s": round(seconds, 3)}
+                  "casadi": _CASADI, "flags": list(FLAGS), "build_s": round(seconds, 3)}
         Path(tmp, "record.json").write_text(json.dumps(record, indent=1))
         os.replace(partial, library)
         os.replace(Path(tmp, "record.json"), record_path(library))
@@ -497,7 +500,8 @@ def _say(category: type[NativeCodeWarning], text: str) -> None:
             return
         _SAID.add(category)
     package = str(Path(__file__).resolve().parent.parent)
-    frame, level = sys._getframe(0), 1
+    frame: FrameType | None = sys._getframe(0)
+    level = 1
     while frame is not None and frame.f_code.co_filename.startswith(package):
         frame, level = frame.f_back, level + 1
     warnings.warn(text, category, stacklevel=level)

@@ -126,7 +126,7 @@ def check_urdf_inertials(text: str, where: str) -> None:
                     raise URDFError(f"{at} has <inertia {key}={raw!r}>; every <inertial> needs "
                                     "<inertia> with 6 finite numbers [kg·m²]")
                 six += number
-            check_inertia_matrix(f"{at}: <inertia>", inertia_matrix(six))
+            check_inertia_matrix(f"{at}: <inertia>", inertia_matrix(tuple(six)))
 
 
 def check_model_inertias(model: pin.Model, where: str) -> None:
