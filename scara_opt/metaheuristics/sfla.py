@@ -9,7 +9,7 @@ from typing import Any, ClassVar
 import numpy as np
 from numpy.typing import NDArray
 
-from scara_opt.checks import count_text
+from scara_opt.checks import short_repr
 from scara_opt.errors import InputError
 from scara_opt.ik.registry import register_solver
 from scara_opt.metaheuristics.base import (
@@ -97,8 +97,8 @@ class ShuffledFrogSolver(PopulationSolver[Frogs]):
         if o["population"] < 2 * o["memeplexes"]:
             raise InputError(
                 f"sfla needs at least 2 frogs per memeplex: population="
-                f"{count_text(o['population'])} with memeplexes={count_text(o['memeplexes'])}; "
-                f"raise population to {count_text(2 * o['memeplexes'])} or lower memeplexes")
+                f"{short_repr(o['population'])} with memeplexes={short_repr(o['memeplexes'])}; "
+                f"raise population to {short_repr(2 * o['memeplexes'])} or lower memeplexes")
 
     def initialize(self, problem: Problem, population: Population,
                    rng: np.random.Generator) -> Frogs:
