@@ -105,8 +105,8 @@ def _check_number_full(name: str, value: Any, low: float, high: float, *, intege
     # raise OverflowError)
     ok = ok_type and not isinstance(value, bool) and not (
         isinstance(value, (float, np.floating)) and math.isnan(value))
-    if ok and not integer and abs(value) > sys.float_info.max:  # an int no float holds
-        ok = False
+    if ok and not integer and isinstance(value, int) and abs(value) > sys.float_info.max:
+        ok = False  # an int no float holds (a float option is used as a float)
     if ok:
         ok = ((value > low if low_open else value >= low)
               and (value < high if high_open else value <= high))
