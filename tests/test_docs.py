@@ -17,7 +17,7 @@ import pytest
 from tests.conftest import ROOT
 
 GUIDES = ["index.md", "getting-started.md", "own-robot.md", "ik-methods.md", "time-optimal.md",
-          "motion.md", "planning.md"]
+          "motion.md", "planning.md", "native-code.md"]
 
 
 def _roles():

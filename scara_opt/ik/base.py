@@ -18,6 +18,7 @@ from __future__ import annotations
 
 import math
 import numbers
+import sys
 import time
 from abc import ABC, abstractmethod
 from dataclasses import replace
@@ -26,6 +27,7 @@ from typing import Any, ClassVar, cast
 import numpy as np
 from numpy.typing import NDArray
 
+from scara_opt.checks import short_repr
 from scara_opt.errors import InputError, JointLimitError, SolverOptionError
 from scara_opt.ik.result import IKResult, SolverOutput
 from scara_opt.ik.task import LIMIT_SLACK, check_task, default_q0
@@ -105,7 +107,12 @@ def _check_number_full(name: str, value: Any, low: float, high: float, *, intege
     """:func:`check_number` without its fast path for plain ints and floats in range."""
     ok_type = isinstance(value, (int, np.integer)) if integer else isinstance(
         value, (int, float, np.integer, np.floating))
-    ok = ok_type and not isinstance(value, bool) and not math.isnan(value)
+    # an int compares exactly with the float bounds, at any size (math.isnan(10**400) would
+    # raise OverflowError)
+    ok = ok_type and not isinstance(value, bool) and not (
+        isinstance(value, (float, np.floating)) and math.isnan(value))
+    if ok and not integer and isinstance(value, int) and abs(value) > sys.float_info.max:
+        ok = False  # an int no float holds (a float option is used as a float)
     if ok:
         ok = ((value > low if low_open else value >= low)
               and (value < high if high_open else value <= high))
@@ -115,7 +122,7 @@ def _check_number_full(name: str, value: Any, low: float, high: float, *, intege
             span = f"{'>' if low_open else '>='} {low:g}"
         else:
             span = f"in {'(' if low_open else '['}{low:g}, {high:g}{')' if high_open else ']'}"
-        raise InputError(f"option {name}={value!r} must be {kind} {span}")
+        raise InputError(f"option {name}={short_repr(value)} must be {kind} {span}")
 
 
 def check_flag(name: str, value: Any) -> None:
@@ -125,7 +132,7 @@ def check_flag(name: str, value: Any) -> None:
         InputError: the message names the option and the value given.
     """
     if not isinstance(value, (bool, np.bool_)):
-        raise InputError(f"option {name}={value!r} must be True or False")
+        raise InputError(f"option {name}={short_repr(value)} must be True or False")
 
 
 def check_tol(tol: Any) -> float:
@@ -137,16 +144,17 @@ def check_tol(tol: Any) -> float:
     if type(tol) is float and TOL_FLOOR <= tol <= TOL_CEILING:  # the common case, ~0.4 µs less
         return tol
     ok = isinstance(tol, numbers.Real) and not isinstance(tol, (bool, np.bool_))
-    if not (ok and math.isfinite(tol) and tol > 0):
-        raise InputError(f"tol must be a positive number [m, rad]; got {tol!r}")
+    # an int is finite at any size, and compares exactly (math.isfinite(10**400) overflows)
+    if not (ok and (isinstance(tol, numbers.Integral) or math.isfinite(tol)) and tol > 0):
+        raise InputError(f"tol must be a positive number [m, rad]; got {short_repr(tol)}")
     if tol < TOL_FLOOR:
         raise InputError(f"tol={tol:g} is below {TOL_FLOOR:g} [m, rad], the round-off of the "
                          "forward kinematics: an exact solution could not be told from a miss; "
                          f"pass tol >= {TOL_FLOOR:g}")
     if tol > TOL_CEILING:
-        raise InputError(f"tol={tol:g} is above {TOL_CEILING:g} [m, rad]: every configuration "
-                         f"of a metre-scale arm would count as solved; pass tol <= "
-                         f"{TOL_CEILING:g}")
+        raise InputError(f"tol={short_repr(tol)} is above {TOL_CEILING:g} [m, rad]: every "
+                         f"configuration of a metre-scale arm would count as solved; pass "
+                         f"tol <= {TOL_CEILING:g}")
     return float(tol)
 
 

@@ -116,11 +116,8 @@ def _targets(robot: Robot, targets: object) -> tuple[_Stacked, list[Target] | No
         rot = np.array([t.rotation for t in ts]) if ts[0].kind == "rotation" else None
         yaw = np.array([t.yaw for t in ts]) if ts[0].kind == "yaw" else None
         return _Stacked(ts[0].kind, np.array([t.position for t in ts]), yaw, rot), ts
-    try:
-        A = np.asarray(targets, dtype=float)
-    except (TypeError, ValueError):
-        raise InputError("targets must be an (n, 3) or (n, 4) array [x, y, z(, yaw)] [m, rad] "
-                         "or a sequence of Target") from None
+    A = float_array(targets, "targets, an (n, 3) or (n, 4) array [x, y, z(, yaw)] [m, rad] or "
+                    "a sequence of Target,")
     if A.ndim != 2 or A.shape[1] not in (3, 4) or len(A) == 0 or not np.isfinite(A).all():
         raise InputError("targets must be a finite, non-empty (n, 3) or (n, 4) array "
                          f"[x, y, z(, yaw)] [m, rad]; got shape {A.shape}")
