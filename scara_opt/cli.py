@@ -541,7 +541,8 @@ def _show_warning(message: Warning | str, category: type[Warning], filename: str
 
 
 def main(argv: Sequence[str] | None = None) -> int:
-    """Run the command line; returns the exit code (0, 2 bad input, 130 interrupted)."""
+    """Run the command line; returns the exit code (0, 2 bad input, 130 interrupted, 141 the
+    reader of its output left)."""
     try:
         with interrupt.quiet_casadi_warning(), interrupt.watch() as sigint, \
                 warnings.catch_warnings():  # one line below
@@ -558,6 +559,8 @@ def main(argv: Sequence[str] | None = None) -> int:
     except KeyboardInterrupt:
         print("scara-opt: interrupted", file=sys.stderr)
         return 130
+    except BrokenPipeError:  # the reader left (`scara-opt robots | head -2`): quietly, as cat
+        return 141  # 128 + SIGPIPE, what a shell shows for a command the pipe ended
     except (ScaraOptError, UsageError, OSError) as exc:  # bad input, an unwritable file
         print(f"scara-opt: error: {_one_line(exc)}", file=sys.stderr)
         return 2

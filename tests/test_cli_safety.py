@@ -427,3 +427,22 @@ def test_a_swallowed_interrupt_commits_nothing(tmp_path, capsys, monkeypatch):
     monkeypatch.setattr("scara_opt.cli.cmd_solvers", _interrupt_swallowed_as(None, tmp_path))
     assert cli(capsys, "solvers") == (130, "", "scara-opt: interrupted\n")
     assert list(tmp_path.iterdir()) == []
+
+
+def test_a_reader_that_leaves_ends_the_command_quietly():
+    """`scara-opt robots | head -2`: the reader closes the pipe; the command ends without a
+    word on stderr, with 141 (128 + SIGPIPE) as a shell reports for `cat` or `git`.
+
+    The pipe's read end is closed before the process starts, so every write fails.
+    Mutation: main()'s ``except BrokenPipeError`` removed: "scara-opt: error: [Errno 32]
+    Broken pipe" and exit 2, test failed.
+    """
+    read, write = os.pipe()
+    os.close(read)
+    try:
+        out = subprocess.run([sys.executable, "-m", "scara_opt.cli", "robots"], stdout=write,
+                             stderr=subprocess.PIPE, text=True, timeout=120,
+                             env={**os.environ, "MPLBACKEND": "Agg"})
+    finally:
+        os.close(write)
+    assert (out.returncode, out.stderr) == (141, "")
