@@ -321,15 +321,14 @@ def _listed(name: str, values: object, check: Any) -> list[Any]:
             :data:`scara_opt.checks.MAX_BYTES`, a repeated entry, or an entry ``check``
             refuses.
     """
-    if not isinstance(values, Iterable) or isinstance(values, (str, bytes)):
+    if (not isinstance(values, Iterable) or isinstance(values, (str, bytes))
+            or getattr(values, "ndim", None) == 0):  # a 0-d array cannot be iterated
         raise InputError(f"{name} must be a list (or range) of integers; got {describe(values)}")
     cap = max(checks.MAX_BYTES // BYTES_PER_JOB, 1)
     try:
         size = len(values) if isinstance(values, Sized) else 0  # an iterator: count while reading
     except OverflowError:  # e.g. range(10**30)
         size = cap + 1
-    except TypeError:  # a 0-d array: refused by the reading below
-        size = 0
     out = list(itertools.islice(values, cap + 1)) if size <= cap else []
     if size > cap or len(out) > cap:
         raise InputError(f"{name} has more than {cap:,} entries ({describe(values)}); every "
