@@ -129,7 +129,8 @@ if TYPE_CHECKING:  # for type checkers and IDEs: the same names, imported eagerl
     )
     from scara_opt.ik.lm_batch import BatchResult, solve_many
     from scara_opt.model import Robot, list_robots, load_robot
-    from scara_opt.motion import CIRC, LIN, PTP, MotionTrajectory, ToolLimits, cycle_time, plan
+    from scara_opt.motion import CIRC, LIN, PTP, MotionTrajectory, ToolLimits, cycle_time
+    from scara_opt.motion.plan import plan  # mypy reads motion's `plan` as the submodule
     from scara_opt.target import Target
     from scara_opt.trajectory import (
         JointPath,

@@ -25,7 +25,7 @@ import math
 import numbers
 from collections.abc import Iterator
 from contextlib import contextmanager
-from typing import Any
+from typing import Any, TypeGuard
 
 import numpy as np
 from numpy.typing import NDArray
@@ -122,7 +122,7 @@ def memory_guard(what: str, estimate: int, advice: str) -> Iterator[None]:
                          f"{advice}") from None
 
 
-def is_real(value: object) -> bool:
+def is_real(value: object) -> TypeGuard[numbers.Real]:
     """Whether ``value`` is a real number: int, float or numpy scalar; not bool, not str."""
     return isinstance(value, numbers.Real) and not isinstance(value, (bool, np.bool_))
 
@@ -136,12 +136,12 @@ def check_real(name: str, value: object, low: float = -math.inf, high: float = m
         InputError: not a real number (bools and strings included), not finite, or out of
             range; the message names ``name``, the value and the range.
     """
-    ok = is_real(value)
-    if ok:
+    ok = False
+    if is_real(value):
         try:
-            v = float(value)  # type: ignore[arg-type]
+            v = float(value)
         except OverflowError:  # an int beyond the float range
-            v = math.inf if value > 0 else -math.inf  # type: ignore[operator]
+            v = -math.inf if value < 0 else math.inf
         ok = math.isfinite(v) and (v > low if low_open else v >= low) and v <= high
     if not ok:
         unit_text = f" [{unit}]" if unit else ""
@@ -162,11 +162,11 @@ def check_int(name: str, value: object, least: int, *, error: type[Exception] = 
     Raises:
         InputError: names ``name``, the value and the least value.
     """
-    ok = isinstance(value, (int, np.integer)) and not isinstance(value, (bool, np.bool_))
-    if not ok or value < least:  # type: ignore[operator]
+    if (not isinstance(value, (int, np.integer)) or isinstance(value, (bool, np.bool_))
+            or value < least):
         kind = "a positive integer" if least == 1 else f"an integer >= {least}"
         raise error(f"{name} must be {kind}; got {describe(value)}")
-    return int(value)  # type: ignore[arg-type]
+    return int(value)
 
 
 def check_flag(name: str, value: object) -> bool:

@@ -20,13 +20,14 @@ import itertools
 import math
 import os
 from collections import Counter
-from collections.abc import Iterable, Sequence
+from collections.abc import Iterable, Sequence, Sized
 from concurrent.futures import Executor, Future, as_completed
 from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
 import pandas as pd
+from numpy.typing import ArrayLike
 
 from scara_opt import checks
 from scara_opt.checks import (
@@ -160,7 +161,8 @@ def _jobs(targets: list[Target], methods: Sequence[str], populations: Sequence[i
     return jobs
 
 
-def compare(robot: Robot, targets: Iterable[Target | object], methods: Sequence[str] | str = "all",
+def compare(robot: Robot, targets: Iterable[Target | ArrayLike],
+            methods: Sequence[str] | str = "all",
             populations: Sequence[int] = (20, 40, 60, 80, 100), iterations: int = 200,
             seeds: Iterable[int] = range(10), executor: Executor | None = None,
             progress: bool = True, tol: float = 1e-9,
@@ -319,15 +321,14 @@ def _listed(name: str, values: object, check: Any) -> list[Any]:
             :data:`scara_opt.checks.MAX_BYTES`, a repeated entry, or an entry ``check``
             refuses.
     """
-    if not isinstance(values, Iterable) or isinstance(values, (str, bytes)):
+    if (not isinstance(values, Iterable) or isinstance(values, (str, bytes))
+            or getattr(values, "ndim", None) == 0):  # a 0-d array cannot be iterated
         raise InputError(f"{name} must be a list (or range) of integers; got {describe(values)}")
     cap = max(checks.MAX_BYTES // BYTES_PER_JOB, 1)
     try:
-        size = len(values)  # type: ignore[arg-type]
+        size = len(values) if isinstance(values, Sized) else 0  # an iterator: count while reading
     except OverflowError:  # e.g. range(10**30)
         size = cap + 1
-    except TypeError:  # an iterator: count while reading
-        size = 0
     out = list(itertools.islice(values, cap + 1)) if size <= cap else []
     if size > cap or len(out) > cap:
         raise InputError(f"{name} has more than {cap:,} entries ({describe(values)}); every "

@@ -17,7 +17,7 @@ import math
 from collections.abc import Sequence
 
 import numpy as np
-from numpy.typing import NDArray
+from numpy.typing import ArrayLike, NDArray
 
 from scara_opt.checks import (
     check_flag,
@@ -51,7 +51,7 @@ ZAVAR2024_REACHABLE_RADIUS = 0.30
 ZAVAR2024_REACHABLE_Z = -0.07
 
 
-def _vector(value: object, n: int, what: str) -> Array:
+def _vector(value: ArrayLike, n: int, what: str) -> Array:
     try:
         arr = float_array(value, what)
     except InputError:
@@ -108,8 +108,8 @@ def _yaws(yaw: object, n: int, tangent: Array | None) -> Array | None:
     return np.full(n, value)
 
 
-def circle(center: object, radius: float, z: float, n: int | None = None, *,
-           angles: object | None = None, start: float = 0.0, sweep: float = 2 * math.pi,
+def circle(center: ArrayLike, radius: float, z: float, n: int | None = None, *,
+           angles: ArrayLike | None = None, start: float = 0.0, sweep: float = 2 * math.pi,
            yaw: float | str | None = None) -> list[Target]:
     """Points on a horizontal circle (normal +z, the SCARA tool axis).
 
@@ -162,7 +162,7 @@ def circle(center: object, radius: float, z: float, n: int | None = None, *,
     return _targets(P, _yaws(yaw, th.size, tangent))
 
 
-def line(start: object, end: object, n: int, yaw: float | str | None = None) -> list[Target]:
+def line(start: ArrayLike, end: ArrayLike, n: int, yaw: float | str | None = None) -> list[Target]:
     """``n`` evenly spaced points from ``start`` to ``end`` (both included).
 
     Args:
@@ -191,7 +191,7 @@ def line(start: object, end: object, n: int, yaw: float | str | None = None) -> 
     return _targets(P, _yaws(yaw, count, np.full(count, math.atan2(d[1], d[0]))))
 
 
-def point_to_point(start: object, end: object, yaw_start: float | None = None,
+def point_to_point(start: ArrayLike, end: ArrayLike, yaw_start: float | None = None,
                    yaw_end: float | None = None) -> list[Target]:
     """The two targets of a point-to-point move (joint interpolation in between).
 
@@ -255,9 +255,9 @@ def _rounded_rectangle_uv(s: Array, width: float, height: float,
     return u, v, ang
 
 
-def rounded_rectangle(n: int, center: object, width: float, height: float,
-                      corner_radius: float, *, origin: object = (0.0, 0.0, 0.0),
-                      e1: object = (1.0, 0.0, 0.0), e2: object = (0.0, 1.0, 0.0),
+def rounded_rectangle(n: int, center: ArrayLike, width: float, height: float,
+                      corner_radius: float, *, origin: ArrayLike = (0.0, 0.0, 0.0),
+                      e1: ArrayLike = (1.0, 0.0, 0.0), e2: ArrayLike = (0.0, 1.0, 0.0),
                       clockwise: bool = False, closed: bool = True,
                       yaw: str | float | None = "tangent") -> list[Target]:
     """A closed rounded rectangle, points evenly spaced by arc length, tool tangent to it.
@@ -362,7 +362,7 @@ def nguyen_contour(n: int = 120, y: float = -0.13) -> list[Target]:
                              e1=(1.0, 0.0, 0.0), e2=(0.0, 0.0, 1.0))
 
 
-def as_targets(targets: object) -> list[Target]:
+def as_targets(targets: Target | Sequence[Target] | ArrayLike) -> list[Target]:
     """A list of :class:`Target` from targets, or an (n, 3) / (n, 4) array ``[x, y, z(, yaw)]``.
 
     Raises:

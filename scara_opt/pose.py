@@ -17,7 +17,7 @@ from __future__ import annotations
 
 import numpy as np
 import pinocchio as pin
-from numpy.typing import NDArray
+from numpy.typing import ArrayLike, NDArray
 
 from scara_opt.checks import describe, float_array
 from scara_opt.errors import TargetError
@@ -37,7 +37,7 @@ __all__ = ["BOTTOM_ROW_TOL", "QUAT_NORM_TOL", "ROTATION_TOL", "as_pose", "check_
            "to_se3"]
 
 
-def finite_array(value: object, shape: tuple[int, ...], what: str) -> Array:
+def finite_array(value: ArrayLike, shape: tuple[int, ...], what: str) -> Array:
     """``value`` as a float array of ``shape`` with finite entries, or :class:`TargetError`."""
     try:
         arr = float_array(value, what, TargetError)
@@ -51,7 +51,7 @@ def finite_array(value: object, shape: tuple[int, ...], what: str) -> Array:
     return arr
 
 
-def check_rotation(R: object, what: str = "rotation") -> Array:
+def check_rotation(R: ArrayLike, what: str = "rotation") -> Array:
     """``R`` as a (3, 3) float array if it is a proper rotation within :data:`ROTATION_TOL`.
 
     Raises:
@@ -69,7 +69,7 @@ def check_rotation(R: object, what: str = "rotation") -> Array:
     return rot
 
 
-def as_pose(pose: object, what: str = "pose") -> tuple[Array, Array]:
+def as_pose(pose: ArrayLike | pin.SE3, what: str = "pose") -> tuple[Array, Array]:
     """``(p (3,), R (3, 3))`` of a 4×4 homogeneous matrix or a ``pinocchio.SE3``.
 
     Raises:
@@ -85,24 +85,24 @@ def as_pose(pose: object, what: str = "pose") -> tuple[Array, Array]:
     return T[:3, 3].copy(), check_rotation(T[:3, :3], f"{what}'s rotation block")
 
 
-def to_se3(pose: object) -> pin.SE3:
+def to_se3(pose: ArrayLike | pin.SE3) -> pin.SE3:
     """A ``pinocchio.SE3`` from a 4×4 homogeneous matrix (or a copy of an SE3), checked."""
     p, R = as_pose(pose)
     return pin.SE3(R, p)
 
 
-def rpy_to_matrix(rpy: object) -> Array:
+def rpy_to_matrix(rpy: ArrayLike) -> Array:
     """Rotation (3, 3) of roll, pitch, yaw [rad]: ``Rz(yaw) Ry(pitch) Rx(roll)``."""
     r, p, y = finite_array(rpy, (3,), "rpy [rad]")
     return np.asarray(pin.rpy.rpyToMatrix(r, p, y), float)
 
 
-def matrix_to_rpy(R: object) -> Array:
+def matrix_to_rpy(R: ArrayLike) -> Array:
     """``(roll, pitch, yaw)`` [rad] of a rotation; pitch in [−π/2, π/2] (Pinocchio's branch)."""
     return np.asarray(pin.rpy.matrixToRpy(check_rotation(R)), float)
 
 
-def quat_to_matrix(wxyz: object) -> Array:
+def quat_to_matrix(wxyz: ArrayLike) -> Array:
     """Rotation (3, 3) of a quaternion ``(w, x, y, z)``, norm 1 within :data:`QUAT_NORM_TOL`.
 
     Raises:
@@ -118,7 +118,7 @@ def quat_to_matrix(wxyz: object) -> Array:
     return np.asarray(pin.Quaternion(w, x, y, z).toRotationMatrix(), float)
 
 
-def matrix_to_quat(R: object) -> Array:
+def matrix_to_quat(R: ArrayLike) -> Array:
     """Unit quaternion ``(w, x, y, z)`` of a rotation, with ``w >= 0``."""
     x, y, z, w = pin.Quaternion(check_rotation(R)).coeffs()
     q = np.array([w, x, y, z], float)

@@ -8,11 +8,12 @@ A full pose can also be given as a 4×4 homogeneous matrix or a ``pinocchio.SE3`
 from __future__ import annotations
 
 import math
+from collections.abc import Iterable
 from dataclasses import dataclass, field
 
 import numpy as np
 import pinocchio as pin
-from numpy.typing import NDArray
+from numpy.typing import ArrayLike, NDArray
 
 from scara_opt.checks import describe, is_real
 from scara_opt.errors import TargetError
@@ -58,8 +59,8 @@ class Target:
     rotation: Array | None = None
     weights: tuple[float, float] = field(default=(1.0, 1.0))
 
-    def __init__(self, position: object, yaw: float | None = None,
-                 rotation: object | None = None,
+    def __init__(self, position: ArrayLike | pin.SE3, yaw: float | None = None,
+                 rotation: ArrayLike | None = None,
                  weights: tuple[float, float] | None = None) -> None:
         if _is_pose(position):
             if yaw is not None or rotation is not None:
@@ -76,7 +77,7 @@ class Target:
             if not is_real(yaw):
                 raise TargetError(f"yaw must be a number [rad]; got {describe(yaw)}")
             try:
-                yaw = float(yaw)  # type: ignore[arg-type]
+                yaw = float(yaw)
             except OverflowError:
                 yaw = math.inf
             if not (math.isfinite(yaw) and abs(yaw) <= MAX_ANGLE):
@@ -92,7 +93,8 @@ class Target:
         object.__setattr__(self, "weights", _weights(weights))
 
     @classmethod
-    def from_pose(cls, pose: object, weights: tuple[float, float] | None = None) -> Target:
+    def from_pose(cls, pose: ArrayLike | pin.SE3,
+                  weights: tuple[float, float] | None = None) -> Target:
         """A full-pose target from a 4×4 homogeneous matrix or a ``pinocchio.SE3`` [m].
 
         ``Target.from_pose(robot.fk(q))`` asks for the pose the tip has at ``q``.
@@ -120,7 +122,7 @@ class Target:
         return f"Target(position={np.array2string(self.position, precision=6)}{extra})"
 
 
-def _position(value: object) -> Array:
+def _position(value: ArrayLike) -> Array:
     """``value`` as a finite (3,) position [m] within ±:data:`MAX_COORDINATE`.
 
     A float (3,) array whose coordinates are all within the range (NaN and inf are not) is
@@ -157,17 +159,21 @@ def _weights(weights: object) -> tuple[float, float]:
     if weights is None:
         return (1.0, 1.0)
     lo, hi = WEIGHT_RANGE
-    try:
-        pair = tuple(weights)  # type: ignore[call-overload]
-    except TypeError:
-        pair = ()
-    if len(pair) != 2 or not all(is_real(v) and lo <= v <= hi for v in pair):
+    pair: tuple[object, ...] = ()
+    if isinstance(weights, Iterable):
+        try:
+            pair = tuple(weights)
+        except TypeError:  # a 0-d array
+            pair = ()
+    # `not v < lo` for `lo <= v`: typeshed's numbers.Real has __lt__ and __le__ only
+    ok = [v for v in pair if is_real(v) and not v < lo and v <= hi]
+    if len(pair) != 2 or len(ok) != 2:
         raise TargetError(f"weights must be two positive numbers (position, angle), each within "
                           f"[{lo:g}, {hi:g}] (their squares enter the cost); got "
                           f"{describe(weights)}")
-    return float(pair[0]), float(pair[1])
+    return float(ok[0]), float(ok[1])
 
 
-def as_target(target: Target | object) -> Target:
+def as_target(target: Target | ArrayLike) -> Target:
     """A :class:`Target` from a Target or a bare (3,) position."""
     return target if isinstance(target, Target) else Target(target)

@@ -251,6 +251,17 @@ def test_compare_type_checks_every_argument(robots, kwargs, match):
         compare(robots["zavar2024"], **{**args, **kwargs})
 
 
+@pytest.mark.parametrize("name", ["seeds", "populations"])
+def test_a_0d_array_of_seeds_or_populations_is_an_input_error(robots, name):
+    """``seeds=np.array(5)`` raised a bare TypeError ("iteration over a 0-d array").
+
+    Mutation caught: _listed without its ``ndim == 0`` refusal -> TypeError, not InputError.
+    """
+    with pytest.raises(so.InputError, match=f"{name} must be a list"):
+        compare(robots["zavar2024"], TARGETS[:1], methods=["pso"], iterations=2,
+                progress=False, reference=False, **{name: np.array(5)})
+
+
 def test_compare_refuses_a_robot_name(robots):
     """A robot name is answered with the call that loads it."""
     with pytest.raises(so.InputError, match=r"so.load_robot\('zavar2024'\)"):

@@ -7,9 +7,10 @@ redundant joints); this module wraps it in the solver interface.
 
 from __future__ import annotations
 
-from typing import Any
+from typing import Any, ClassVar
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from scara_opt.ik.base import Solver, SolverOutput, check_q0, check_tol, default_q0
 from scara_opt.ik.closed_form import solve_all
@@ -30,7 +31,7 @@ from scara_opt.model.robot import Array, Robot, check_robot
 from scara_opt.target import Target, as_target
 
 
-def ik_all(robot: Robot, target: Target | object, q0: object | None = None, tol: float = 1e-9,
+def ik_all(robot: Robot, target: Target | ArrayLike, q0: ArrayLike | None = None, tol: float = 1e-9,
            fixed: dict[str, float] | None = None) -> list[IKResult]:
     """Every closed-form IK solution within the limits, nearest to ``q0`` first.
 
@@ -89,7 +90,7 @@ class AnalyticSolver(Solver):
 
     name = "analytic"
     label = "closed form"
-    defaults: dict[str, Any] = {"fixed": None}
+    defaults: ClassVar[dict[str, Any]] = {"fixed": None}
 
     def check_options(self) -> None:
         """``fixed`` is None or a mapping of joint names to values (checked per robot later)."""

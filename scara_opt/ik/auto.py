@@ -63,8 +63,11 @@ def closed_form_starts(robot: Robot, target: Target, q_ref: Array) -> Iterator[A
     A full rotation on a robot whose tool only turns about one axis starts from the
     branches of its yaw (:func:`as_yaw`). Nothing for robots that are not SCARA-type.
     """
-    if target.kind == "rotation" and (target := as_yaw(robot, target)) is None:
-        return
+    if target.rotation is not None:
+        yaw_target = as_yaw(robot, target)
+        if yaw_target is None:
+            return
+        target = yaw_target
     try:
         branches = solve_all(robot, target, q_ref)
     except NotScaraError:
@@ -77,9 +80,9 @@ def as_yaw(robot: Robot, target: Target) -> Target | None:
 
     The yaw of ``target.rotation``'s x axis about :attr:`~scara_opt.Robot.yaw_axis`: the
     same target where the rotation does not tilt that axis (else a start, not a solution).
-    ``None`` without a yaw axis, or where the x axis lies along it.
+    ``None`` without a yaw axis or a rotation, or where the x axis lies along it.
     """
-    if robot.yaw_axis is None:
+    if robot.yaw_axis is None or target.rotation is None:
         return None
     e1, e2 = robot.yaw_basis()
     x = target.rotation[:, 0]

@@ -25,7 +25,7 @@ from dataclasses import replace
 from typing import Any, ClassVar, cast
 
 import numpy as np
-from numpy.typing import NDArray
+from numpy.typing import ArrayLike, NDArray
 
 from scara_opt.checks import short_repr
 from scara_opt.errors import InputError, JointLimitError, SolverOptionError
@@ -54,7 +54,7 @@ __all__ = ["LIMIT_SLACK", "MAX_ITER", "MAX_RESTARTS", "TOL_CEILING", "TOL_FLOOR"
            "check_q0", "check_seed", "check_tol", "default_q0"]
 
 
-def check_q0(robot: Robot, q0: object | None) -> Array | None:
+def check_q0(robot: Robot, q0: ArrayLike | None) -> Array | None:
     """``q0`` as an in-limit (nq,) array, or ``None``.
 
     Raises:
@@ -64,11 +64,11 @@ def check_q0(robot: Robot, q0: object | None) -> Array | None:
     if q0 is None:
         return None
     if robot.fits_limits(q0):  # the common case, a float (nq,) array within the limits:
-        return q0  # type: ignore[return-value]  # check_q would hand back the same object
+        return q0  # check_q would hand back the same object
     return _check_q0_full(robot, q0)
 
 
-def _check_q0_full(robot: Robot, q0: object) -> Array:
+def _check_q0_full(robot: Robot, q0: ArrayLike) -> Array:
     """:func:`check_q0` of a ``q0`` that is not None, without its fast path."""
     q = robot.check_q(q0, "q0")
     lower, upper = robot.lower, robot.upper
@@ -233,7 +233,7 @@ class Solver(ABC):
         """
         return None  # a solver without numeric options accepts any value
 
-    def solve(self, robot: Robot, target: Target | object, q0: object | None = None,
+    def solve(self, robot: Robot, target: Target | ArrayLike, q0: ArrayLike | None = None,
               seed: int | None = 0, tol: float = 1e-9) -> IKResult:
         """Solve IK for ``target``.
 

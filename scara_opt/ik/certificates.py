@@ -266,11 +266,11 @@ def tilt_certificate(robot: Robot, target: Target, tol: float) -> Certificate | 
     any ``q`` is at least the angle between ``n`` and ``R* u`` (a rotation by θ moves no unit
     vector by more than θ): a lower bound for every configuration, checked against ``tol``.
     """
-    n = robot.yaw_axis
-    if target.kind != "rotation" or n is None:
+    n, R_star = robot.yaw_axis, target.rotation
+    if R_star is None or n is None:
         return None
     R_ref = robot.fk(default_q0(robot))[:3, :3]
-    v = target.rotation @ (R_ref.T @ n)
+    v = R_star @ (R_ref.T @ n)
     bound = math.atan2(float(np.linalg.norm(np.cross(n, v))), float(n @ v))
     if bound <= tol:
         return None

@@ -32,8 +32,10 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from typing import overload
 
 import numpy as np
+from numpy.typing import NDArray
 
 from scara_opt.ik.geometry import (
     COS_SLACK,
@@ -47,6 +49,7 @@ from scara_opt.ik.task import LIMIT_SLACK, default_q0
 from scara_opt.model.robot import Array, Robot
 from scara_opt.target import Target
 
+Bools = NDArray[np.bool_]
 
 # ---------------------------------------------------------------------- the search box
 @dataclass(frozen=True)
@@ -74,14 +77,19 @@ class Box:
         """The robot's box: its limits (one turn for continuous joints), round-off slacks."""
         return cls(robot.sampling_lower, robot.sampling_upper)
 
-    def outer(self, k: int | list[int]) -> tuple[Array, Array]:
+    @overload
+    def outer(self, k: int) -> tuple[float, float]: ...
+    @overload
+    def outer(self, k: list[int]) -> tuple[Array, Array]: ...
+
+    def outer(self, k: int | list[int]) -> tuple[float, float] | tuple[Array, Array]:
         """The range of joints ``k`` with the round-off slack: what a solution may touch."""
         return self.lower[k] - self.slack, self.upper[k] + self.slack
 
 
 def _turns(values: Array | float, lo: float, hi: float) -> list[float]:
     """Every ``v + 2πk`` within [lo, hi]."""
-    out = []
+    out: list[float] = []
     for v in np.atleast_1d(values):
         k0 = math.ceil((lo - v) / (2 * math.pi))
         k1 = math.floor((hi - v) / (2 * math.pi))
@@ -90,7 +98,7 @@ def _turns(values: Array | float, lo: float, hi: float) -> list[float]:
 
 
 def _distribute(total: float, signs: Array, held: Array, lo: Array, hi: Array,
-                movable: Array) -> Array | None:
+                movable: Bools) -> Array | None:
     r"""Values ``x`` within [lo, hi] with ``signs @ x == total``, nearest to ``held``.
 
     Only the ``movable`` entries change; the nearest point in the Euclidean sense is
@@ -115,7 +123,7 @@ def _distribute(total: float, signs: Array, held: Array, lo: Array, hi: Array,
 
 
 def _group(candidates: list[float], signs: Array, held: Array, lo: Array, hi: Array,
-           movable: Array, slack: float = LIMIT_SLACK) -> list[Array]:
+           movable: Bools, slack: float = LIMIT_SLACK) -> list[Array]:
     """Values of a group of additive joints (heights or wrists) meeting one of ``candidates``.
 
     The last joint of the group is solved; the others keep ``held`` when that works for
@@ -135,10 +143,10 @@ def _group(candidates: list[float], signs: Array, held: Array, lo: Array, hi: Ar
         return found
     movable = movable.copy()
     movable[last] = True  # the solved joint moves freely, so the held ones move least
-    moved = [x for total in candidates
-             if (x := _distribute(total, signs, _solved_at_limit(total, signs, held, lo, hi),
+    moved = [m for total in candidates
+             if (m := _distribute(total, signs, _solved_at_limit(total, signs, held, lo, hi),
                                   lo, hi, movable)) is not None]
-    return sorted(moved, key=lambda x: float(np.sum((x[:last] - held[:last]) ** 2)))
+    return sorted(moved, key=lambda m: float(np.sum((m[:last] - held[:last]) ** 2)))
 
 
 def _solved_at_limit(total: float, signs: Array, held: Array, lo: Array, hi: Array) -> Array:
@@ -188,7 +196,7 @@ class _Task:
     height: float        # target height above h0 along n [m]
     yaw: float | None    # target tool angle [rad]
     held: Array          # (nq,) held values of every joint
-    movable: Array       # (nq,) bool: redundant joints that may leave their held value
+    movable: Bools       # (nq,): redundant joints that may leave their held value
 
     def wrist_candidates(self, q: Array) -> tuple[list[int], list[float]]:
         """The wrists and the sums ``Σ s_k q_k`` over them that give the target's yaw at ``q``."""
@@ -247,7 +255,7 @@ class _Task:
         return out
 
 
-def make_task(robot: Robot, geom: ScaraGeometry, target: Target, held: Array, movable: Array,
+def make_task(robot: Robot, geom: ScaraGeometry, target: Target, held: Array, movable: Bools,
           box: Box) -> _Task:
     """The :class:`_Task` of ``target``: held values, movable redundant joints, the box."""
     p = target.position

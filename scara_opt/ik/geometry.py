@@ -18,6 +18,7 @@ from typing import Any
 
 import numpy as np
 import pinocchio as pin
+from numpy.typing import ArrayLike
 
 from scara_opt.checks import describe
 from scara_opt.errors import InputError, ScaraOptError
@@ -245,7 +246,7 @@ def held_values(robot: Robot, geom: ScaraGeometry, q_ref: Array,
     return q
 
 
-def solve_batch(robot: Robot, positions: object, yaws: object | None = None,
+def solve_batch(robot: Robot, positions: ArrayLike, yaws: ArrayLike | None = None,
                 fixed: dict[str, float] | None = None) -> tuple[Array, Array]:
     """Closed-form IK of many targets at once, vectorised with numpy.
 

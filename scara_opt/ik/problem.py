@@ -124,13 +124,12 @@ def nlp_params(target: Target, q0: Array, lam: float) -> np.ndarray:
 
 def fill_params(out: np.ndarray, target: Target, q0: Array, lam: float) -> None:
     """:func:`nlp_params` written into ``out`` (its length), without a new array per solve."""
-    kind = target.kind
     out[:3] = target.position
-    k = 3 + ANGLE_SIZE[kind]
-    if kind == "yaw":
-        out[3], out[4] = math.cos(target.yaw), math.sin(target.yaw)
-    elif kind == "rotation":
+    k = 3 + ANGLE_SIZE[target.kind]
+    if target.rotation is not None:  # (a Target has a yaw or a rotation, never both)
         out[3:k] = np.asarray(target.rotation).ravel(order="F")  # casadi: column-major
+    elif target.yaw is not None:
+        out[3], out[4] = math.cos(target.yaw), math.sin(target.yaw)
     out[k:-3] = q0
     out[-3], out[-2] = target.weights
     out[-1] = lam

@@ -7,6 +7,8 @@ import threading
 from collections.abc import Callable
 from typing import Any, TypeVar
 
+from numpy.typing import ArrayLike
+
 from scara_opt.errors import InputError, UnknownSolverError
 from scara_opt.ik.base import Solver
 from scara_opt.ik.result import IKResult
@@ -99,8 +101,8 @@ def get_solver(method: str, **options: Any) -> Solver:
     return registry[method](**options)
 
 
-def solve_ik(robot: Robot, target: Target | object, method: str = "auto",
-             q0: object | None = None, seed: int | None = 0, tol: float = 1e-9,
+def solve_ik(robot: Robot, target: Target | ArrayLike, method: str = "auto",
+             q0: ArrayLike | None = None, seed: int | None = 0, tol: float = 1e-9,
              **options: Any) -> IKResult:
     """Solve inverse kinematics with any registered method.
 

@@ -56,17 +56,16 @@ def task_errors(robot: Robot, target: Target, Q: Array) -> tuple[Array, Array | 
 def errors_from_poses(robot: Robot, target: Target, T: Array) -> tuple[Array, Array | None]:
     """:func:`task_errors` from tip poses ``T`` (n, 4, 4) already computed."""
     dp = T[:, :3, 3] - target.position
-    if target.kind == "position":
-        return dp, None
-    R = T[:, :3, :3]
-    if target.kind == "yaw":
+    if target.rotation is not None:  # (a Target has a yaw or a rotation, never both)
+        # ||R - R*||_F = 2√2 sin(θ/2): stable for small angles, unlike acos of the trace
+        frob = np.linalg.norm(T[:, :3, :3] - target.rotation, axis=(1, 2))
+        return dp, 2.0 * np.arcsin(np.clip(frob / (2.0 * math.sqrt(2.0)), 0.0, 1.0))
+    if target.yaw is not None:
         e1, e2 = robot.yaw_basis()
-        x = R[:, :, 0]
+        x = T[:, :3, 0]
         yaw = np.arctan2(x @ e2, x @ e1)
         return dp, np.asarray(wrap_angle(yaw - target.yaw))
-    # ||R - R*||_F = 2√2 sin(θ/2): stable for small angles, unlike acos of the trace
-    frob = np.linalg.norm(R - target.rotation, axis=(1, 2))
-    return dp, 2.0 * np.arcsin(np.clip(frob / (2.0 * math.sqrt(2.0)), 0.0, 1.0))
+    return dp, None
 
 
 def cost_from_errors(target: Target, dp: Array, dang: Array | None) -> Array:
@@ -115,14 +114,14 @@ def config_errors(robot: Robot, target: Target, q: Array) -> tuple[Array, float 
     """
     T = robot.fk_checked(q)
     dp = T[:3, 3] - target.position
-    kind = target.kind
-    if kind == "position":
-        return dp, None
-    if kind == "yaw":
+    rotation = target.rotation
+    if rotation is None:  # (a Target has a yaw or a rotation, never both)
+        if target.yaw is None:
+            return dp, None
         e1, e2 = robot.yaw_basis()
         x = T[:3, 0]
         yaw = math.atan2(float(x.dot(e2)), float(x.dot(e1))) - target.yaw
         return dp, (yaw + math.pi) % (2 * math.pi) - math.pi
-    d = (T[:3, :3] - target.rotation).ravel()
+    d = (T[:3, :3] - rotation).ravel()
     frob = math.sqrt(float(d.dot(d)))
     return dp, 2.0 * math.asin(min(frob / (2.0 * math.sqrt(2.0)), 1.0))

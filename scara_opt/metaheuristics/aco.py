@@ -202,7 +202,7 @@ def _sorted_layout(k: int, nq: int) -> tuple[Array, NDArray[np.intp]]:
         Per sorted position r, the weight ``2 r - (k - 1)`` (k,); each row's start in the
         flat ``(nq, k)`` array (nq, 1).
     """
-    rank_weight = 2.0 * np.arange(k) - (k - 1)
+    rank_weight = 2.0 * np.arange(k, dtype=np.float64) - (k - 1)
     row_start = np.arange(0, nq * k, k)[:, None]
     rank_weight.setflags(write=False)
     row_start.setflags(write=False)

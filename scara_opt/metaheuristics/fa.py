@@ -9,6 +9,7 @@ from pathlib import Path
 from typing import Any, ClassVar, Protocol
 
 import numpy as np
+from numpy.typing import NDArray
 
 from scara_opt.checks import short_repr
 from scara_opt.errors import InputError
@@ -188,7 +189,8 @@ def sweep_all(X: Array, f: Array, span: Array, beta0: float, gamma: float, step:
     return out
 
 
-def _sweep_compiled(kernel: Callable[..., None], Xs: Array, new: Array, first_dimmer: Array,
+def _sweep_compiled(kernel: Callable[..., None], Xs: Array, new: Array,
+                    first_dimmer: NDArray[np.intp],
                     w: Array, beta0: float, gamma: float, step: Array,
                     rng: UniformSource) -> None:
     """The attractor loop of :func:`sweep_all` in C (fa_sweep.c), ``new`` moved in place.

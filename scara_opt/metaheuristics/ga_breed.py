@@ -177,9 +177,10 @@ class _Pool:
 
     def __init__(self, d: Draws, n: int, nq: int, t: int) -> None:
         self.pool, self.pool_f = np.empty((2 * n, nq)), np.empty(2 * n)
-        self.X, self.out, self.f, self.fc = self.pool[:n], self.pool[n:], *np.split(self.pool_f, 2)
+        self.X, self.out = self.pool[:n], self.pool[n:]
+        self.f, self.fc = self.pool_f[:n], self.pool_f[n:]
         arrays = {k: getattr(self if hasattr(self, k) else d, k).ctypes.data
-                  for k, _ in _Args._fields_[4:]}
+                  for k, *_ in _Args._fields_[4:]}
         self.args = _Args(n=n, nq=nq, t=t, repair=d.repair, **arrays)
         self.address = ctypes.addressof(self.args)   # the struct lives as long as self
 

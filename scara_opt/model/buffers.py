@@ -28,6 +28,9 @@ class FunctionArrays:
                     for i, name in enumerate(f.name_out())}
         if hasattr(f, "buffer"):  # casadi >= 3.6: no argument conversion per call
             self._buffer, self._eval = f.buffer()
+            # stubs, not code: casadi's .pyi requires `size`, which its SWIG wrapper fills
+            # from the memoryview (its docstring: set_arg(0, memoryview(a))); numpy's stubs
+            # give ndarray the buffer protocol (__buffer__) only for Python >= 3.12
             for i, a in enumerate(self.arg.values()):
                 self._buffer.set_arg(i, memoryview(a.reshape(-1)))  # type: ignore[call-arg,arg-type]
             for i, a in enumerate(self.res.values()):

@@ -72,7 +72,9 @@ from scara_opt.errors import CompilingWarning, FallbackWarning, NativeCodeWarnin
 try:
     import fcntl
 except ImportError:  # not a POSIX system: the thread lock alone
-    fcntl = None  # type: ignore[assignment]
+    _FLOCK = False
+else:
+    _FLOCK = True
 
 log = logging.getLogger(__name__)
 
@@ -255,7 +257,7 @@ def _build_lock(library: Path) -> Iterator[None]:
         library.parent.mkdir(parents=True, exist_ok=True)
         fd = os.open(library.with_suffix(".lock"), os.O_RDWR | os.O_CREAT, 0o666)
         try:
-            if fcntl is not None:
+            if _FLOCK:
                 fcntl.flock(fd, fcntl.LOCK_EX)
             yield
         finally:

@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import math
 import threading
+from collections.abc import Mapping
 from typing import TYPE_CHECKING
 
 import numpy as np
@@ -43,7 +44,7 @@ def rebuild_robot(cls: type[Robot], init_args: tuple, metadata: dict, limits: tu
     return _REBUILT[key]
 
 
-def with_limits(robot: Robot, ranges: dict[str, object]) -> Robot:
+def with_limits(robot: Robot, ranges: Mapping[str, object]) -> Robot:
     """``robot`` with the position limits of ``ranges`` ({joint name: (lower, upper)}) replaced.
 
     See :meth:`Robot.with_limits` (the public entry point, with the errors raised).

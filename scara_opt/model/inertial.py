@@ -14,6 +14,7 @@ from __future__ import annotations
 
 import math
 import xml.etree.ElementTree as ET
+from collections.abc import Sequence
 
 import numpy as np
 import pinocchio as pin
@@ -27,7 +28,7 @@ Array = NDArray[np.float64]
 INERTIA_SLACK = 1e-12
 
 
-def inertia_matrix(six: tuple[float, ...] | Array) -> Array:
+def inertia_matrix(six: Sequence[float] | Array) -> Array:
     """The symmetric 3×3 matrix of ``(ixx, ixy, ixz, iyy, iyz, izz)`` (URDF's order) [kg·m²]."""
     ixx, ixy, ixz, iyy, iyz, izz = (float(v) for v in six)
     return np.array([[ixx, ixy, ixz], [ixy, iyy, iyz], [ixz, iyz, izz]])

@@ -8,9 +8,10 @@ from __future__ import annotations
 
 import math
 import sys
+from typing import TYPE_CHECKING, TypeGuard
 
 import numpy as np
-from numpy.typing import NDArray
+from numpy.typing import ArrayLike, NDArray
 
 from scara_opt.checks import check_real, describe, float_array
 from scara_opt.errors import InputError, JointLimitError
@@ -30,12 +31,19 @@ LIMIT_SLACK = 1e-9
 class JointChecks:
     """``q`` (nq,) and ``Q`` (n, nq) checked against the robot's joints."""
 
-    nq: int
-    joint_names: list[str]
-    lower: Array
-    upper: Array
+    if TYPE_CHECKING:  # Robot's read-only properties
+        @property
+        def nq(self) -> int: ...  # noqa: D102
+        @property
+        def joint_names(self) -> list[str]: ...  # noqa: D102
+        @property
+        def joint_types(self) -> list[str]: ...  # noqa: D102
+        @property
+        def lower(self) -> Array: ...  # noqa: D102
+        @property
+        def upper(self) -> Array: ...  # noqa: D102
 
-    def check_q(self, q: object, name: str = "q") -> Array:
+    def check_q(self, q: ArrayLike, name: str = "q") -> Array:
         """Return ``q`` as a float array of shape (nq,), or raise :class:`InputError`."""
         arr = _numeric(q, name, f"numeric, one value per joint {self.joint_names}")
         if arr.shape != (self.nq,):
@@ -50,7 +58,7 @@ class JointChecks:
                              "pass finite joint values")
         return arr
 
-    def fits_limits(self, q: object) -> bool:
+    def fits_limits(self, q: ArrayLike) -> TypeGuard[Array]:
         """Whether ``q`` is a float64 ndarray (nq,) that the limits leave as it is, bit for bit.
 
         True iff every value is finite and within ``[lower, upper]`` (no slack) and is not a
@@ -99,7 +107,7 @@ class JointChecks:
             table = self.__dict__["_fit_table_cached"] = (pairs, zeros)
         return table
 
-    def check_q_batch(self, Q: object, name: str = "Q") -> Array:
+    def check_q_batch(self, Q: ArrayLike, name: str = "Q") -> Array:
         """Return ``Q`` as a float array of shape (n, nq), or raise :class:`InputError`."""
         arr = _numeric(Q, name, f"a numeric array of shape (n, {self.nq})")
         if arr.ndim != 2 or arr.shape[1] != self.nq:
@@ -114,7 +122,7 @@ class JointChecks:
                              "pass finite joint values")
         return arr
 
-    def within_limits(self, q: object, tol: float = 0.0) -> bool | NDArray[np.bool_]:
+    def within_limits(self, q: ArrayLike, tol: float = 0.0) -> bool | NDArray[np.bool_]:
         """Whether ``q`` (nq,) — or each row of (n, nq) — lies within [lower - tol, upper + tol].
 
         Raises:
@@ -127,7 +135,7 @@ class JointChecks:
         return bool(ok) if arr.ndim == 1 else ok
 
 
-def _numeric(value: object, name: str, want: str) -> Array:
+def _numeric(value: ArrayLike, name: str, want: str) -> Array:
     """``value`` as a float array, or InputError: "``name`` must be ``want``; got ..."."""
     try:
         return float_array(value, name)
@@ -135,7 +143,7 @@ def _numeric(value: object, name: str, want: str) -> Array:
         raise InputError(f"{name} must be {want}; got {describe(value)}") from None
 
 
-def check_within_limits(robot: JointChecks, q: object, what: str) -> Array:
+def check_within_limits(robot: JointChecks, q: ArrayLike, what: str) -> Array:
     """``q`` (nq,) checked and inside the joint limits.
 
     Raises:

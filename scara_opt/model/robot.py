@@ -22,7 +22,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 import pinocchio as pin
-from numpy.typing import NDArray
+from numpy.typing import ArrayLike, NDArray
 
 from scara_opt.checks import describe, short_repr
 from scara_opt.errors import InputError, URDFError
@@ -293,7 +293,7 @@ class Robot(JointChecks, ToolAngle, InertialData):
         return f"Robot({self.name!r}, nq={self.nq}, joints=[{joints}], tip={self.tip!r})"
 
     # ------------------------------------------------------------------ kinematics
-    def fk(self, q: object) -> Array:
+    def fk(self, q: ArrayLike) -> Array:
         """Tip pose (4×4 homogeneous matrix, world frame, [m]) at ``q`` (nq,), by Pinocchio."""
         return self.fk_checked(self.check_q(q))
 
@@ -309,15 +309,15 @@ class Robot(JointChecks, ToolAngle, InertialData):
         # the 4×4 from it (no copy needed; tests/test_verdict_fast.py checks it is not shared)
         return pin.updateFramePlacement(self.model, data, self.tip_id).homogeneous
 
-    def fk_se3(self, q: object) -> pin.SE3:
+    def fk_se3(self, q: ArrayLike) -> pin.SE3:
         """Tip pose at ``q`` as a ``pinocchio.SE3`` (a copy; ``.homogeneous`` is :meth:`fk`)."""
         return pin.SE3(self.fk(q))
 
-    def position(self, q: object) -> Array:
+    def position(self, q: ArrayLike) -> Array:
         """Tip position (3,) [m] at ``q``."""
         return self.fk(q)[:3, 3]
 
-    def jacobian(self, q: object) -> Array:
+    def jacobian(self, q: ArrayLike) -> Array:
         """Tip Jacobian (6, nq): rows ``[v; ω]`` in the world-aligned frame at the tip.
 
         A mimic joint on the path adds ``scaling`` times its own column to its leader's
@@ -328,7 +328,7 @@ class Robot(JointChecks, ToolAngle, InertialData):
             self.model, self.data, qa, self.tip_id, pin.LOCAL_WORLD_ALIGNED
         ).copy()
 
-    def fk_batch(self, Q: object) -> Array:
+    def fk_batch(self, Q: ArrayLike) -> Array:
         """Tip poses (n, 4, 4) for configurations ``Q`` (n, nq), in one vectorised call.
 
         The casadi expression of :attr:`symbolic_fk`, compiled to C once per machine and
@@ -342,11 +342,11 @@ class Robot(JointChecks, ToolAngle, InertialData):
         out[:, 3, 3] = 1.0
         return out
 
-    def positions(self, Q: object) -> Array:
+    def positions(self, Q: ArrayLike) -> Array:
         """Tip positions (n, 3) [m] for ``Q`` (n, nq); the batch form of :meth:`position`."""
         return batch_fk.positions(self, self.check_q_batch(Q))
 
-    def joint_origins(self, Q: object) -> Array:
+    def joint_origins(self, Q: ArrayLike) -> Array:
         """World positions (n, len(chain) + 1, 3) [m] of every joint frame's origin, then the tip.
 
         ``len(chain)`` is ``nq`` unless mimic joints lie on the path (they have frames too).

@@ -12,7 +12,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 import pinocchio as pin
-from numpy.typing import NDArray
+from numpy.typing import ArrayLike, NDArray
 
 from scara_opt.errors import TargetError
 
@@ -26,15 +26,18 @@ class ToolAngle:
     """:attr:`yaw_axis`, :meth:`yaw` and :meth:`yaw_basis` of a robot."""
 
     name: str
-    nq: int
     model: pin.Model
     data: pin.Data
     chain: tuple[ChainJoint, ...]
-    lower: Array
-    upper: Array
 
-    if TYPE_CHECKING:
-        def fk(self, q: object) -> Array: ...  # noqa: D102 (Robot's)
+    if TYPE_CHECKING:  # Robot's read-only properties and methods
+        @property
+        def nq(self) -> int: ...  # noqa: D102
+        @property
+        def lower(self) -> Array: ...  # noqa: D102
+        @property
+        def upper(self) -> Array: ...  # noqa: D102
+        def fk(self, q: ArrayLike) -> Array: ...  # noqa: D102
 
     @cached_property
     def yaw_axis(self) -> Array | None:
@@ -56,7 +59,7 @@ class ToolAngle:
             return n
         return None
 
-    def yaw(self, q: object) -> float:
+    def yaw(self, q: ArrayLike) -> float:
         """Tool angle [rad] about :attr:`yaw_axis`, in (-π, π].
 
         Measured as the angle of the tool's x-axis in the plane normal to the axis, from
