@@ -87,7 +87,8 @@ def as_payload(value: object, robot: Robot, frame: str | None = None) -> Payload
     if value is None:
         return None
     if isinstance(value, Payload):
-        value, frame = (value.mass, value.com, value.inertia), value.frame
+        frame = value.frame
+        value = (value.mass, value.com, value.inertia)
     frame = robot.tip if frame is None else frame
     if not isinstance(frame, str) or not robot.model.existFrame(frame):
         raise FrameNotFoundError(str(frame), [f.name for f in robot.model.frames])
