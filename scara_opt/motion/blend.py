@@ -11,6 +11,8 @@ the smaller of both where they meet). Runs with a PTP: :mod:`scara_opt.motion.bl
 
 from __future__ import annotations
 
+from collections.abc import Callable
+
 import numpy as np
 from numpy.typing import NDArray
 
@@ -33,7 +35,9 @@ def _span(curve: geometry.Curve, a: float, b: float, step: float) -> Array:
 
 
 def blended_joints(section: list[tuple[int, Move]], robot: Robot, q_prev: Array, step: float,
-                   move_curve) -> tuple[Array, list[tuple[Array, float]], list[int]]:
+                   move_curve: Callable[[int, Move, Robot, Array, float | None],
+                                        tuple[geometry.Curve, float | None]]
+                   ) -> tuple[Array, list[tuple[Array, float]], list[int]]:
     """Joint path (n, nq) of a blended run of LIN/CIRC moves from ``q_prev``, and its corners.
 
     Returns:

@@ -27,9 +27,10 @@ from __future__ import annotations
 import math
 from collections.abc import Iterator
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 import numpy as np
-from numpy.typing import NDArray
+from numpy.typing import ArrayLike, NDArray
 
 from scara_opt.checks import check_real
 from scara_opt.collision.continuous import prove_segment
@@ -44,8 +45,12 @@ from scara_opt.motion.plan import plan
 from scara_opt.motion.result import MotionTrajectory
 from scara_opt.motion.tool_limits import ToolLimits
 from scara_opt.target import Target
+from scara_opt.trajectory.dynamics import PayloadLike
 from scara_opt.trajectory.limits import resolve_limits
 from scara_opt.trajectory.registry import time_parameterize
+
+if TYPE_CHECKING:
+    from scara_opt.collision import Cell, CollisionChecker
 
 Array = NDArray[np.float64]
 
@@ -211,9 +216,9 @@ def check_cycle_blend(blend: float, up: float, across: float, down: float,
 
 def cycle_time(robot: Robot, up: float = 0.025, across: float = 0.305, down: float = 0.025,
                limits: ToolLimits | None = None, blend: float = 0.0, *,
-               vmax: object | None = None, amax: object | None = None,
-               cell: object = None, margin: float = 0.0, time_limit: float = 1.0,
-               seed: int = 0) -> CycleResult:
+               vmax: ArrayLike | None = None, amax: ArrayLike | None = None,
+               cell: Cell | CollisionChecker | None = None, margin: float = 0.0,
+               time_limit: float = 1.0, seed: int = 0) -> CycleResult:
     """Time the pick-and-place cycle (A up, across, down to B, and back) three ways.
 
     Args:
@@ -299,7 +304,7 @@ def cycle_time(robot: Robot, up: float = 0.025, across: float = 0.305, down: flo
     return CycleResult(robot.name, up, across, down, A, B, durations, traj, corners, blend)
 
 
-def cycle_with_payload(robot: Robot, result: CycleResult, payload: object,
+def cycle_with_payload(robot: Robot, result: CycleResult, payload: PayloadLike,
                        limits: ToolLimits | None = None) -> MotionTrajectory:
     """The placed cycle of ``result`` timed by toppra under the robot's torque limits too.
 

@@ -20,7 +20,7 @@ from dataclasses import dataclass
 from typing import Any, Literal, overload
 
 import numpy as np
-from numpy.typing import NDArray
+from numpy.typing import ArrayLike, NDArray
 
 from scara_opt.checks import describe, is_real
 from scara_opt.errors import MoveError, ScaraOptError
@@ -69,8 +69,8 @@ class CIRC(Move):
     via: Any = None
     kind = "CIRC"
 
-    def __init__(self, via: object, goal: object, speed: float | None = None,
-                 acceleration: float | None = None, blend: float = 0.0,
+    def __init__(self, via: Target | ArrayLike, goal: Target | ArrayLike,
+                 speed: float | None = None, acceleration: float | None = None, blend: float = 0.0,
                  elbow: str | None = None) -> None:
         for name, value in (("goal", goal), ("speed", speed), ("acceleration", acceleration),
                             ("blend", blend), ("elbow", elbow), ("via", via)):

@@ -17,9 +17,10 @@ import time
 from collections import deque
 from collections.abc import Iterable
 from dataclasses import replace
+from typing import TYPE_CHECKING
 
 import numpy as np
-from numpy.typing import NDArray
+from numpy.typing import ArrayLike, NDArray
 from scipy.interpolate import PPoly
 
 from scara_opt.checks import check_flag, check_real
@@ -36,9 +37,12 @@ from scara_opt.motion.result import MotionTrajectory
 from scara_opt.motion.timing import time_section
 from scara_opt.motion.tool_limits import ToolLimits, ToolProfile
 from scara_opt.target import Target
-from scara_opt.trajectory.dynamics import RobotDynamics
+from scara_opt.trajectory.dynamics import PayloadLike, RobotDynamics
 from scara_opt.trajectory.limits import resolve_limits
 from scara_opt.trajectory.trajectory import concatenate
+
+if TYPE_CHECKING:
+    from scara_opt.collision import Cell, CollisionChecker
 
 Array = NDArray[np.float64]
 
@@ -154,7 +158,7 @@ def _flip(index: int, move: Move, robot: Robot, q: Array, exc: BranchError,
         return Target(curve.at(np.array([x]))[0], None if yaw0 is None or yaw1 is None else
                       yaw0 + x * (yaw1 - yaw0))
 
-    def part(a: float, b: float, goal: object) -> Move:
+    def part(a: float, b: float, goal: Target | ArrayLike) -> Move:
         if isinstance(move, LIN):
             return LIN(goal, speed=move.speed, acceleration=move.acceleration)
         return CIRC(curve.at(np.array([(a + b) / 2]))[0], goal, speed=move.speed,
@@ -166,11 +170,12 @@ def _flip(index: int, move: Move, robot: Robot, q: Array, exc: BranchError,
 
 
 def plan(robot: Robot, moves: Move | Iterable[Move], limits: ToolLimits | None = None, *,
-         start: object | None = None, vmax: object | None = None, amax: object | None = None,
+         start: ArrayLike | None = None, vmax: ArrayLike | None = None,
+         amax: ArrayLike | None = None,
          step: float = STEP, method: str = "toppra", allow_flip: bool = False,
-         torque_limits: object = None, payload: object = None,
-         payload_frame: str | None = None, cell: object = None, margin: float = 0.0,
-         time_limit: float = 1.0, seed: int = 0) -> MotionTrajectory:
+         torque_limits: bool | ArrayLike | None = None, payload: PayloadLike | None = None,
+         payload_frame: str | None = None, cell: Cell | CollisionChecker | None = None,
+         margin: float = 0.0, time_limit: float = 1.0, seed: int = 0) -> MotionTrajectory:
     """Plan a program of PTP / LIN / CIRC moves into one timed trajectory.
 
     Args:

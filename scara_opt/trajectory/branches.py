@@ -29,7 +29,7 @@ from scipy.sparse import csr_matrix
 from scipy.sparse.csgraph import breadth_first_order, dijkstra
 
 from scara_opt.ik.base import Solver
-from scara_opt.ik.geometry import NotScaraError, scara_geometry, solve_batch
+from scara_opt.ik.geometry import NotScaraError, ScaraGeometry, scara_geometry, solve_batch
 from scara_opt.ik.result import IKResult
 from scara_opt.ik.turns import TURN, turn_joints
 from scara_opt.model.robot import Robot
@@ -173,7 +173,7 @@ def _forcing_points(allowed: Mask, jumps: tuple[int, ...],
     return tuple(out)
 
 
-def _geometry(robot: Robot):
+def _geometry(robot: Robot) -> ScaraGeometry | None:
     try:
         return scara_geometry(robot)
     except NotScaraError:

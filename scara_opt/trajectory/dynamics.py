@@ -15,12 +15,13 @@ Checked, not assumed: :meth:`RobotDynamics.ratios` samples a trajectory at
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
 from dataclasses import dataclass
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, TypeAlias
 
 import numpy as np
 import pinocchio as pin
-from numpy.typing import NDArray
+from numpy.typing import ArrayLike, NDArray
 
 from scara_opt.checks import describe, float_array
 from scara_opt.errors import DynamicsError, FrameNotFoundError, InputError
@@ -54,6 +55,10 @@ class Payload:
     com: Array
     inertia: Array
     frame: str
+
+
+#: a payload as given (:func:`as_payload`): a Payload, a mass [kg], or (mass, com[, inertia])
+PayloadLike: TypeAlias = "Payload | float | Sequence[ArrayLike]"
 
 
 #: the heaviest payload [kg], farthest centre of mass [m] and largest inertia entry [kg·m²]

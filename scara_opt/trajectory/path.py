@@ -23,7 +23,7 @@ from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
-from numpy.typing import NDArray
+from numpy.typing import ArrayLike, NDArray
 
 from scara_opt.checks import describe, float_array
 from scara_opt.errors import InputError, TrajectoryError
@@ -164,7 +164,7 @@ class JointPath:
                   "at the jump, or pass allow_jumps=True to time it anyway")
         return self
 
-    def subset(self, keep: object) -> JointPath:
+    def subset(self, keep: ArrayLike | slice) -> JointPath:
         """A JointPath of the selected points (mask (n,), indices or a slice), jumps recomputed.
 
         Raises:
@@ -216,7 +216,7 @@ def find_jumps(Q: Array, threshold: Array, names: Sequence[str],
     return tuple(out)
 
 
-def _threshold(robot: Robot, jump_threshold: object | None) -> Array:
+def _threshold(robot: Robot, jump_threshold: ArrayLike | None) -> Array:
     if jump_threshold is None:
         return np.array([REVOLUTE_JUMP if k == "revolute" else PRISMATIC_JUMP
                          for k in robot.joint_types])
@@ -245,9 +245,10 @@ def _assemble(Q: Array, results: Sequence[IKResult], targets: Sequence[Target],
         branches=branches)
 
 
-def ik_path(robot: Robot, targets: object, method: str = "auto", q_start: object | None = None,
-            jump_threshold: object | None = None, seed: int | None = 0, tol: float = 1e-9,
-            branches: str | None = None, **options: Any) -> JointPath:
+def ik_path(robot: Robot, targets: Sequence[Target] | ArrayLike, method: str = "auto",
+            q_start: ArrayLike | None = None, jump_threshold: ArrayLike | None = None,
+            seed: int | None = 0, tol: float = 1e-9, branches: str | None = None,
+            **options: Any) -> JointPath:
     """Inverse kinematics along a path: one solution per point, the fewest jumps between them.
 
     Args:
