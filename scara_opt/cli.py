@@ -20,7 +20,7 @@ import sys
 import warnings
 from collections.abc import Iterator, Sequence
 from contextlib import contextmanager
-from typing import Any
+from typing import Any, NoReturn
 
 import numpy as np
 
@@ -395,7 +395,7 @@ class UsageError(Exception):
 class _Parser(argparse.ArgumentParser):
     """argparse with its errors raised, so that main() prints them as one line."""
 
-    def error(self, message: str) -> Any:  # type: ignore[override]
+    def error(self, message: str) -> NoReturn:
         raise UsageError(f"{message} (see `{self.prog} --help`)")
 
 
@@ -422,7 +422,7 @@ def build_parser() -> argparse.ArgumentParser:
                        "compiled or falls back")
     p.set_defaults(func=cmd_doctor)
 
-    units = argparse.ArgumentParser(add_help=False)
+    units = _Parser(add_help=False)
     units.add_argument("--mm", action="store_true",
                        help="lengths (positions, prismatic joints) in mm instead of m")
     units.add_argument("--deg", action="store_true",

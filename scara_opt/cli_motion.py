@@ -75,8 +75,9 @@ def cmd_cycle(args: argparse.Namespace) -> int:
     clearance = ratios.pop("clearance", None)
     print(f"  worst limit ratio ({which}, joints exact, tool at 1 kHz): "
           f"{max(float(v.max()) for v in ratios.values()):.4f}")
-    if clearance is not None:
-        print(f"  proven clear of {res.trajectory.checker.cell.name!r} ({which}): clearance >= "
+    checker = traj.checker
+    if clearance is not None and checker is not None:  # (a clearance: planned in a cell)
+        print(f"  proven clear of {checker.cell.name!r} ({which}): clearance >= "
               f"{traj.check_collisions().clearance * 1e3:.3f} mm all along")
     if loaded is not None:
         torque = float(loaded.check_limits()["torque"].max())

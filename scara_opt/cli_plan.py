@@ -10,11 +10,16 @@ from __future__ import annotations
 
 import argparse
 import json
+from typing import TYPE_CHECKING
 
 import numpy as np
+from numpy.typing import NDArray
 
 from scara_opt.cli_args import nonnegative, positive
 from scara_opt.outputs import FORCE_HELP
+
+if TYPE_CHECKING:
+    from scara_opt.target import Target
 
 #: the files ``plan`` writes into ``--out`` when asked, by option
 FILES = {"csv": "plan.csv", "html": "plan.html"}
@@ -67,6 +72,7 @@ def cmd_plan(args: argparse.Namespace) -> int:
     from scara_opt.cli_args import joint_scale, joint_units
     from scara_opt.cli_pose import target_from_args
     from scara_opt.errors import InputError, NoPathFoundError
+    from scara_opt.motion import plan  # (mypy reads so.plan as the module motion/plan.py)
     from scara_opt.outputs import OutputDir, write_animation
 
     if (args.goal is None) == (args.xyz is None):
@@ -80,12 +86,12 @@ def cmd_plan(args: argparse.Namespace) -> int:
     scale = joint_scale(robot, args.deg, args.mm)
     start = robot.check_q(args.start, "--start") / scale
     if args.goal is not None:
-        goal: object = robot.check_q(args.goal, "--goal") / scale
+        goal: Target | NDArray[np.float64] = robot.check_q(args.goal, "--goal") / scale
     else:
         goal = target_from_args(args, np.asarray(args.xyz, float) / (1e3 if args.mm else 1.0))
     kw = cell_keywords(args)
     try:
-        traj = so.plan(robot, [so.PTP(goal)], start=start, **kw)
+        traj = plan(robot, [so.PTP(goal)], start=start, **kw)
     except NoPathFoundError as exc:
         if args.json:
             print(json.dumps({"robot": robot.name, "status": "no_path", "message": str(exc),

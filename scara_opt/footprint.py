@@ -133,8 +133,10 @@ class Footprint:
         try:
             lengths = {key: float_array(table[key], f"footprint {key}") * unit
                        for key in ("center", "radius", "vertices") if key in table}
-            fp = cls(shape=table.get("shape", ""), center=lengths.get("center"),
-                     radius=lengths.get("radius", 0.0), vertices=lengths.get("vertices"),
+            r = lengths.get("radius")
+            radius = 0.0 if r is None else float(_finite(r, (), "footprint radius"))
+            fp = cls(shape=table.get("shape", ""), center=lengths.get("center"), radius=radius,
+                     vertices=lengths.get("vertices"),
                      links_from=table.get("links_from"))
             fp.first_origin(robot)
         except InputError as exc:
@@ -182,8 +184,8 @@ class Footprint:
         if self.shape == "circle":
             return self._circle_hits([(pts[:, k, 0], pts[:, k, 1]) for k in range(pts.shape[1])])
         A, B = (pts, pts) if pts.shape[1] == 1 else (pts[:, :-1], pts[:, 1:])  # (n, m, 2)
-        hit = _segments_hit_polygon(A.reshape(-1, 2), B.reshape(-1, 2), self.vertices)
-        return hit.reshape(chain_uv.shape[0], -1).any(axis=1)
+        hit = _segments_hit_polygon(A.reshape(-1, 2), B.reshape(-1, 2), self._polygon())
+        return np.asarray(hit.reshape(chain_uv.shape[0], -1).any(axis=1))
 
     def _circle_hits(self, ends: list[tuple[Any, Any]], ops: _Ops = _NUMPY) -> Any:
         """True where a segment between consecutive ``ends`` enters the circle.
@@ -194,7 +196,7 @@ class Footprint:
         """
         pairs = list(zip(ends[:-1], ends[1:], strict=True)) or [(ends[0], ends[0])]
         # one checked point: the segment from it to itself
-        return ops.any([_segment_within(*a, *b, self.center, self.radius, ops)
+        return ops.any([_segment_within(*a, *b, self._circle(), self.radius, ops)
                         for a, b in pairs])
 
     def kernel(self, robot: Robot, plane: Plane) -> ca.Function | None:
@@ -209,7 +211,7 @@ class Footprint:
             return None
         first = self.first_origin(robot)
         spec = repr((kinematic_key(robot), plane.e1.tolist(), plane.e2.tolist(),
-                     self.center.tolist(), self.radius, first))
+                     self._circle().tolist(), self.radius, first))
         digest = hashlib.sha256(spec.encode()).hexdigest()[:12]
         cache: dict[str, ca.Function] = robot.__dict__.setdefault("_footprint_kernels", {})
         if digest not in cache:
@@ -230,8 +232,19 @@ class Footprint:
         """Closed outline (m, 2) [m] of the zone, for plots."""
         if self.shape == "circle":
             t = np.linspace(0.0, 2 * np.pi, 181)
-            return self.center + self.radius * np.column_stack([np.cos(t), np.sin(t)])
-        return np.vstack([self.vertices, self.vertices[:1]])
+            return self._circle() + self.radius * np.column_stack([np.cos(t), np.sin(t)])
+        V = self._polygon()
+        return np.vstack([V, V[:1]])
+
+    def _circle(self) -> Array:
+        """The centre (2,) [m] of a circle footprint (``__post_init__`` has checked it)."""
+        assert self.center is not None, "a circle footprint always has a center"
+        return self.center
+
+    def _polygon(self) -> Array:
+        """The vertices (k, 2) [m] of a polygon footprint (``__post_init__`` has checked them)."""
+        assert self.vertices is not None, "a polygon footprint always has vertices"
+        return self.vertices
 
 
 def _finite(value: object, shape: tuple[int | None, ...], what: str) -> Array:
@@ -242,7 +255,8 @@ def _finite(value: object, shape: tuple[int | None, ...], what: str) -> Array:
     ok = arr.ndim == len(shape) and all(s is None or s == d
                                         for s, d in zip(shape, arr.shape, strict=True))
     if not ok or not np.isfinite(arr).all():
-        want = {(): "() (a number)", (2,): "(2,) [u, v]"}.get(shape, "(k, 2) [[u, v], ...]")
+        wants: dict[tuple[int | None, ...], str] = {(): "() (a number)", (2,): "(2,) [u, v]"}
+        want = wants.get(shape, "(k, 2) [[u, v], ...]")
         raise InputError(f"{what} must be finite numbers of shape {want} [m]; got {value!r}")
     return arr
 

@@ -11,6 +11,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from scara_opt.comparison import takes_budget
 from scara_opt.ik.registry import method_label
@@ -19,14 +20,31 @@ if TYPE_CHECKING:
     import pandas as pd
     from matplotlib.axes import Axes
     from matplotlib.figure import Figure
+    from mpl_toolkits.mplot3d.axes3d import Axes3D
 
     from scara_opt.model.robot import Robot
+    from scara_opt.target import Target
+    from scara_opt.trajectory.path import JointPath
 
 
 def _figure(**kw: Any) -> Figure:
     from matplotlib.figure import Figure
 
     return Figure(**kw)
+
+
+def _axes3d(fig: Figure) -> Axes3D:
+    """A new 3-D axes filling ``fig``."""
+    from mpl_toolkits.mplot3d.axes3d import Axes3D
+
+    ax = fig.add_subplot(projection="3d")
+    assert isinstance(ax, Axes3D), "projection='3d' makes an Axes3D"  # (typed as Axes)
+    return ax
+
+
+def root_figure(ax: Axes) -> Figure:
+    """The figure to save for ``ax``: its own, or the top one when ``ax`` is in a subfigure."""
+    return ax.figure.figure  # a SubFigure's .figure is the root Figure, a Figure's is itself
 
 
 def _save(fig: Figure, path: str | Path | None) -> Path | None:
@@ -38,8 +56,9 @@ def _save(fig: Figure, path: str | Path | None) -> Path | None:
     return path
 
 
-def draw_robot(robot: Robot, q: object, ax: Axes | None = None, path: str | Path | None = None,
-               color: str = "C0", label: str | None = None, title: str | None = None) -> Axes:
+def draw_robot(robot: Robot, q: ArrayLike, ax: Axes3D | None = None,
+               path: str | Path | None = None, color: str = "C0", label: str | None = None,
+               title: str | None = None) -> Axes3D:
     """Draw the arm at ``q`` as a 3-D stick figure through every joint origin and the tip.
 
     Args:
@@ -56,8 +75,7 @@ def draw_robot(robot: Robot, q: object, ax: Axes | None = None, path: str | Path
     """
     pts = robot.joint_origins(np.atleast_2d(robot.check_q(q)))[0] * 1000.0
     if ax is None:
-        fig = _figure(figsize=(6, 5))
-        ax = fig.add_subplot(projection="3d")
+        ax = _axes3d(_figure(figsize=(6, 5)))
     ax.plot(pts[:, 0], pts[:, 1], pts[:, 2], "-o", color=color, lw=3, ms=5, label=label)
     first = not any(line.get_label() == "base" for line in ax.lines)
     ax.plot([pts[0, 0]], [pts[0, 1]], [pts[0, 2]], "ks", ms=9, label="base" if first else None)
@@ -69,11 +87,11 @@ def draw_robot(robot: Robot, q: object, ax: Axes | None = None, path: str | Path
     ax.set_title(title or robot.name, fontsize=10)
     ax.legend(fontsize="small")
     _set_equal(ax)
-    _save(ax.figure, path)
+    _save(root_figure(ax), path)
     return ax
 
 
-def _set_equal(ax: Axes) -> None:
+def _set_equal(ax: Axes3D) -> None:
     """Equal scale on the three axes of a 3-D plot."""
     lims = np.array([ax.get_xlim3d(), ax.get_ylim3d(), ax.get_zlim3d()])
     center, half = lims.mean(axis=1), (lims[:, 1] - lims[:, 0]).max() / 2
@@ -82,8 +100,8 @@ def _set_equal(ax: Axes) -> None:
     ax.set_zlim3d(center[2] - half, center[2] + half)
 
 
-def animate(robot: Robot, joint_path: object, path_to_gif: str | Path, fps: int = 10,
-            targets: object | None = None) -> Path:
+def animate(robot: Robot, joint_path: JointPath | ArrayLike, path_to_gif: str | Path,
+            fps: int = 10, targets: Sequence[Target] | ArrayLike | None = None) -> Path:
     """Animate the arm along a joint path and save a GIF.
 
     Args:
@@ -113,7 +131,7 @@ def animate(robot: Robot, joint_path: object, path_to_gif: str | Path, fps: int 
     Q = np.asarray(getattr(joint_path, "q", joint_path), dtype=float)
     pts = robot.joint_origins(robot.check_q_batch(Q)) * 1000.0
     fig = _figure(figsize=(6, 5))
-    ax = fig.add_subplot(projection="3d")
+    ax = _axes3d(fig)
     lo, hi = pts.reshape(-1, 3).min(axis=0), pts.reshape(-1, 3).max(axis=0)
     ax.set_xlim3d(lo[0], hi[0])
     ax.set_ylim3d(lo[1], hi[1])

@@ -543,3 +543,22 @@ def test_a_motion_program_keeps_torque_limits_and_a_payload_only_slows_it(tmp_pa
     data = json.loads(capsys.readouterr().out)
     assert data["payload_kg"] == 2.0 and data["payload_toppra_s"] == pytest.approx(
         loaded.duration)
+
+
+def test_a_motion_trajectory_without_its_robot_refuses_the_fk_checks(robot):
+    """A MotionTrajectory stripped of its robot says so (InputError) instead of crashing.
+
+    Mutation caught: ``_robot()`` returning ``self.robot`` unchecked -> AttributeError
+    ('NoneType' object has no attribute ...) from check_limits and blend_deviations.
+    """
+    from dataclasses import replace
+
+    p0 = robot.position(Q0)
+    traj = plan(robot, [LIN(p0 + [0.0, 0.1, 0.0], blend=0.02), LIN(p0 + [-0.1, 0.1, 0.0])],
+                ToolLimits(speed=0.25, acceleration=3.0), start=Q0)
+    assert traj.corners and traj.blend_deviations().shape == (1,)
+    bare = replace(traj, robot=None)
+    with pytest.raises(InputError, match="no robot"):
+        bare.check_limits()
+    with pytest.raises(InputError, match="no robot"):
+        bare.blend_deviations()

@@ -22,6 +22,24 @@ def test_draw_robot_goes_through_every_joint_origin_to_the_tip(robots, tmp_path)
     assert (tmp_path / "pose.png").stat().st_size > 0
 
 
+def test_draw_robot_into_a_subfigure_saves_the_whole_figure(robots, tmp_path):
+    """An axes of a subfigure (which has no savefig) is saved through its root Figure.
+
+    Mutation caught: saving ``ax.figure`` (the SubFigure: AttributeError 'savefig').
+    """
+    from matplotlib.figure import Figure
+
+    robot = robots["zavar2024"]
+    fig = Figure(figsize=(8, 4))
+    left, right = fig.subfigures(1, 2)
+    right.add_subplot().plot([0, 1], [0, 1])
+    ax = draw_robot(robot, robot.lower, ax=left.add_subplot(projection="3d"),
+                    path=tmp_path / "sub.png")
+    assert ax.figure is left
+    with Image.open(tmp_path / "sub.png") as img:  # both halves: wider than tall
+        assert img.width > 1.5 * img.height
+
+
 def test_animate_writes_one_frame_per_path_point(robots, tmp_path):
     """A GIF with one frame per configuration of the joint path (targets drawn too)."""
     robot = robots["zavar2024"]

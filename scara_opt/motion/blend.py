@@ -11,6 +11,8 @@ the smaller of both where they meet). Runs with a PTP: :mod:`scara_opt.motion.bl
 
 from __future__ import annotations
 
+from collections.abc import Callable
+
 import numpy as np
 from numpy.typing import NDArray
 
@@ -33,7 +35,9 @@ def _span(curve: geometry.Curve, a: float, b: float, step: float) -> Array:
 
 
 def blended_joints(section: list[tuple[int, Move]], robot: Robot, q_prev: Array, step: float,
-                   move_curve) -> tuple[Array, list[tuple[Array, float]], list[int]]:
+                   move_curve: Callable[[int, Move, Robot, Array, float | None],
+                                        tuple[geometry.Curve, float | None]]
+                   ) -> tuple[Array, list[tuple[Array, float]], list[int]]:
     """Joint path (n, nq) of a blended run of LIN/CIRC moves from ``q_prev``, and its corners.
 
     Returns:
@@ -54,20 +58,24 @@ def blended_joints(section: list[tuple[int, Move]], robot: Robot, q_prev: Array,
     for j, (index, move) in enumerate(section[:-1]):
         geometry.check_blend(index, move.blend,
                              min(curves[j][0].length, curves[j + 1][0].length) / 2)
-    P, Y, owner, corners = [], [], [], []
+    P: list[Array] = []
+    Y: list[Array | None] = []  # yaws: all None (no yaw axis) or none
+    owner: list[int] = []
+    corners: list[tuple[Array, float]] = []
     for j, (index, move) in enumerate(section):
         curve, y0, y1 = curves[j]
         a = section[j - 1][1].blend if j else 0.0
         b = curve.length - (move.blend if j < len(section) - 1 else 0.0)
         pts = _span(curve, a, b, step)
         f = np.linspace(a, b, len(pts)) / curve.length
-        ys = None if y0 is None else y0 + f * (y1 - y0)
+        ys = None if y0 is None or y1 is None else y0 + f * (y1 - y0)
         if j:  # the Bézier from the previous move's cut to this one's
             prev = section[j - 1][1].blend
             A, C = P[-1][-1], curves[j - 1][0].end
             corner = geometry.bezier(A, C, pts[0], geometry.count(2 * prev, step, least=5))
             corners.append((C, prev))
-            yb = None if ys is None else np.linspace(Y[-1][-1], ys[0], len(corner))
+            last = Y[-1]
+            yb = None if ys is None or last is None else np.linspace(last[-1], ys[0], len(corner))
             P.append(corner[1:-1])
             Y.append(None if yb is None else yb[1:-1])
             owner += [section[j - 1][0]] * (len(corner) - 2)
@@ -75,7 +83,9 @@ def blended_joints(section: list[tuple[int, Move]], robot: Robot, q_prev: Array,
         Y.append(ys)
         owner += [index] * len(pts)
     P_all = np.vstack(P)
-    Y_all = None if Y[0] is None else np.concatenate(Y)
+    yaws = [y for y in Y if y is not None]
+    assert len(yaws) in (0, len(Y)), "every point of a run has a yaw, or none has"
+    Y_all = np.concatenate(yaws) if yaws else None
     for index, move in section:
         if move.elbow is not None:
             branch.path_joints(index, move.kind, robot, P_all[:1], None if Y_all is None

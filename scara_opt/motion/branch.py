@@ -43,8 +43,11 @@ def geometry(robot: Robot) -> ScaraGeometry | None:
 def elbow_signs(robot: Robot, Q: Array) -> Array | None:
     """Branch of each configuration (n,): +1 righty, -1 lefty, 0 stretched; ``None``: no SCARA."""
     g = geometry(robot)
-    if g is None:
-        return None
+    return None if g is None else signs_of(g, Q)
+
+
+def signs_of(g: ScaraGeometry, Q: Array) -> Array:
+    """:func:`elbow_signs` (n,) of configurations ``Q`` (n, nq) or (nq,) of a SCARA ``g``."""
     rel = g.phi2 - g.phi1 + g.s[g.elbow] * np.atleast_2d(Q)[:, g.elbow]
     s = np.sin(rel)
     return np.where(np.abs(s) < STRETCHED, 0, np.sign(s)).astype(int)
@@ -85,7 +88,8 @@ def ptp_goal(index: int, robot: Robot, goal: Target | Array, q_prev: Array,
             raise MoveError(index, str(exc)) from None
         _check_branch(index, robot, q, elbow, "the joint goal")
         return q
-    if geometry(robot) is None:
+    g = geometry(robot)
+    if g is None:
         if elbow is not None:
             _check_branch(index, robot, q_prev, elbow, "")
         res = get_solver("auto").solve(robot, goal, q0=q_prev, seed=index, tol=1e-9)
@@ -98,7 +102,7 @@ def ptp_goal(index: int, robot: Robot, goal: Target | Array, q_prev: Array,
         raise MoveError(index, f"PTP goal {goal} is unreachable within the joint limits; "
                                "move it into the workspace")
     if elbow is not None:
-        sols = [q for q in sols if elbow_signs(robot, q)[0] == SIGN[elbow]]
+        sols = [q for q in sols if signs_of(g, q)[0] == SIGN[elbow]]
         if not sols:
             raise MoveError(index, f"PTP goal {goal} is reachable only off the {elbow} branch "
                                    "within the joint limits; change elbow= or the goal")
@@ -114,7 +118,7 @@ def first_unreachable(robot: Robot, P: Array, yaws: Array | None, q_prev: Array)
     if b is None:
         return None
     _, valid = solve_batch(robot, P, yaws)
-    bad = np.flatnonzero(~valid[:, b])
+    bad = np.flatnonzero(np.logical_not(valid[:, b]))
     return int(bad[0]) if bad.size else None
 
 
@@ -127,7 +131,7 @@ def _branch_column(robot: Robot, yaws: Array | None, q_prev: Array) -> int | Non
     g = geometry(robot)
     if g is None or g.redundant or g.wrist < 0 or yaws is None:
         return None
-    side = int(elbow_signs(robot, q_prev)[0])
+    side = int(signs_of(g, q_prev)[0])
     return None if side == 0 else (0 if side > 0 else 1)
 
 
@@ -140,9 +144,9 @@ def closed_form_path(robot: Robot, P: Array, yaws: Array | None, q_prev: Array) 
     of reach, out of the limits, jumps, or misses its target by more than 1e-9.
     """
     b = _branch_column(robot, yaws, q_prev)
-    if b is None:
-        return None
     g = geometry(robot)
+    if b is None or g is None or yaws is None:  # (b is None already when g or yaws is)
+        return None
     Q2, valid = solve_batch(robot, P, yaws)
     if not valid[:, b].all():
         return None
@@ -198,8 +202,7 @@ def _ik_path_joints(index: int, kind: str, robot: Robot, P: Array, yaws: Array |
     if jp.unsolved:
         i = jp.unsolved[0]
         where = f"point {i} of {total} at {np.round(P[i], 6).tolist()} m"
-        other = ik_all(robot, targets[i]) if start is not None else []
-        if other:
+        if start is not None and ik_all(robot, targets[i]):
             side = NAME[int(start[0])]
             raise BranchError(who(i), f"{kind} leaves the {side} branch at {where}: it is "
                                       f"reachable there only on another branch; split the "
@@ -218,8 +221,9 @@ def _ik_path_joints(index: int, kind: str, robot: Robot, P: Array, yaws: Array |
                                 "the base hole): move the goal, or go around with several "
                                 "moves")
     Q = jp.q
-    if start is not None:
-        signs = elbow_signs(robot, Q)
+    g = geometry(robot)
+    if start is not None and g is not None:  # (g is None only where start is)
+        signs = signs_of(g, Q)
         ref = start[0] if start[0] != 0 else (signs[signs != 0][:1] or [0])[0]
         off = np.flatnonzero((signs != ref) & (signs != 0))
         if off.size:

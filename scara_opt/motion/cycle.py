@@ -25,25 +25,32 @@ corners' curvature sets (7.0 s against 2.9 s stopping, zavar2024, r = 10 mm).
 from __future__ import annotations
 
 import math
+from collections.abc import Iterator
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 import numpy as np
-from numpy.typing import NDArray
+from numpy.typing import ArrayLike, NDArray
 
 from scara_opt.checks import check_real
 from scara_opt.collision.continuous import prove_segment
 from scara_opt.errors import CollisionError, InputError, MoveError
 from scara_opt.ik.analytic import ik_all
+from scara_opt.ik.geometry import ScaraGeometry
 from scara_opt.model.robot import Robot, check_robot
 from scara_opt.motion import branch, geometry
 from scara_opt.motion.clearance import in_cell
-from scara_opt.motion.moves import LIN, PTP
+from scara_opt.motion.moves import LIN, PTP, Move
 from scara_opt.motion.plan import plan
 from scara_opt.motion.result import MotionTrajectory
 from scara_opt.motion.tool_limits import ToolLimits
 from scara_opt.target import Target
+from scara_opt.trajectory.dynamics import PayloadLike
 from scara_opt.trajectory.limits import resolve_limits
 from scara_opt.trajectory.registry import time_parameterize
+
+if TYPE_CHECKING:
+    from scara_opt.collision import Cell, CollisionChecker
 
 Array = NDArray[np.float64]
 
@@ -100,16 +107,27 @@ class CycleResult:
 UP = np.array([0.0, 0.0, 1.0])
 
 
-def _candidates(robot: Robot, up: float, across: float, down: float):
+def _scara(robot: Robot) -> ScaraGeometry:
+    """The robot's SCARA geometry.
+
+    Raises:
+        InputError: the robot is not SCARA-type.
+    """
+    g = branch.geometry(robot)
+    if g is None:
+        raise InputError(f"cycle_time needs a SCARA-type robot; {robot.name!r} is not")
+    return g
+
+
+def _candidates(robot: Robot, up: float, across: float, down: float
+                ) -> Iterator[tuple[Array, Array, Array]]:
     """Placements ``(A, B, up_direction)``: lower corners [m] and world up, nearest first.
 
     A SCARA with a vertical axis (the usual one) strokes up and down along it, across in
     its plane; an arm whose axis is horizontal (nguyen: it moves in the x-z plane) strokes
     up and down and across in its plane, across horizontal, at mid-range of its heights.
     """
-    g = branch.geometry(robot)
-    if g is None:
-        raise InputError(f"cycle_time needs a SCARA-type robot; {robot.name!r} is not")
+    g = _scara(robot)
     lo = g.h0 + sum(min(g.sigma[k] * robot.lower[k], g.sigma[k] * robot.upper[k])
                     for k in g.heights)
     hi = g.h0 + sum(max(g.sigma[k] * robot.lower[k], g.sigma[k] * robot.upper[k])
@@ -155,16 +173,22 @@ def place_cycle(robot: Robot, up: float = 0.025, across: float = 0.305,
                      "across= (and up=/down=) for a small robot")
 
 
-def placements(robot: Robot, up: float, across: float, down: float):
-    """Every reachable placement ``(A, B, q at A, branch)``, in :func:`place_cycle`'s order."""
+def placements(robot: Robot, up: float, across: float, down: float
+               ) -> Iterator[tuple[Array, Array, Array, str]]:
+    """Every reachable placement ``(A, B, q at A, branch)``, in :func:`place_cycle`'s order.
+
+    Raises:
+        InputError: the robot is not SCARA-type.
+    """
+    g = _scara(robot)
     for A, B, n in _candidates(robot, up, across, down):
         corners = [A, A + up * n, B + down * n, B]
         sols = [ik_all(robot, Target(p)) for p in corners]
         if not all(sols):
             continue
         for q in (s.q for s in sols[0]):
-            side = int(branch.elbow_signs(robot, q)[0])
-            if side and all(any(branch.elbow_signs(robot, s.q)[0] == side for s in ss)
+            side = int(branch.signs_of(g, q)[0])
+            if side and all(any(branch.signs_of(g, s.q)[0] == side for s in ss)
                             for ss in sols[1:]):
                 yield A, B, q, branch.NAME[side]
                 break
@@ -192,9 +216,9 @@ def check_cycle_blend(blend: float, up: float, across: float, down: float,
 
 def cycle_time(robot: Robot, up: float = 0.025, across: float = 0.305, down: float = 0.025,
                limits: ToolLimits | None = None, blend: float = 0.0, *,
-               vmax: object | None = None, amax: object | None = None,
-               cell: object = None, margin: float = 0.0, time_limit: float = 1.0,
-               seed: int = 0) -> CycleResult:
+               vmax: ArrayLike | None = None, amax: ArrayLike | None = None,
+               cell: Cell | CollisionChecker | None = None, margin: float = 0.0,
+               time_limit: float = 1.0, seed: int = 0) -> CycleResult:
     """Time the pick-and-place cycle (A up, across, down to B, and back) three ways.
 
     Args:
@@ -233,22 +257,26 @@ def cycle_time(robot: Robot, up: float = 0.025, across: float = 0.305, down: flo
     joint = resolve_limits(robot, robot.nq, vmax, amax)  # before any IK
     vmax, amax = joint.vmax, joint.amax
     ctx = in_cell(robot, cell, margin, time_limit, seed)
-    kw = {"vmax": vmax, "amax": amax}
-    if ctx is not None:
-        kw.update(cell=ctx.checker, time_limit=time_limit, seed=seed)
-    stops, tried = None, []
+    checker = None if ctx is None else ctx.checker
+
+    def timed(program: list[Move], q0: Array, method: str = "toppra") -> MotionTrajectory:
+        return plan(robot, program, limits, start=q0, vmax=vmax, amax=amax, method=method,
+                    cell=checker, time_limit=time_limit, seed=seed)
+
+    stops: MotionTrajectory | None = None
+    tried: list[str] = []
     for A, B, q0, elbow in (placements(robot, up, across, down) if ctx is not None
                             else [place_cycle(robot, up, across, down)]):
         Au, Bu = A + up * UP, B + down * UP
 
         def program(r: float, Au: Array = Au, Bu: Array = Bu, A: Array = A, B: Array = B,
-                    elbow: str = elbow) -> list:
+                    elbow: str = elbow) -> list[Move]:
             return [LIN(Target(Au), blend=r), PTP(Target(Bu), elbow=elbow, blend=r),
                     LIN(Target(B)), LIN(Target(Bu), blend=r), PTP(Target(Au), elbow=elbow,
                                                                   blend=r), LIN(Target(A))]
 
         try:
-            stops = plan(robot, program(0.0), limits, start=q0, **kw)
+            stops = timed(program(0.0), q0)
             break
         except (MoveError, CollisionError) as exc:
             if ctx is None:  # pragma: no cover - placement checked the corners
@@ -264,20 +292,19 @@ def cycle_time(robot: Robot, up: float = 0.025, across: float = 0.305, down: flo
                          "pass other strokes")
     corners = stops.waypoints
     durations = {"toppra": stops.duration,
-                 "ruckig": plan(robot, program(0.0), limits, start=q0, method="ruckig",
-                                **kw).duration}
+                 "ruckig": timed(program(0.0), q0, method="ruckig").duration}
     if ctx is None or all(prove_segment(ctx.checker, a, b).clear
                           for a, b in zip(corners[:-1], corners[1:], strict=True)):
         durations["quintic"] = time_parameterize(corners, robot, method="quintic", vmax=vmax,
                                                  amax=amax).duration
     traj = stops
     if blend:
-        traj = plan(robot, program(blend), limits, start=q0, **kw)
+        traj = timed(program(blend), q0)
         durations["toppra_blended"] = traj.duration
     return CycleResult(robot.name, up, across, down, A, B, durations, traj, corners, blend)
 
 
-def cycle_with_payload(robot: Robot, result: CycleResult, payload: object,
+def cycle_with_payload(robot: Robot, result: CycleResult, payload: PayloadLike,
                        limits: ToolLimits | None = None) -> MotionTrajectory:
     """The placed cycle of ``result`` timed by toppra under the robot's torque limits too.
 

@@ -19,6 +19,8 @@ acceleration. Its limit ratios are checked like toppra's (exact joints, 1 kHz to
 
 from __future__ import annotations
 
+from typing import Any
+
 import numpy as np
 from numpy.typing import NDArray
 from scipy.interpolate import PPoly
@@ -35,7 +37,8 @@ from scara_opt.trajectory.trajectory import Trajectory, stretch
 Array = NDArray[np.float64]
 
 
-def _bounds(robot: Robot, path, s: Array, limits: Limits, tool: ToolProfile) -> tuple[float, float]:
+def _bounds(robot: Robot, path: Any, s: Array, limits: Limits,
+            tool: ToolProfile) -> tuple[float, float]:
     """The joints' bounds (:func:`~scara_opt.trajectory.passing.path_bounds`), then the tool's."""
     grid = bounds_grid(s)
     dp, ddp, dyaw = path_derivatives(robot, path, grid)

@@ -14,11 +14,13 @@ raises :class:`~scara_opt.errors.MoveError` naming the index and what to change.
 from __future__ import annotations
 
 import math
+import numbers
+from collections.abc import Iterable
 from dataclasses import dataclass
-from typing import Any
+from typing import Any, Literal, overload
 
 import numpy as np
-from numpy.typing import NDArray
+from numpy.typing import ArrayLike, NDArray
 
 from scara_opt.checks import describe, is_real
 from scara_opt.errors import MoveError, ScaraOptError
@@ -67,8 +69,8 @@ class CIRC(Move):
     via: Any = None
     kind = "CIRC"
 
-    def __init__(self, via: object, goal: object, speed: float | None = None,
-                 acceleration: float | None = None, blend: float = 0.0,
+    def __init__(self, via: Target | ArrayLike, goal: Target | ArrayLike,
+                 speed: float | None = None, acceleration: float | None = None, blend: float = 0.0,
                  elbow: str | None = None) -> None:
         for name, value in (("goal", goal), ("speed", speed), ("acceleration", acceleration),
                             ("blend", blend), ("elbow", elbow), ("via", via)):
@@ -78,7 +80,8 @@ class CIRC(Move):
 def _positive(index: int, move: Move, name: str, value: object, unit: str) -> None:
     if value is None:
         return
-    if not is_real(value) or not (math.isfinite(float(value)) and float(value) > 0):  # type: ignore[arg-type]
+    number = float(value) if isinstance(value, numbers.Real) and is_real(value) else math.nan
+    if not (math.isfinite(number) and number > 0):
         raise MoveError(index, f"{move.kind} {name}={describe(value)}: a tool {name} must be a "
                                f"finite number > 0 [{unit}]; pass a positive {name}= or None "
                                "for the program's limit")
@@ -108,6 +111,16 @@ def check_move(index: int, move: object, nq: int) -> Move:
     return move
 
 
+@overload
+def goal_point(index: int, goal: object, nq: int, what: str,
+               joints: Literal[True] = ...) -> Target | Array: ...
+
+
+@overload
+def goal_point(index: int, goal: object, nq: int, what: str,
+               joints: Literal[False]) -> Target: ...
+
+
 def goal_point(index: int, goal: object, nq: int, what: str,
                joints: bool = True) -> Target | Array:
     """A goal as a Target or a joint vector (nq,); a via point as a Target.
@@ -133,7 +146,7 @@ def goal_point(index: int, goal: object, nq: int, what: str,
     raise MoveError(index, f"{what} must be {shapes}; got {describe(goal)}")
 
 
-def as_moves(moves: object, nq: int) -> list[Move]:
+def as_moves(moves: Move | Iterable[Move], nq: int) -> list[Move]:
     """The program as a checked list of moves.
 
     Raises:
@@ -144,7 +157,7 @@ def as_moves(moves: object, nq: int) -> list[Move]:
     if isinstance(moves, Move):
         moves = [moves]
     try:
-        seq = list(moves)  # type: ignore[call-overload]
+        seq: list[object] = list(moves)
     except TypeError:
         raise InputError(f"moves must be a sequence of PTP/LIN/CIRC; got "
                          f"{describe(moves)}") from None

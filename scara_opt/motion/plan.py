@@ -15,10 +15,13 @@ from __future__ import annotations
 
 import time
 from collections import deque
+from collections.abc import Iterable
 from dataclasses import replace
+from typing import TYPE_CHECKING
 
 import numpy as np
-from numpy.typing import NDArray
+from numpy.typing import ArrayLike, NDArray
+from scipy.interpolate import PPoly
 
 from scara_opt.checks import check_flag, check_real
 from scara_opt.errors import BranchError, InputError, MoveError
@@ -34,9 +37,12 @@ from scara_opt.motion.result import MotionTrajectory
 from scara_opt.motion.timing import time_section
 from scara_opt.motion.tool_limits import ToolLimits, ToolProfile
 from scara_opt.target import Target
-from scara_opt.trajectory.dynamics import RobotDynamics
+from scara_opt.trajectory.dynamics import PayloadLike, RobotDynamics
 from scara_opt.trajectory.limits import resolve_limits
 from scara_opt.trajectory.trajectory import concatenate
+
+if TYPE_CHECKING:
+    from scara_opt.collision import Cell, CollisionChecker
 
 Array = NDArray[np.float64]
 
@@ -74,8 +80,8 @@ def move_curve(index: int, move: Move, robot: Robot, p0: Array, yaw0: float | No
     """
     goal = goal_point(index, move.goal, robot.nq, "goal")
     p1, yaw1 = _goal_pose(index, robot, goal, yaw0)
-    if isinstance(move, LIN):
-        return geometry.Curve(p0, p1), yaw1
+    if not isinstance(move, CIRC):
+        return geometry.Curve(p0, p1), yaw1  # a LIN
     via = goal_point(index, move.via, robot.nq, "via", joints=False).position
     c = geometry.circle(p0, np.asarray(via, float), p1)
     if c is None:
@@ -103,7 +109,8 @@ def move_joints(index: int, move: Move, robot: Robot, q_prev: Array, step: float
         curve, yaw1 = move_curve(index, move, robot, p0, yaw0)
         f = np.linspace(0.0, 1.0, geometry.count(curve.length, step))
         P = curve.at(f)
-        yaws = None if yaw0 is None else yaw0 + f * (yaw1 - yaw0)
+        yaws = None if yaw0 is None or yaw1 is None else yaw0 + f * (yaw1 - yaw0)
+        # (yaw1 is None only where yaw0 is: _goal_pose)
         Q = np.vstack([q_prev, branch.path_joints(index, move.kind, robot, P[1:],
                                                   None if yaws is None else yaws[1:],
                                                   q_prev, move.elbow)])
@@ -148,26 +155,27 @@ def _flip(index: int, move: Move, robot: Robot, q: Array, exc: BranchError,
     f = np.linspace(0.0, 1.0, geometry.count(curve.length, step))[exc.point]
 
     def pose(x: float) -> Target:
-        return Target(curve.at(np.array([x]))[0], None if yaw0 is None else
+        return Target(curve.at(np.array([x]))[0], None if yaw0 is None or yaw1 is None else
                       yaw0 + x * (yaw1 - yaw0))
 
-    def part(a: float, b: float, goal: object) -> Move:
-        kw = {"speed": move.speed, "acceleration": move.acceleration}
+    def part(a: float, b: float, goal: Target | ArrayLike) -> Move:
         if isinstance(move, LIN):
-            return LIN(goal, **kw)
-        return CIRC(curve.at(np.array([(a + b) / 2]))[0], goal, **kw)
+            return LIN(goal, speed=move.speed, acceleration=move.acceleration)
+        return CIRC(curve.at(np.array([(a + b) / 2]))[0], goal, speed=move.speed,
+                    acceleration=move.acceleration)
 
     other = "lefty" if exc.side == "righty" else "righty"
     runs = [[(index, part(0.0, f, pose(f)))]] if f > 0 else []
     return runs + [[(index, PTP(pose(f), elbow=other))], [(index, part(f, 1.0, move.goal))]]
 
 
-def plan(robot: Robot, moves: object, limits: ToolLimits | None = None, *,
-         start: object | None = None, vmax: object | None = None, amax: object | None = None,
+def plan(robot: Robot, moves: Move | Iterable[Move], limits: ToolLimits | None = None, *,
+         start: ArrayLike | None = None, vmax: ArrayLike | None = None,
+         amax: ArrayLike | None = None,
          step: float = STEP, method: str = "toppra", allow_flip: bool = False,
-         torque_limits: object = None, payload: object = None,
-         payload_frame: str | None = None, cell: object = None, margin: float = 0.0,
-         time_limit: float = 1.0, seed: int = 0) -> MotionTrajectory:
+         torque_limits: bool | ArrayLike | None = None, payload: PayloadLike | None = None,
+         payload_frame: str | None = None, cell: Cell | CollisionChecker | None = None,
+         margin: float = 0.0, time_limit: float = 1.0, seed: int = 0) -> MotionTrajectory:
     """Plan a program of PTP / LIN / CIRC moves into one timed trajectory.
 
     Args:
@@ -250,7 +258,8 @@ def plan(robot: Robot, moves: object, limits: ToolLimits | None = None, *,
         q, offset = check_within_limits(robot, start, "start"), 0
     if cellp is not None:
         cellp.check_start(q)
-    pieces, goals, notes, corners, profiles = [], [q], [], [], []
+    pieces: list[tuple[PPoly, ...]] = []
+    goals, notes, corners, profiles = [q], [], [], []
     tools: dict[int, ToolLimits] = {}  # each move's own tool limits, by index
     queue = deque(_sections(program, offset))
     while queue:

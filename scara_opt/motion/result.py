@@ -54,6 +54,17 @@ class MotionTrajectory(Trajectory):
     checker: CollisionChecker | None = None
     stops: Array = field(default_factory=lambda: np.zeros(0))
 
+    def _robot(self) -> Robot:
+        """:attr:`robot`; a trajectory built by hand without one cannot be checked by FK.
+
+        Raises:
+            InputError: no robot attached.
+        """
+        if self.robot is None:
+            raise InputError("this MotionTrajectory has no robot: build it with "
+                             "scara_opt.plan(robot, moves), which attaches it")
+        return self.robot
+
     def _stops(self) -> Array:
         """:attr:`stops`, or the waypoint times of a trajectory built without them."""
         return self.stops if len(self.stops) else self.waypoint_times
@@ -66,8 +77,9 @@ class MotionTrajectory(Trajectory):
         """
         from scipy.optimize import minimize_scalar
 
+        robot = self._robot()
         t = self.times(dt)
-        P = self.robot.positions(self.evaluate(t))
+        P = robot.positions(self.evaluate(t))
         stops = self._stops()
         dist, when = [], []
         for c, _, run in self.corners:  # only while that run is under way
@@ -75,7 +87,7 @@ class MotionTrajectory(Trajectory):
             k = inside[int(np.argmin(np.linalg.norm(P[inside] - c, axis=1)))]
             lo, hi = t[max(k - 1, 0)], t[min(k + 1, len(t) - 1)]
             best = minimize_scalar(lambda x, c=c: float(np.linalg.norm(
-                self.robot.position(self.evaluate(np.array([x]))[0]) - c)),
+                robot.position(self.evaluate(np.array([x]))[0]) - c)),
                 bounds=(lo, hi), method="bounded", options={"xatol": 1e-9})
             d0 = float(np.linalg.norm(P[k] - c))
             dist.append(min(d0, float(best.fun)))
@@ -117,7 +129,7 @@ class MotionTrajectory(Trajectory):
         for i, (knots, profile) in enumerate(self.profiles):
             t0, t1 = self._stops()[i], self._stops()[i + 1]
             part = _window(self, t0, t1)
-            for name, value in tool_ratios(self.robot, part, profile, knots, dt).items():
+            for name, value in tool_ratios(self._robot(), part, profile, knots, dt).items():
                 rows[name].append(value)
         return {f"tool_{k}": np.array(v) for k, v in rows.items()}
 

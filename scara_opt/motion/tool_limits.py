@@ -159,20 +159,14 @@ def path_derivatives(robot: Robot, path: Any, grid: Array) -> tuple[Array, Array
     return dp, ddp, dyaw
 
 
-def _linear_constraint() -> type:
-    from toppra.constraint import LinearConstraint
-
-    return LinearConstraint
-
-
 def speed_constraint(robot: Robot, tool: ToolProfile, knots: Array) -> Any:
     """toppra first-order constraint: tip speed and yaw rate (``xbound``).
 
     ``knots`` (n,): the path parameter at the waypoints the profile's intervals join.
     """
-    base = _linear_constraint()
+    from toppra.constraint import LinearConstraint
 
-    class _Speed(base):  # type: ignore[misc, valid-type]
+    class _Speed(LinearConstraint):
         def __init__(self) -> None:
             super().__init__()
             self.dof = robot.nq
@@ -195,14 +189,13 @@ def speed_constraint(robot: Robot, tool: ToolProfile, knots: Array) -> Any:
 
 def acceleration_constraint(robot: Robot, tool: ToolProfile, knots: Array) -> Any:
     """toppra second-order constraint: ``‖p' u + p'' x‖ <= a`` as an inscribed polygon."""
-    base = _linear_constraint()
-    from toppra.constraint import DiscretizationType
+    from toppra.constraint import DiscretizationType, LinearConstraint
     from toppra.constraint.linear_constraint import canlinear_colloc_to_interpolate
 
     phi = 2 * np.pi * np.arange(POLYGON) / POLYGON
     F = np.column_stack([np.cos(phi), np.sin(phi)])
 
-    class _Acc(base):  # type: ignore[misc, valid-type]
+    class _Acc(LinearConstraint):
         def __init__(self) -> None:
             super().__init__()
             self.dof = robot.nq

@@ -172,7 +172,7 @@ def reproduce(papers: str | Sequence[str] = "all", out: str | Path = "results",
 COST = {"zavar2024": 7.0, "nguyen": 3.0, "fang": 1.7, "peng2025": 1.0, "inverted5": 0.4}
 
 
-def _lanes(names: list[str], jobs: int) -> list[list[str]]:
+def _lanes(names: Sequence[str], jobs: int) -> list[list[str]]:
     """The papers shared out among ``jobs`` processes, the longest first to the least loaded."""
     lanes: list[list[str]] = [[] for _ in range(jobs)]
     load = [0.0] * jobs
@@ -183,7 +183,7 @@ def _lanes(names: list[str], jobs: int) -> list[list[str]]:
     return [lane for lane in lanes if lane]
 
 
-def _in_processes(names: list[str], out: Path, quick: bool, jobs: int) -> list[PaperReport]:
+def _in_processes(names: Sequence[str], out: Path, quick: bool, jobs: int) -> list[PaperReport]:
     """:func:`run_paper` of the papers in ``jobs`` fresh processes (:func:`_lanes`).
 
     Each worker (``python -m scara_opt.reports.worker``) runs in its own session, so a

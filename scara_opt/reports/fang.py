@@ -82,9 +82,9 @@ def payload_timing(robot: so.Robot) -> pd.DataFrame:
     rows = []
     for mass in PAYLOADS:
         row: dict = {"payload_kg": mass}
-        for key, rates in (("assumed_limits", {}), ("torque_only", {"vmax": LIFTED,
-                                                                    "amax": LIFTED})):
-            traj = so.time_parameterize(Q, robot, payload=mass, **rates)
+        for key, rate in (("assumed_limits", None), ("torque_only", LIFTED)):
+            # None: the robot's own (assumed) limits
+            traj = so.time_parameterize(Q, robot, payload=mass, vmax=rate, amax=rate)
             row[f"{key}_s"] = traj.duration
             row[f"{key}_max_torque_ratio"] = float(traj.check_limits()["torque"].max())
         rows.append(row)

@@ -21,7 +21,7 @@ import scara_opt as so
 from scara_opt import paths
 from scara_opt.errors import TrajectoryError
 from scara_opt.ik.registry import method_label
-from scara_opt.plots import draw_robot
+from scara_opt.plots import draw_robot, root_figure
 from scara_opt.reports import Finding, PaperReport
 from scara_opt.reports import verdicts as rules
 from scara_opt.reports.cycle import add_cycle_finding
@@ -121,7 +121,8 @@ def plot_postures(robot: so.Robot, jp: JointPath, path: Path) -> Path:
         ax = draw_robot(robot, jp.q[idx], ax=ax, color=f"C{k}", label=f"point {idx + 1}",
                         title=f"nguyen Figs. 14-15: postures along the cutting contour "
                               f"({len(jp)} points, IPOPT)")
-    ax.figure.savefig(path, dpi=110, bbox_inches="tight")
+    assert ax is not None, "four postures drawn"
+    root_figure(ax).savefig(path, dpi=110, bbox_inches="tight")
     return path
 
 

@@ -29,7 +29,7 @@ from scipy.sparse import csr_matrix
 from scipy.sparse.csgraph import breadth_first_order, dijkstra
 
 from scara_opt.ik.base import Solver
-from scara_opt.ik.geometry import NotScaraError, scara_geometry, solve_batch
+from scara_opt.ik.geometry import NotScaraError, ScaraGeometry, scara_geometry, solve_batch
 from scara_opt.ik.result import IKResult
 from scara_opt.ik.turns import TURN, turn_joints
 from scara_opt.model.robot import Robot
@@ -82,7 +82,7 @@ def travel_weights(robot: Robot) -> Array:
 def _steps(A: Array, B: Array, threshold: Array, w: Array) -> tuple[Array, Mask]:
     """Weighted travel and over-threshold flag of every pair: ``A`` (..., Ka, nq) to ``B``."""
     D = np.abs(B[..., None, :, :] - A[..., :, None, :])  # (..., Ka, Kb, nq)
-    return D @ w, (D > threshold).any(axis=-1)
+    return D @ w, np.asarray((D > threshold).any(axis=-1))
 
 
 def least_cost_walk(Q: Array, valid: Mask, threshold: Array, weights: Array,
@@ -173,7 +173,7 @@ def _forcing_points(allowed: Mask, jumps: tuple[int, ...],
     return tuple(out)
 
 
-def _geometry(robot: Robot):
+def _geometry(robot: Robot) -> ScaraGeometry | None:
     try:
         return scara_geometry(robot)
     except NotScaraError:
@@ -198,7 +198,8 @@ def candidates_closed_form(robot: Robot, targets: Sequence[Target],
     yaws = np.array([t.yaw for t in targets]) if kinds == {"yaw"} else None
     if yaws is not None and g.wrist < 0:
         return None
-    Q, valid = solve_batch(robot, P, yaws)
+    Q, valid_rows = solve_batch(robot, P, yaws)
+    valid = np.asarray(valid_rows, dtype=bool)  # bool already: solve_batch's annotation says float
     if yaws is None and g.wrist >= 0:
         Q[:, :, g.wrist] = q_ref[g.wrist]
     solved = {g.shoulder, g.elbow} | ({g.wrist} if yaws is not None else set())
@@ -251,7 +252,9 @@ def candidates_searched(robot: Robot, targets: Sequence[Target], solver: Solver,
                 found.append(res)
                 if len(found) == MAX_CANDIDATES:
                     break
-        found = found or [first]
+        if not found:
+            assert first is not None, "every point is solved from at least one start"
+            found = [first]
         kept.append(found)
         prev = [r.q for r in found]
     K = max(len(f) for f in kept)

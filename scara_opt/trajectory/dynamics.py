@@ -15,12 +15,13 @@ Checked, not assumed: :meth:`RobotDynamics.ratios` samples a trajectory at
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
 from dataclasses import dataclass
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, TypeAlias
 
 import numpy as np
 import pinocchio as pin
-from numpy.typing import NDArray
+from numpy.typing import ArrayLike, NDArray
 
 from scara_opt.checks import describe, float_array
 from scara_opt.errors import DynamicsError, FrameNotFoundError, InputError
@@ -56,6 +57,10 @@ class Payload:
     frame: str
 
 
+#: a payload as given (:func:`as_payload`): a Payload, a mass [kg], or (mass, com[, inertia])
+PayloadLike: TypeAlias = "Payload | float | Sequence[ArrayLike]"
+
+
 #: the heaviest payload [kg], farthest centre of mass [m] and largest inertia entry [kg·m²]
 #: taken: far beyond any robot's, and small enough that the torques stay finite numbers
 #: (a payload of 1e308 kg gave NaN torques)
@@ -87,7 +92,8 @@ def as_payload(value: object, robot: Robot, frame: str | None = None) -> Payload
     if value is None:
         return None
     if isinstance(value, Payload):
-        value, frame = (value.mass, value.com, value.inertia), value.frame
+        frame = value.frame
+        value = (value.mass, value.com, value.inertia)
     frame = robot.tip if frame is None else frame
     if not isinstance(frame, str) or not robot.model.existFrame(frame):
         raise FrameNotFoundError(str(frame), [f.name for f in robot.model.frames])

@@ -6,7 +6,7 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
-from numpy.typing import NDArray
+from numpy.typing import ArrayLike, NDArray
 
 from scara_opt.checks import describe, float_array
 from scara_opt.errors import InputError, TrajectoryError
@@ -129,8 +129,8 @@ def _per_joint(value: object, nq: int, what: str, unit: str,
     return arr
 
 
-def resolve_limits(robot: Robot | None, nq: int, vmax: object | None = None,
-                   amax: object | None = None, jmax: object | None = None,
+def resolve_limits(robot: Robot | None, nq: int, vmax: ArrayLike | None = None,
+                   amax: ArrayLike | None = None, jmax: ArrayLike | None = None,
                    need_jerk: bool = False, option: str = "{}=") -> Limits:
     """The limits of a timing: overrides where given, else the robot's own.
 

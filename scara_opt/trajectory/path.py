@@ -23,7 +23,7 @@ from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
-from numpy.typing import NDArray
+from numpy.typing import ArrayLike, NDArray
 
 from scara_opt.checks import describe, float_array
 from scara_opt.errors import InputError, TrajectoryError
@@ -164,7 +164,7 @@ class JointPath:
                   "at the jump, or pass allow_jumps=True to time it anyway")
         return self
 
-    def subset(self, keep: object) -> JointPath:
+    def subset(self, keep: ArrayLike | slice) -> JointPath:
         """A JointPath of the selected points (mask (n,), indices or a slice), jumps recomputed.
 
         Raises:
@@ -216,7 +216,7 @@ def find_jumps(Q: Array, threshold: Array, names: Sequence[str],
     return tuple(out)
 
 
-def _threshold(robot: Robot, jump_threshold: object | None) -> Array:
+def _threshold(robot: Robot, jump_threshold: ArrayLike | None) -> Array:
     if jump_threshold is None:
         return np.array([REVOLUTE_JUMP if k == "revolute" else PRISMATIC_JUMP
                          for k in robot.joint_types])
@@ -245,9 +245,10 @@ def _assemble(Q: Array, results: Sequence[IKResult], targets: Sequence[Target],
         branches=branches)
 
 
-def ik_path(robot: Robot, targets: object, method: str = "auto", q_start: object | None = None,
-            jump_threshold: object | None = None, seed: int | None = 0, tol: float = 1e-9,
-            branches: str | None = None, **options: Any) -> JointPath:
+def ik_path(robot: Robot, targets: Sequence[Target] | ArrayLike, method: str = "auto",
+            q_start: ArrayLike | None = None, jump_threshold: ArrayLike | None = None,
+            seed: int | None = 0, tol: float = 1e-9, branches: str | None = None,
+            **options: Any) -> JointPath:
     """Inverse kinematics along a path: one solution per point, the fewest jumps between them.
 
     Args:
@@ -345,16 +346,17 @@ def _global(robot: Robot, ts: list[Target], solver: Solver, method: str, q_start
             first = walk.least_cost_walk(Q[:, :1], valid[:, :1], threshold, weights, q_start)
             if (first.start_jump, len(first.jumps)) <= (w.start_jump, len(w.jumps)):
                 w = first
-        results = [kept[i][k] for i, k in enumerate(w.choice)]
-        return _assemble(Q[np.arange(len(ts)), w.choice], results, ts, threshold, method,
+        picked = [kept[i][k] for i, k in enumerate(w.choice)]
+        return _assemble(Q[np.arange(len(ts)), w.choice], picked, ts, threshold, method,
                          robot.joint_names, time.perf_counter() - start, "global",
                          dict(zip(w.jumps, w.forced_by, strict=True)))
     Q, valid = listed
     known: dict[int, IKResult] = {}
-    for i in np.flatnonzero(~valid.any(axis=1)):  # no branch reaches it: the method's verdict
-        known[int(i)] = solver.solve(robot, ts[i], q0=q_ref, seed=None if seed is None
-                                     else seed + int(i), tol=tol)
-        Q[i, 0], valid[i, 0] = known[int(i)].q, True
+    for i in [int(k) for k in np.flatnonzero(~valid.any(axis=1))]:
+        # no branch reaches it: the method's verdict
+        known[i] = solver.solve(robot, ts[i], q0=q_ref, seed=None if seed is None else seed + i,
+                                tol=tol)
+        Q[i, 0], valid[i, 0] = known[i].q, True
     rows = np.arange(len(ts))
     while True:  # a chosen candidate the FK does not confirm within tol is struck off
         w = walk.least_cost_walk(Q, valid, threshold, weights, q_start)
@@ -370,8 +372,9 @@ def _global(robot: Robot, ts: list[Target], solver: Solver, method: str, q_start
                 known[i] = solver.solve(robot, ts[i], q0=q_ref, seed=None if seed is None
                                         else seed + i, tol=tol)
                 Q[i, 0], valid[i, 0] = known[i].q, True
-    for i in np.flatnonzero(err > tol / 2):  # near tol: the verdict's own numbers decide
-        known.setdefault(int(i), judge(robot, ts[i], SolverOutput(q=Qc[i], evaluations=1),
+    for i in [int(k) for k in np.flatnonzero(err > tol / 2)]:
+        # near tol: the verdict's own numbers decide
+        known.setdefault(i, judge(robot, ts[i], SolverOutput(q=Qc[i], evaluations=1),
                                        tol=tol, method="analytic", seed=None, time_s=0.0))
     results = JudgedResults(robot, ts, Qc, tol, known)
     status = tuple(known[i].status if i in known else Status.SOLVED for i in rows.tolist())

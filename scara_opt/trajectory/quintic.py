@@ -26,7 +26,7 @@ import math
 from dataclasses import replace
 
 import numpy as np
-from numpy.typing import NDArray
+from numpy.typing import ArrayLike, NDArray
 from scipy.interpolate import PPoly
 
 from scara_opt.errors import TrajectoryError
@@ -46,13 +46,13 @@ PEAK_ACCELERATION = 10.0 / math.sqrt(3.0)
 DURATION_SLACK = 1e-12
 
 
-def quintic_blend(tau: object) -> Array:
+def quintic_blend(tau: ArrayLike) -> Array:
     """The blend s(τ) = 10τ³ − 15τ⁴ + 6τ⁵ at ``tau`` in [0, 1] (fang's Tables 2–3 use τ = k/35)."""
     t = np.asarray(tau, dtype=float)
     return t**3 * (10.0 + t * (-15.0 + 6.0 * t))
 
 
-def shortest_duration(delta: object, vmax: Array, amax: Array) -> float:
+def shortest_duration(delta: ArrayLike, vmax: Array, amax: Array) -> float:
     """Shortest quintic duration [s] of a joint move ``delta`` (nq,) within ``vmax``, ``amax``."""
     d = np.abs(np.asarray(delta, dtype=float))
     return float(np.max(np.maximum(PEAK_VELOCITY * d / vmax,

@@ -14,17 +14,20 @@ from dataclasses import replace
 from typing import Any
 
 import numpy as np
+from numpy.typing import ArrayLike, NDArray
 
 from scara_opt import checks
 from scara_opt.checks import check_real, describe
 from scara_opt.errors import InputError, SolverOptionError, UnknownSolverError
 from scara_opt.model.robot import Robot, check_robot
 from scara_opt.trajectory import quintic, ruckig_backend, toppra_backend
-from scara_opt.trajectory.dynamics import RobotDynamics
+from scara_opt.trajectory.dynamics import PayloadLike, RobotDynamics
 from scara_opt.trajectory.limits import Limits, resolve_limits
 from scara_opt.trajectory.methods import Backend, TimingMethod
 from scara_opt.trajectory.trajectory import Trajectory
-from scara_opt.trajectory.waypoints import prepare_waypoints
+from scara_opt.trajectory.waypoints import Waypoints, prepare_waypoints
+
+Array = NDArray[np.float64]
 
 log = logging.getLogger(__name__)
 
@@ -87,11 +90,12 @@ def _check_duration(duration: object, entry: TimingMethod) -> float | None:
     return check_real("duration", duration, 0.0, MAX_DURATION, low_open=True, unit="s")
 
 
-def time_parameterize(path: object, robot: Robot | None = None, method: str = "toppra",
-                      vmax: object | None = None, amax: object | None = None,
-                      jmax: object | None = None, duration: float | None = None, *,
-                      allow_jumps: bool = False, drop_duplicates: bool = False,
-                      torque_limits: object | None = None, payload: object | None = None,
+def time_parameterize(path: Waypoints, robot: Robot | None = None,
+                      method: str = "toppra", vmax: ArrayLike | None = None,
+                      amax: ArrayLike | None = None, jmax: ArrayLike | None = None,
+                      duration: float | None = None, *, allow_jumps: bool = False,
+                      drop_duplicates: bool = False, torque_limits: bool | ArrayLike | None = None,
+                      payload: PayloadLike | None = None,
                       payload_frame: str | None = None, **options: Any) -> Trajectory:
     """Time a joint path within joint velocity/acceleration (and jerk, torque) limits.
 
@@ -177,8 +181,8 @@ def time_parameterize(path: object, robot: Robot | None = None, method: str = "t
     return replace(traj, compute_time_s=elapsed)
 
 
-def _dynamics(entry: TimingMethod, robot: Robot | None, torque_limits: object,
-              payload: object, payload_frame: str | None) -> RobotDynamics:
+def _dynamics(entry: TimingMethod, robot: Robot | None, torque_limits: bool | ArrayLike | None,
+              payload: PayloadLike | None, payload_frame: str | None) -> RobotDynamics:
     """The inverse dynamics for a torque-limited timing, checked (see time_parameterize)."""
     if not entry.uses_torque:
         with_torque = [m.name for m in _REGISTRY.values() if m.uses_torque]
@@ -193,9 +197,9 @@ def _dynamics(entry: TimingMethod, robot: Robot | None, torque_limits: object,
     return RobotDynamics(robot, torque_limits, payload, payload_frame)
 
 
-def ruckig_point_to_point(q_start: object, q_goal: object, robot: Robot | None = None,
-                          vmax: object | None = None, amax: object | None = None,
-                          jmax: object | None = None) -> Trajectory:
+def ruckig_point_to_point(q_start: ArrayLike, q_goal: ArrayLike, robot: Robot | None = None,
+                          vmax: ArrayLike | None = None, amax: ArrayLike | None = None,
+                          jmax: ArrayLike | None = None) -> Trajectory:
     """Jerk-limited, time-optimal rest-to-rest move from ``q_start`` to ``q_goal``.
 
     Args:
@@ -215,7 +219,7 @@ def ruckig_point_to_point(q_start: object, q_goal: object, robot: Robot | None =
                              amax=amax, jmax=jmax)
 
 
-def _pair(q_start: object, q_goal: object) -> object:
+def _pair(q_start: ArrayLike, q_goal: ArrayLike) -> Array | list[ArrayLike]:
     """``[q_start, q_goal]``; as one (2, nq) array when both are float64 ndarrays (nq,).
 
     The array is what :func:`~scara_opt.trajectory.waypoints.prepare_waypoints` makes of

@@ -29,6 +29,7 @@ from __future__ import annotations
 import math
 import threading
 from itertools import accumulate, chain, compress
+from typing import TYPE_CHECKING
 
 import numpy as np
 from numpy.typing import NDArray
@@ -45,6 +46,9 @@ from scara_opt.trajectory.limits import (
 from scara_opt.trajectory.methods import TimingMethod
 from scara_opt.trajectory.trajectory import Trajectory, stretch
 
+if TYPE_CHECKING:
+    import ruckig
+
 Array = NDArray[np.float64]
 
 #: phases shorter than this are dropped when building the piecewise cubic [s]
@@ -55,7 +59,8 @@ _EARLY = 1e-12
 _POSITION_SLACK = 1e-9
 
 
-def _add_phases(rows: list[list[float]], prof: object, start: float, duration: float) -> None:
+def _add_phases(rows: list[list[float]], prof: ruckig.Profile, start: float,
+                duration: float) -> None:
     """Append one joint's constant-jerk phases of one segment to its pieces.
 
     Args:
@@ -163,6 +168,7 @@ class _Ruckig:
 
         self.inp.current_position, self.inp.target_position = qa.tolist(), qb.tolist()
         if va is not None:
+            assert vb is not None, "the velocities at both ends are given together"
             self.inp.current_velocity, self.inp.target_velocity = va.tolist(), vb.tolist()
             self.moving[0] = True
         try:

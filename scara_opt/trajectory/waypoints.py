@@ -4,17 +4,25 @@ from __future__ import annotations
 
 import logging
 import sys
+from collections.abc import Sequence
+from typing import TYPE_CHECKING, TypeAlias
 
 import numpy as np
-from numpy.typing import NDArray
+from numpy.typing import ArrayLike, NDArray
 
 from scara_opt.checks import describe, float_array
 from scara_opt.errors import InputError, JointLimitError, TrajectoryError
 from scara_opt.model.robot import Robot
 
+if TYPE_CHECKING:
+    from scara_opt.trajectory.path import JointPath
+
 log = logging.getLogger(__name__)
 
 Array = NDArray[np.float64]
+
+#: a joint path as given: a JointPath, an (n, nq) array, or a list of (nq,) joint vectors
+Waypoints: TypeAlias = "JointPath | ArrayLike | Sequence[ArrayLike]"
 
 #: consecutive waypoints closer than this in every joint are duplicates [rad or m]
 DUPLICATE_TOL = 1e-9
@@ -29,7 +37,7 @@ _F64 = np.dtype(np.float64)
 _BIG = sys.float_info.max
 
 
-def prepare_waypoints(path: object, robot: Robot | None, *, allow_jumps: bool = False,
+def prepare_waypoints(path: Waypoints, robot: Robot | None, *, allow_jumps: bool = False,
                       drop_duplicates: bool = False) -> Array:
     """The (n, nq) waypoint array of a JointPath or array, validated.
 

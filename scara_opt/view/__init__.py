@@ -21,13 +21,20 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import numpy as np
 import pinocchio as pin
-from numpy.typing import NDArray
+from numpy.typing import ArrayLike, NDArray
 
 from scara_opt.errors import InputError
 from scara_opt.model.robot import Robot, check_robot
+
+if TYPE_CHECKING:
+    import meshcat
+
+    from scara_opt.collision.cell import Cell
+    from scara_opt.trajectory import JointPath, Trajectory
 
 __all__ = ["Frames", "frames", "html", "write_html"]
 
@@ -56,7 +63,7 @@ class Frames:
         return int(self.q.shape[0])
 
 
-def frames(robot: Robot, motion: object, fps: float = FPS) -> Frames:
+def frames(robot: Robot, motion: Trajectory | JointPath | ArrayLike, fps: float = FPS) -> Frames:
     """The configurations an animation of ``motion`` shows, one per frame.
 
     A Trajectory is sampled at ``fps`` over its duration, both ends included; a JointPath
@@ -80,8 +87,8 @@ def frames(robot: Robot, motion: object, fps: float = FPS) -> Frames:
     return Frames(robot.check_q_batch(Q), float(fps))
 
 
-def html(robot: Robot, motion: object, fps: float = FPS, title: str | None = None,
-         tool_path: bool = True, cell: object = None) -> str:
+def html(robot: Robot, motion: Trajectory | JointPath | ArrayLike, fps: float = FPS,
+         title: str | None = None, tool_path: bool = True, cell: Cell | None = None) -> str:
     """The self-contained HTML page animating ``motion`` (see :func:`frames`).
 
     Args:
@@ -98,6 +105,7 @@ def html(robot: Robot, motion: object, fps: float = FPS, title: str | None = Non
         InputError: ``cell`` not a Cell.
     """
     from scara_opt.collision.cell import Cell
+    from scara_opt.motion import MotionTrajectory
     from scara_opt.view.geometry import add_obstacles, visual_model
 
     try:
@@ -114,8 +122,8 @@ def html(robot: Robot, motion: object, fps: float = FPS, title: str | None = Non
 
     check_robot(robot)
     fr = frames(robot, motion, fps)
-    if cell is None and getattr(motion, "checker", None) is not None:
-        cell = motion.checker.cell  # type: ignore[attr-defined]
+    if cell is None and isinstance(motion, MotionTrajectory) and motion.checker is not None:
+        cell = motion.checker.cell
     if cell is not None and not isinstance(cell, Cell):
         raise InputError(f"cell must be a scara_opt.Cell or None; got {type(cell).__name__}")
     geom = visual_model(robot)
@@ -145,7 +153,7 @@ def html(robot: Robot, motion: object, fps: float = FPS, title: str | None = Non
     return static_html(vis, title or f"scara_opt: {robot.name}")
 
 
-def _aim_camera(vis: object, robot: Robot, Q: Array) -> None:
+def _aim_camera(vis: meshcat.Visualizer, robot: Robot, Q: Array) -> None:
     """Pivot the camera on the motion's centre and back it off to show the whole arm.
 
     meshcat's camera node is y-up below ``rotated``; the view looks down at about 30°.
@@ -160,8 +168,9 @@ def _aim_camera(vis: object, robot: Robot, Q: Array) -> None:
     vis["/Cameras/default/rotated/<object>"].set_property("position", [0.8 * d, 0.6 * d, 0.5 * d])
 
 
-def write_html(robot: Robot, motion: object, path: str | Path, fps: float = FPS,
-               title: str | None = None, tool_path: bool = True, cell: object = None) -> Path:
+def write_html(robot: Robot, motion: Trajectory | JointPath | ArrayLike, path: str | Path,
+               fps: float = FPS, title: str | None = None, tool_path: bool = True,
+               cell: Cell | None = None) -> Path:
     """Write :func:`html` to ``path`` (parent folders created); returns the path."""
     out = Path(path)
     out.parent.mkdir(parents=True, exist_ok=True)

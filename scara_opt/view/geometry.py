@@ -10,11 +10,17 @@ added fixed in the world (:func:`add_obstacles`).
 
 from __future__ import annotations
 
+from typing import TYPE_CHECKING
+
 import coal
 import numpy as np
 import pinocchio as pin
 
+from scara_opt.collision.obstacles import Mesh
 from scara_opt.model.robot import Robot
+
+if TYPE_CHECKING:
+    from scara_opt.collision.cell import Cell
 
 __all__ = ["LINK_RADIUS", "add_obstacles", "has_visuals", "visual_model"]
 
@@ -87,14 +93,14 @@ def _sticks(robot: Robot) -> pin.GeometryModel:
     return geom
 
 
-def add_obstacles(geom: pin.GeometryModel, cell: object) -> pin.GeometryModel:
+def add_obstacles(geom: pin.GeometryModel, cell: Cell) -> pin.GeometryModel:
     """``geom`` with a cell's obstacles added, fixed in the world (grey; meshes from their file).
 
     ``cell``: a :class:`~scara_opt.Cell`. Returns ``geom`` itself.
     """
-    for ob in cell.obstacles:  # type: ignore[attr-defined]
+    for ob in cell.obstacles:
         obj = pin.GeometryObject(f"obstacle_{ob.name}", 0, ob.placement, ob.shape())
-        if ob.kind == "mesh":
+        if isinstance(ob, Mesh):
             obj.meshPath = str(ob.path)
             obj.meshScale = np.array(ob.scale)
         obj.meshColor = _OBSTACLE_RGBA
