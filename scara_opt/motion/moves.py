@@ -99,7 +99,7 @@ def check_move(index: int, move: object, nq: int) -> Move:
                                f"{describe(move)}")
     _positive(index, move, "speed", move.speed, "m/s")
     _positive(index, move, "acceleration", move.acceleration, "m/s²")
-    if not is_real(move.blend) or not (math.isfinite(float(move.blend)) and move.blend >= 0):
+    if not is_real(move.blend) or not (math.isfinite(float(move.blend)) and float(move.blend) >= 0):
         raise MoveError(index, f"blend={describe(move.blend)}: a blend radius must be a finite "
                                "number >= 0 [m] (0: stop exactly at the goal)")
     if move.elbow is not None and move.elbow not in ELBOWS:
