@@ -19,7 +19,7 @@ def test_committed_urdf_is_not_stale(name):
     folder = bundled_dir()
     expected = dh_to_urdf(load_dh(folder / f"{name}.toml"))
     assert (folder / f"{name}.urdf").read_text() == expected, (
-        f"robots/{name}.urdf is stale: run python -m scara_opt.dh"
+        f"robots/{name}.urdf is stale: run python -m scara_opt.model.dh_file"
     )
 
 
