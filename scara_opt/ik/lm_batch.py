@@ -21,7 +21,7 @@ from itertools import chain
 from typing import cast
 
 import numpy as np
-from numpy.typing import NDArray
+from numpy.typing import ArrayLike, NDArray
 
 from scara_opt.checks import float_array
 from scara_opt.errors import InputError
@@ -99,7 +99,8 @@ class _Stacked:
     rotation: Array | None
 
 
-def _targets(robot: Robot, targets: object) -> tuple[_Stacked, list[Target] | None]:
+def _targets(robot: Robot, targets: ArrayLike | Sequence[Target]
+             ) -> tuple[_Stacked, list[Target] | None]:
     """Stacked targets from an (n, 3) / (n, 4) array [m, rad] or a sequence of Target."""
     if isinstance(targets, Sequence) and targets and isinstance(targets[0], Target):
         ts = [as_target(t) for t in targets]
@@ -122,7 +123,7 @@ def _targets(robot: Robot, targets: object) -> tuple[_Stacked, list[Target] | No
     return _Stacked("position", A, None, None), None
 
 
-def _q0s(robot: Robot, q0s: object | None, n: int) -> Array:
+def _q0s(robot: Robot, q0s: ArrayLike | None, n: int) -> Array:
     """(n, nq) references: the default start, one (nq,) for all, or one row per target."""
     if q0s is None:
         return np.tile(limits(robot)[1], (n, 1))
@@ -239,7 +240,8 @@ class _Batch:
         return Q, e
 
 
-def solve_many(robot: Robot, targets: object, q0s: object | None = None, *,
+def solve_many(robot: Robot, targets: ArrayLike | Sequence[Target],
+               q0s: ArrayLike | None = None, *,
                tol: float = 1e-9, max_iter: int = 100, restarts: int = 50,
                seed: int | None = 0, jit: bool = True, nearest: bool = True) -> BatchResult:
     """Solve IK for many targets at once with the fast solver (``method="lm"``).

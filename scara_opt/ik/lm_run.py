@@ -11,10 +11,13 @@ from __future__ import annotations
 import math
 from collections.abc import Sequence
 from dataclasses import dataclass, field
+from typing import TypeVar
 
 from scara_opt.ik.lm_functions import PhaseArrays
 from scara_opt.ik.lm_steps import EVALS, ITERATIONS, LAMBDA0, LAMBDA_MAX
 from scara_opt.model.robot import Array
+
+_Tol = TypeVar("_Tol", float, Array)
 
 #: a start has converged when ‖r‖ <= TOL_FACTOR * tol * min(weights) and the step <= STEP_TOL
 TOL_FACTOR, STEP_TOL = 1e-2, 1e-12
@@ -32,8 +35,10 @@ def residual_tol(weights: Sequence[float], tol: float) -> float:
     return (TOL_FACTOR * tol * float(min(weights))) ** 2
 
 
-def within_tol(e_tol: float) -> float:
-    """‖r‖² at which the residual is within the caller's ``tol`` (``e_tol``: :func:`residual_tol`).
+def within_tol(e_tol: _Tol) -> _Tol:
+    """‖r‖² at which the residual is within the caller's ``tol``, per ``e_tol`` (float or array).
+
+    ``e_tol``: the convergence threshold, :func:`residual_tol`.
 
     Each row of r is a weighted error (position [m], the wrapped yaw or the rotation
     angle [rad]), so ‖r‖ <= tol·min(weights) bounds each error by ``tol``. A search

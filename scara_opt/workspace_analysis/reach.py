@@ -65,4 +65,4 @@ def closed_form_contains(robot: Robot, P: Array, plane: Plane,
         rows, branch = np.nonzero(valid)
         valid[rows, branch] = ~footprint.blocks_arms(robot, plane,
                                                      robot.joint_origins(Q[rows, branch]))
-    return valid.any(axis=1)
+    return np.asarray(valid.any(axis=1))
