@@ -42,8 +42,9 @@ from timing import PASSES, best_time_and_result, least_per_call
 
 import scara_opt as so
 from scara_opt.ik.base import default_q0
-from scara_opt.ik.lm import cached_step, lm_search, random_starts
 from scara_opt.ik.lm_batch import solve_many
+from scara_opt.ik.lm_functions import cached_step
+from scara_opt.ik.lm_search import lm_search, random_starts
 from scara_opt.ik.problem import ik_objective, nlp_params
 from scara_opt.model.dh_file import bundled_dir, load_dh
 

@@ -46,9 +46,9 @@ _EXPORTS = {
 }
 
 #: public submodules, imported at first attribute access
-_LAZY = ("cli", "collision", "comparison", "dh", "footprint", "ik", "metaheuristics", "model",
-         "motion", "paths", "planning", "plots", "pose", "reports", "robot", "trajectory",
-         "view", "workspace_analysis")
+_LAZY = ("cli", "collision", "comparison", "footprint", "ik", "metaheuristics", "model",
+         "motion", "paths", "planning", "plots", "pose", "reports", "trajectory", "view",
+         "workspace_analysis")
 
 __all__ = [
     "__version__", "BatchResult", "BranchError", "CIRC", "LIN", "MotionTrajectory", "MoveError",

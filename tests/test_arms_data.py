@@ -3,7 +3,7 @@
 The DH numbers below are typed in again from the published tables (Universal Robots' UR5 CB3
 standard DH; Franka's modified DH), NOT read from the TOML files, and the link transforms are
 the textbook closed-form matrices (Spong's standard ``A_i``, Craig's modified ``T_i``), not
-scara_opt.dh's product of elementary rotations: a typo in a TOML file or a bug in the DH ->
+scara_opt.model.dh's product of elementary rotations: a typo in a TOML file or a bug in the DH ->
 URDF machinery makes these tests fail.
 """
 

@@ -92,7 +92,7 @@ def test_damped_step_is_sound_on_a_rank_deficient_jacobian():
     """
     import casadi as ca
 
-    from scara_opt.ik.lm import _damped_pinv
+    from scara_opt.ik.lm_steps import _damped_pinv
 
     rng = np.random.default_rng(0)
     for m, nq, rank in ((6, 7, 5), (6, 7, 4), (6, 7, 1), (7, 6, 5)):
@@ -122,18 +122,19 @@ def test_slide_toward_q0_converges_quadratically(arm, kind, request):
     (UR5); the Newton step alone, never the full set of candidates where it is refused
     (this test and the solve_many/IPOPT agreements in test_ik_fast fail).
     """
-    from scara_opt.ik import lm
+    from scara_opt.ik.lm_functions import limits, phase_arrays
+    from scara_opt.ik.lm_run import Run, residual_tol
     from scara_opt.ik.problem import fill_params
 
     robot = request.getfixturevalue(arm)
-    f, (box, q0) = lm.phase_arrays(robot, kind), lm.limits(robot)
+    f, (box, q0) = phase_arrays(robot, kind), limits(robot)
     span = box[2 * robot.nq:]
     ratios = []
     for t in pose_targets(robot, 40, seed=5):
         target = t if kind == "rotation" else so.Target(t.position)
         fill_params(f.par[0], target, q0, 0.0)
         f.box[0] = box
-        run = lm._Run(f, lm.residual_tol(target.weights, 1e-9), budget=100)
+        run = Run(f, residual_tol(target.weights, 1e-9), budget=100)
         q, _, converged = run.descend(q0)
         if not converged:
             continue
@@ -174,15 +175,17 @@ def test_nearest_false_stops_at_the_descents_solution(panda_arm):
     round-off) and is nearer on most poses (the slide moved); ``solve_many`` gives the
     single solves' q, C loop and mapped path alike.
 
-    Mutations caught: the option ignored in ``_Run.start`` (Python loop: the evaluation
+    Mutations caught: the option ignored in ``Run.start`` (Python loop: the evaluation
     count fails), in ``lm_start`` (lm_driver.c: the same), in ``_Batch.start`` (the
     mapped path slides: solve_many(jit=False) differs); the option not passed on by the
     solver (``nearest=bool(opts["nearest"])`` dropped: the count fails).
     """
-    from scara_opt.ik import lm
     from scara_opt.ik.lm_batch import solve_many
+    from scara_opt.ik.lm_functions import limits
+    from scara_opt.ik.lm_search import lm_search
+    from scara_opt.ik.lm_steps import EVALS
 
-    q0 = lm.limits(panda_arm)[1]
+    q0 = limits(panda_arm)[1]
     s = panda_arm.upper - panda_arm.lower
     targets = pose_targets(panda_arm, 40, seed=12)
     nearer = both = 0
@@ -191,12 +194,12 @@ def test_nearest_false_stops_at_the_descents_solution(panda_arm):
         for t, res in zip(targets, fast, strict=True):
             assert res.success and errors(panda_arm, res.q, t) <= 1e-9, res
             assert panda_arm.within_limits(res.q)
-            assert res.evaluations == lm.EVALS["lm"] * len(res.history), res
+            assert res.evaluations == EVALS["lm"] * len(res.history), res
         batch = solve_many(panda_arm, targets, nearest=False, jit=jit)
         np.testing.assert_array_equal(batch.q, np.array([r.q for r in fast]))
     for t in targets:
         near = so.solve_ik(panda_arm, t, method="lm", restarts=0)
-        one = lm.lm_search(panda_arm, t, q0, [q0], tol=1e-9, max_iter=100, nearest=False)
+        one = lm_search(panda_arm, t, q0, [q0], tol=1e-9, max_iter=100, nearest=False)
         if near.success and one.converged:
             both += 1
             d_near, d_one = (np.linalg.norm((q - q0) / s) for q in (near.q, one.q))

@@ -374,3 +374,44 @@ def test_doctor_lists_versions_compiler_cache_and_every_library(capsys):
               if line.startswith("  ") and not line.startswith("      why")]
     for kind in KINDS:
         assert any(name.startswith(kind.rstrip("_")) for name in listed), kind
+
+
+def test_the_fast_ik_key_hashes_every_source_its_functions_are_built_from():
+    """Building each phase of the fast IK (every task kind, a SCARA and a 7R arm, fresh
+    robots so nothing is cached) runs code from the modules whose sources the compiled
+    cache's key hashes (``lm_functions.SOURCES``) and, of the robot model, only accessors
+    of data the kinematic key holds: a change to any source that shapes the generated code
+    compiles anew instead of loading a stale library.
+
+    Mutations caught: ``tool_angle`` (the yaw basis) left out of ``SOURCES`` (the key
+    before the split of lm.py lacked it); the builders moved to a module the key does not
+    hash (a split of ``lm_steps.py`` without updating ``SOURCES``).
+    """
+    import scara_opt as so
+    from scara_opt.ik import lm_functions
+    from scara_opt.ik.lm_steps import BUILDERS
+    from tests.conftest import DATA
+
+    robots = [so.load_robot("fang"), so.Robot.from_urdf(DATA / "panda_dh.urdf", tip="tool")]
+    called: dict[str, set[str]] = {}
+
+    def profile(frame, event, arg):
+        code = frame.f_code
+        if event == "call" and "scara_opt" in code.co_filename:
+            called.setdefault(str(Path(code.co_filename).resolve()), set()).add(code.co_name)
+
+    sys.setprofile(profile)
+    try:
+        for robot in robots:
+            for kind in ("position", "yaw", "rotation"):
+                if kind == "yaw" and robot.yaw_axis is None:
+                    continue
+                for phase, build in BUILDERS.items():
+                    lm_functions._merged(build(robot, kind), f"check_{phase}")
+    finally:
+        sys.setprofile(None)
+    hashed = {str(Path(p).resolve()) for p in lm_functions.SOURCES}
+    robot_py = str(Path(sys.modules[so.Robot.__module__].__file__).resolve())
+    readers = {"nq", "lower", "upper", "_limits", "data", "symbolic_fk"}  # model data only
+    assert set(called) - hashed - {robot_py} == set(), called
+    assert called.get(robot_py, set()) <= readers, called[robot_py]

@@ -9,8 +9,8 @@ import pytest
 
 import scara_opt as so
 from scara_opt.ik.geometry import scara_geometry
-from scara_opt.ik.lm import cached_step
 from scara_opt.ik.lm_batch import solve_many
+from scara_opt.ik.lm_functions import cached_step
 from tests.conftest import BUNDLED, random_q
 from tests.test_ik import FOUR_JOINT, assert_invariants, reachable_targets
 

@@ -9,9 +9,13 @@ import numpy as np
 import pytest
 
 import scara_opt as so
-from scara_opt.ik import lm
+from scara_opt.ik import lm_driver
 from scara_opt.ik.lm_batch import solve_many
-from scara_opt.ik.lm_driver import Driver
+from scara_opt.ik.lm_driver import Driver, phase_driver
+from scara_opt.ik.lm_functions import limits, phase_arrays
+from scara_opt.ik.lm_run import residual_tol
+from scara_opt.ik.lm_search import lm_search
+from scara_opt.ik.problem import fill_params
 from scara_opt.model.compiled import c_library
 
 
@@ -28,7 +32,7 @@ def _targets(robot: so.Robot, kind: str, n: int, seed: int) -> list[so.Target]:
 
 
 def _driver_or_skip(robot: so.Robot, kind: str) -> Driver:
-    driver = lm.phase_driver(robot, kind)
+    driver = phase_driver(robot, kind)
     if driver is None:
         pytest.skip("no C compiler here: the Python loop runs (tested everywhere else)")
     return driver
@@ -42,7 +46,7 @@ def test_c_loop_gives_the_python_loops_numbers_bit_for_bit(robot_name, kind, n, 
                                                              request, robots):
     """From q0 and then seeded random starts (a tight budget of 12 iterations a start, so
     many starts stall, run out of budget mid-slide, or converge only at their last
-    call), the C loop and ``lm._Run`` give the same q, ‖r‖², iterations, evaluations,
+    call), the C loop and ``lm_run.Run`` give the same q, ‖r‖², iterations, evaluations,
     starts and history, bit for bit: every branch of the loop is compared.
 
     Mutations caught (each in lm_driver.c): a stall counted at a 2 % decrease instead of
@@ -59,7 +63,7 @@ def test_c_loop_gives_the_python_loops_numbers_bit_for_bit(robot_name, kind, n, 
                                                   (6, robot.nq))
     for max_iter in (12, 100):
         for t in _targets(robot, kind, n, seed=8):
-            found = [lm.lm_search(robot, t, q0, iter([q0, *rng_starts]), tol=1e-9,
+            found = [lm_search(robot, t, q0, iter([q0, *rng_starts]), tol=1e-9,
                                   max_iter=max_iter, c_loop=c_loop, nearest=nearest)
                      for c_loop in (True, False)]
             c, py = found
@@ -79,7 +83,7 @@ def test_solves_and_batches_run_the_c_loop_and_the_mapped_path_agrees(ur5_arm):
     ``jit=False``: the assertion on it fails).
     """
     _driver_or_skip(ur5_arm, "rotation")
-    assert lm.phase_driver(ur5_arm, "rotation", jit=False) is None
+    assert phase_driver(ur5_arm, "rotation", jit=False) is None
     targets = _targets(ur5_arm, "rotation", 12, seed=9)
     for jit in (True, False):
         batch = solve_many(ur5_arm, targets, jit=jit)
@@ -97,11 +101,11 @@ def test_a_full_history_is_an_error_not_an_overrun(ur5_arm):
     """
     driver = _driver_or_skip(ur5_arm, "rotation")
     t = _targets(ur5_arm, "rotation", 1, seed=10)[0]
-    f = lm.phase_arrays(ur5_arm, "rotation")
+    f = phase_arrays(ur5_arm, "rotation")
     q0 = 0.5 * (ur5_arm.lower + ur5_arm.upper)
-    lm.problem.fill_params(f.par[0], t, q0, 0.0)
-    f.box[0] = lm.limits(ur5_arm)[0]
-    driver.reset(lm.residual_tol(t.weights, 1e-9), 100)
+    fill_params(f.par[0], t, q0, 0.0)
+    f.box[0] = limits(ur5_arm)[0]
+    driver.reset(residual_tol(t.weights, 1e-9), 100)
     driver.budget = 100
     driver._c.history_size = 1  # a target from q0 takes several calls
     with pytest.raises(RuntimeError, match="lm_start failed"):
@@ -114,4 +118,4 @@ def test_the_c_loop_compiles_with_the_package(tmp_path, monkeypatch):
     monkeypatch.setenv("SCARA_OPT_CACHE", str(tmp_path))
     if shutil.which("cc") is None and shutil.which("gcc") is None:
         pytest.skip("no C compiler")
-    assert c_library(Path(lm.__file__).with_name("lm_driver.c")) is not None
+    assert c_library(Path(lm_driver.__file__).with_name("lm_driver.c")) is not None

@@ -176,7 +176,8 @@ def test_urdfdom_says_nothing_on_stderr_and_its_words_reach_the_error(capfd):
     Mutation caught: ``urdfdom_messages`` a no-op -> the lines on fd 2; fails.
     """
     text = (ROOT / "robots" / "zavar2024.urdf").read_text()
-    bad = text.replace('<origin xyz="0 0 0" rpy="0 0 0"/>', '<origin xyz="1 2 3 4"/>', 1)
+    joint_origin = '<child link="link1"/>\n    <origin xyz="0.0 0.0 0.0" rpy="0.0 -0.0 0.0"/>'
+    bad = text.replace(joint_origin, '<child link="link1"/><origin xyz="1 2 3 4"/>', 1)
     assert bad != text
     capfd.readouterr()
     with pytest.raises(so.URDFError, match=r"\(urdfdom: Parser found 4 elements but 3 "
@@ -333,8 +334,8 @@ def test_bad_acceleration_element_raises_urdf_error_naming_joint_and_value(value
     (THETA1_ACC, '<scara_opt accel="12.5"/>', r"<scara_opt accel=\"12.5\"/>; the element takes "
                                               "acceleration only"),
     (THETA1_ACC, "<scara_opt/>", "takes acceleration only"),
-    ('<origin xyz="0 0 -0.05" rpy="0 0 0"/>',
-     '<origin xyz="0 0 -0.05" rpy="0 0 0"/><scara_opt acceleration="2"/>', "on a fixed joint"),
+    ('<origin xyz="0.0 0.0 -0.05" rpy="0.0 -0.0 0.0"/>',
+     '<origin xyz="0 0 -0.05"/><scara_opt acceleration="2"/>', "on a fixed joint"),
     ('<link name="base_link"/>', '<link name="base_link"><scara_opt acceleration="2"/></link>',
      "outside any <joint>"),
 ])

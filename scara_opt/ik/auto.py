@@ -42,15 +42,9 @@ from scara_opt.ik.base import (
 from scara_opt.ik.closed_form import solve_all
 from scara_opt.ik.geometry import NotScaraError
 from scara_opt.ik.ipopt import IpoptSolver
-from scara_opt.ik.lm import (
-    LevenbergMarquardtSolver,
-    Search,
-    check_budget,
-    limits,
-    lm_search,
-    random_starts,
-    search_output,
-)
+from scara_opt.ik.lm import LevenbergMarquardtSolver
+from scara_opt.ik.lm_functions import limits
+from scara_opt.ik.lm_search import Search, check_budget, lm_search, random_starts, search_output
 from scara_opt.ik.registry import register_solver
 from scara_opt.ik.task import config_errors, error_from
 from scara_opt.model.robot import Array, Robot

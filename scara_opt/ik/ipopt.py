@@ -53,7 +53,8 @@ from scara_opt.ik.base import (
     default_q0,
 )
 from scara_opt.ik.certificates import certify
-from scara_opt.ik.lm import lm_search, phase_arrays
+from scara_opt.ik.lm_functions import phase_arrays
+from scara_opt.ik.lm_search import lm_search
 from scara_opt.ik.problem import (
     RESIDUAL_SIZE,
     ik_objective,
@@ -147,7 +148,7 @@ def polish(robot: Robot, target: Target, q: Array, err: float, q_ref: Array,
     """Refine an NLP answer ``q`` (error ``err``) with the fast solver's phases from ``q``.
 
     Levenberg–Marquardt on the residual, a slide along the solution set toward ``q_ref``
-    and Gauss–Newton to round-off (:func:`scara_opt.ik.lm.lm_search`). The refined ``q``
+    and Gauss–Newton to round-off (:func:`scara_opt.ik.lm_search.lm_search`). The refined ``q``
     is kept only if its error is not larger.
 
     Returns:

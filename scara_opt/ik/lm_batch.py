@@ -1,11 +1,11 @@
 """Many IK targets at once: the Levenberg–Marquardt phases of :mod:`scara_opt.ik.lm`, batched.
 
 Where the iterations are compiled, each target's search runs in C, target by target
-(:func:`lm.phase_driver`): the Python work per target is a few µs, the rest is its
-iterations. Elsewhere (no C compiler, ``jit=False``) the casadi iterations are mapped over
-the targets still running (``Function.map``, padded to a power of two and evaluated
-through :meth:`casadi.Function.buffer`), so the Python work is per iteration round, not
-per target. Either way each target follows exactly the steps of
+(:func:`~scara_opt.ik.lm_driver.phase_driver`): the Python work per target is a few µs,
+the rest is its iterations. Elsewhere (no C compiler, ``jit=False``) the casadi
+iterations are mapped over the targets still running (``Function.map``, padded to a
+power of two and evaluated through :meth:`casadi.Function.buffer`), so the Python work is
+per iteration round, not per target. Either way each target follows exactly the steps of
 :func:`scara_opt.solve_ik` with ``method="lm"``: its ``q0`` (or the default start) first,
 then up to ``restarts`` starts from a generator seeded with ``seed`` (the same draws as a
 single solve with that seed), so both give the same answers.
@@ -21,7 +21,7 @@ from itertools import chain
 from typing import cast
 
 import numpy as np
-from numpy.typing import NDArray
+from numpy.typing import ArrayLike, NDArray
 
 from scara_opt.checks import float_array
 from scara_opt.errors import InputError
@@ -33,23 +33,18 @@ from scara_opt.ik.base import (
     check_seed,
     check_tol,
 )
-from scara_opt.ik.lm import (
-    LAMBDA0,
-    LAMBDA_MAX,
+from scara_opt.ik.lm_driver import phase_driver
+from scara_opt.ik.lm_functions import limits, phase_arrays
+from scara_opt.ik.lm_run import (
     SLIDE_TOL,
     STALL_CALLS,
     STALL_DECREASE,
     STEP_TOL,
-    UNROLL,
-    check_budget,
-    limits,
-    phase_arrays,
-    phase_driver,
-    random_starts,
     residual_tol,
-    search_filled,
     within_tol,
 )
+from scara_opt.ik.lm_search import check_budget, random_starts, search_filled
+from scara_opt.ik.lm_steps import LAMBDA0, LAMBDA_MAX, UNROLL
 from scara_opt.ik.problem import nlp_params
 from scara_opt.ik.task import check_task, errors_from_poses
 from scara_opt.ik.turns import nearest_turns
@@ -104,7 +99,8 @@ class _Stacked:
     rotation: Array | None
 
 
-def _targets(robot: Robot, targets: object) -> tuple[_Stacked, list[Target] | None]:
+def _targets(robot: Robot, targets: ArrayLike | Sequence[Target]
+             ) -> tuple[_Stacked, list[Target] | None]:
     """Stacked targets from an (n, 3) / (n, 4) array [m, rad] or a sequence of Target."""
     if isinstance(targets, Sequence) and targets and isinstance(targets[0], Target):
         ts = [as_target(t) for t in targets]
@@ -127,7 +123,7 @@ def _targets(robot: Robot, targets: object) -> tuple[_Stacked, list[Target] | No
     return _Stacked("position", A, None, None), None
 
 
-def _q0s(robot: Robot, q0s: object | None, n: int) -> Array:
+def _q0s(robot: Robot, q0s: ArrayLike | None, n: int) -> Array:
     """(n, nq) references: the default start, one (nq,) for all, or one row per target."""
     if q0s is None:
         return np.tile(limits(robot)[1], (n, 1))
@@ -244,7 +240,8 @@ class _Batch:
         return Q, e
 
 
-def solve_many(robot: Robot, targets: object, q0s: object | None = None, *,
+def solve_many(robot: Robot, targets: ArrayLike | Sequence[Target],
+               q0s: ArrayLike | None = None, *,
                tol: float = 1e-9, max_iter: int = 100, restarts: int = 50,
                seed: int | None = 0, jit: bool = True, nearest: bool = True) -> BatchResult:
     """Solve IK for many targets at once with the fast solver (``method="lm"``).
@@ -318,8 +315,9 @@ def _one_by_one(batch: _Batch, Q_ref: Array, restarts: int, seed: int | None,
                 ) -> tuple[Array, NDArray[np.int64], NDArray[np.int64]]:
     """Each target's search as a single solve runs it, in C: (Q, iterations, starts).
 
-    Where the C loop runs (:func:`lm.phase_driver`), a target costs its iterations alone;
-    the mapped rounds' padding and bookkeeping would cost more than they save.
+    Where the C loop runs (:func:`~scara_opt.ik.lm_driver.phase_driver`), a target costs
+    its iterations alone; the mapped rounds' padding and bookkeeping would cost more than
+    they save.
     """
     def rng(seed: int | None) -> np.random.Generator:  # seeded at its first draw, as solve_ik
         return cast(np.random.Generator, LazyGenerator(seed))

@@ -1,6 +1,6 @@
-/* One start of the fast IK solver's three phases (scara_opt.ik.lm._Run.start), in C.
+/* One start of the fast IK solver's three phases (scara_opt.ik.lm_run.Run.start), in C.
  *
- * The Python loop of _Run calls the compiled casadi iterations a few times a start, and
+ * The Python loop of Run calls the compiled casadi iterations a few times a start, and
  * its own work between the calls (reading outputs, the stop rules, the counts) costs about
  * as much as the iterations themselves on a 6- or 7-joint arm. This file is that loop,
  * line for line, calling the same compiled Functions (their C entry points, taken from
@@ -51,7 +51,7 @@ struct lm_run {
     int64_t n_history, history_size;
 };
 
-/* Evaluate p and count it as _Run._count does; 0, or < 0 on an error. */
+/* Evaluate p and count it as Run._count does; 0, or < 0 on an error. */
 static int call(struct lm_run *run, struct lm_phase *p)
 {
     double e;

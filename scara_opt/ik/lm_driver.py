@@ -1,27 +1,32 @@
 """The fast solver's start loop in C (``lm_driver.c``), on the compiled iterations.
 
-:class:`scara_opt.ik.lm._Run` calls the compiled casadi iterations a few times a start;
+:class:`scara_opt.ik.lm_run.Run` calls the compiled casadi iterations a few times a start;
 its Python work between the calls costs about as much as the iterations on a 6- or
 7-joint arm. :class:`Driver` runs the same loop in C: ``lm_driver.c`` calls the
 Functions' C entry points (in the libraries :mod:`scara_opt.model.compiled` keeps) on the
 same arrays, with the same constants, and gives the same iterates, counts and history,
 bit for bit. Where a Function is not compiled (no C compiler, ``jit=False``) there is no
-driver and ``_Run`` runs.
+driver and ``Run`` runs. :func:`phase_driver` makes this thread's driver of a robot and task
+kind.
 """
 
 from __future__ import annotations
 
 import ctypes
 import math
+import threading
 from pathlib import Path
 from typing import Any
 
 import casadi as ca
 import numpy as np
 
+from scara_opt.ik.lm_functions import phase_arrays, step_function
+from scara_opt.ik.lm_run import SLIDE_TOL, STALL_CALLS, STALL_DECREASE, STEP_TOL
+from scara_opt.ik.lm_steps import EVALS, ITERATIONS, LAMBDA0, LAMBDA_MAX
 from scara_opt.model.buffers import FunctionArrays
 from scara_opt.model.compiled import c_function, library_path
-from scara_opt.model.robot import Array
+from scara_opt.model.robot import Array, Robot
 
 _P = ctypes.c_void_p
 _I = ctypes.c_int64
@@ -69,8 +74,9 @@ def _entry(f: ca.Function) -> tuple[int, ctypes.CDLL] | None:
 class Driver:
     """One thread's C start loop for one robot and task kind (see the module docstring).
 
-    The interface of ``lm._Run`` that ``lm_search`` uses: :meth:`reset` (a new solve),
-    ``budget``, :meth:`start`, and the counts ``iterations``, ``evaluations``, ``history``.
+    The interface of :class:`~scara_opt.ik.lm_run.Run` that ``lm_search`` uses:
+    :meth:`reset` (a new solve), ``budget``, :meth:`start`, and the counts ``iterations``,
+    ``evaluations``, ``history``.
     """
 
     def __init__(self, phases: dict[str, tuple[ca.Function, FunctionArrays, int]],
@@ -137,7 +143,7 @@ class Driver:
         return int(self._c.evaluations)
 
     def start(self, q: Array) -> tuple[Array, float]:
-        """All three phases from one start: (q, ‖r‖²), as ``lm._Run.start``."""
+        """All three phases from one start: (q, ‖r‖²), as ``Run.start``."""
         self._q[:] = q
         self._c.n_history = 0
         status = self._start(*self._args)
@@ -158,7 +164,7 @@ def make(phases: dict[str, tuple[ca.Function, FunctionArrays]],
     Args:
         phases: "lm", "newton", "slide": the Function and its one-column arrays.
         counts: per phase, the iterations and FK evaluations one call counts.
-        constants: lm's constants, by the field names of ``struct lm_run``.
+        constants: the loop's constants, by the field names of ``struct lm_run``.
         nq: joints.
     """
     start = c_function(Path(__file__).with_name("lm_driver.c"), "lm_start", [_P, _P, _P],
@@ -173,3 +179,27 @@ def make(phases: dict[str, tuple[ca.Function, FunctionArrays]],
         entries[name] = (f, arrays, entry[0])
         libraries.append(entry[1])
     return Driver(entries, counts, constants, nq, start, libraries)
+
+
+def phase_driver(robot: Robot, kind: str, jit: bool = True) -> Driver | None:
+    """This thread's C start loop on the one-target :func:`phase_arrays`, or ``None``.
+
+    ``None`` where the phases are not compiled (``jit=False``, no C compiler):
+    :class:`~scara_opt.ik.lm_run.Run`, the same loop in Python, runs.
+    """
+    cache: dict[tuple, Driver | None] = robot.__dict__.setdefault("_ik_lm_driver", {})
+    key = (kind, jit, threading.get_ident())
+    if key not in cache:
+        cache[key] = _make_driver(robot, kind) if jit else None
+    return cache[key]
+
+
+def _make_driver(robot: Robot, kind: str) -> Driver | None:
+    """:func:`make` on this thread's compiled phases and the loop's constants."""
+    f = phase_arrays(robot, kind, 1, True)
+    phases = {phase: (step_function(robot, phase, kind, True), getattr(f, phase))
+              for phase in ("lm", "newton", "slide")}
+    counts = {phase: (ITERATIONS[phase], EVALS[phase]) for phase in phases}
+    constants = {"stall_calls": STALL_CALLS, "lambda0": LAMBDA0, "lambda_max": LAMBDA_MAX,
+                 "step_tol": STEP_TOL, "slide_tol": SLIDE_TOL, "stall_decrease": STALL_DECREASE}
+    return make(phases, counts, constants, robot.nq)

@@ -14,7 +14,7 @@ class FunctionArrays:
 
     Each array is ``(n, size)`` in C order: the memory of casadi's column-major
     ``(size, n)``. Calling the object evaluates in place. casadi buffers carry state:
-    use one instance per thread (e.g. :func:`scara_opt.ik.lm.phase_arrays`).
+    use one instance per thread (e.g. :func:`scara_opt.ik.lm_functions.phase_arrays`).
 
     Attributes:
         arg: input arrays by input name; res: output arrays by output name.

@@ -36,7 +36,7 @@ def load_robot(name: str | Path, tip: str | None = None) -> Robot:
         RobotNotFoundError: neither a bundled name nor an existing file (lists the names).
         URDFError: ``name`` is a folder or a path that cannot be looked up (too long, in a
             folder that may not be entered), or the file is malformed (see
-            :meth:`Robot.from_urdf` and :func:`scara_opt.dh.load_dh`).
+            :meth:`Robot.from_urdf` and :func:`scara_opt.model.dh_file.load_dh`).
     """
     from scara_opt.model.dh_file import bundled_dir, load_dh
 

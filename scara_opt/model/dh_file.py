@@ -1,14 +1,15 @@
 """Robot files: a DH table in TOML (``robots/<name>.toml``) read into a :class:`DHRobot`.
 
 Values are in the file's own units (``length_unit``, ``angle_unit``) and converted to SI;
-unknown or misspelt keys are refused. ``python -m scara_opt.dh`` regenerates every
-bundled URDF (:func:`regenerate`).
+unknown or misspelt keys are refused. ``python -m scara_opt.model.dh_file`` regenerates
+every bundled URDF (:func:`regenerate`).
 """
 
 from __future__ import annotations
 
 import difflib
 import math
+import sys
 import tomllib
 from pathlib import Path
 
@@ -267,7 +268,11 @@ def regenerate(folder: Path | None = None) -> list[Path]:
 
 
 def main() -> int:
-    """``python -m scara_opt.dh``: regenerate every bundled URDF; returns the exit code."""
+    """``python -m scara_opt.model.dh_file``: regenerate every bundled URDF; the exit code."""
     for p in regenerate():
         print(f"wrote {p}")
     return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -227,7 +227,7 @@ def _attrs(element: ET.Element) -> str:
     return " ".join(f'{k}="{v}"' for k, v in element.attrib.items())
 
 def accelerations(text: str, where: str = "URDF") -> dict[str, float]:
-    """The ``<scara_opt acceleration=…/>`` extension written by :mod:`scara_opt.dh`, checked.
+    """The ``<scara_opt acceleration=…/>`` extension written by :mod:`scara_opt.model.dh`, checked.
 
     One element at most per movable joint, nowhere else.
 
