@@ -237,3 +237,27 @@ def test_last_resort_stops_at_every_waypoint(monkeypatch):
     assert len(knots) > 2 and (np.diff(knots) > 0).all()
     assert np.abs(traj.evaluate(knots, 1)).max() < 1e-9
     assert dense_clear_trajectory(so.CollisionChecker(ROBOT, POST), traj)
+
+
+def test_edge_prover_remembers_proven_edges_only():
+    """An edge proven once is not proven again, in either direction (no configuration is
+    computed: the simplified path's final re-check costs nothing for the edges it kept); an
+    edge that was refused is checked again and refused again.
+
+    Mutation caught: the cache not consulted (``if (a, b) in self.known`` dropped): the
+    second pass computes midpoints again. Mutation caught: an edge remembered before it is
+    proven (``known.add`` at the top of ``edge``): the refused swing through the post
+    passes on the second ask.
+    """
+    from scara_opt.planning.ompl_backend import EdgeProver
+
+    checker = so.CollisionChecker(ROBOT, POST)
+    path = plan_path(checker, QA, QB, seed=3).path
+    prover = EdgeProver(checker)
+    assert prover.path(path) and prover.midpoints > 0
+    before = prover.configurations
+    assert prover.path(path) and prover.path(path[::-1].copy())
+    assert prover.configurations == before
+    a, b = tuple(QA.tolist()), tuple(QB.tolist())
+    assert not prover.edge(a, b)
+    assert not prover.edge(a, b) and not prover.edge(b, a)

@@ -71,6 +71,8 @@ class EdgeProver:
         states: configurations whose distances were all computed (states asked about).
         midpoints: configurations inside edges where some pairs' distances were computed.
         edges: edges asked about; ``proven``: those proven clear.
+        known: the edges proven so far, both directions (an edge asked again, as the
+            simplified path's are at the end, is not proven again).
     """
 
     def __init__(self, checker: CollisionChecker) -> None:
@@ -86,6 +88,7 @@ class EdgeProver:
         self.midpoints = 0
         self.edges = 0
         self.proven = 0
+        self.known: set[tuple[tuple[float, ...], tuple[float, ...]]] = set()
         self._data = checker._data()
         self._model = checker.robot.model
 
@@ -139,6 +142,8 @@ class EdgeProver:
         import pinocchio as pin
 
         self.edges += 1
+        if (a, b) in self.known:
+            return True
         Da, Db = self.distances(a), self.distances(b)
         if min(Da, default=1.0) <= 0 or min(Db, default=1.0) <= 0:
             return False
@@ -173,6 +178,8 @@ class EdgeProver:
                         queue.append((h / 2, lo, [pairs[i] for i in open_],
                                       [d_lo[i] for i in open_], [d_hi[i] for i in open_]))
         self.proven += 1
+        self.known.add((a, b))
+        self.known.add((b, a))
         return True
 
     def path(self, Q: Array) -> bool:
