@@ -230,7 +230,7 @@ def test_last_resort_stops_at_every_waypoint(monkeypatch):
     import importlib
 
     clearance = importlib.import_module("scara_opt.motion.clearance")
-    monkeypatch.setattr(clearance, "RETRIES", -1)  # straight to the last resort
+    monkeypatch.setattr(clearance, "RETRIES", -2)  # no spline tried: the last resort
     traj = so.plan(ROBOT, [so.PTP(QB)], start=QA, cell=POST, seed=3)
     assert "stopping at each waypoint" in traj.notes
     knots = traj.profiles[0][0]
@@ -261,3 +261,78 @@ def test_edge_prover_remembers_proven_edges_only():
     a, b = tuple(QA.tolist()), tuple(QB.tolist())
     assert not prover.edge(a, b)
     assert not prover.edge(a, b) and not prover.edge(b, a)
+
+
+def test_a_spline_through_the_waypoints_that_hits_the_cell_is_not_timed():
+    """A proven polyline (5 waypoints, zavar2024 around a column) whose toppra spline through
+    the waypoints alone cuts 5.5 mm into the column: the section is timed through more
+    points, after their spline is proven, and the trajectory is clear (dense check here)
+    and within the joint limits.
+
+    Mutation caught: the spline's proof ignored (``_spline_clear`` returning the failed
+    proof): the first spline is timed and the dense check finds the column.
+    """
+    from scara_opt.collision.continuous import check_path
+    from scara_opt.motion.timing import section_spline
+    from scara_opt.planning.ompl_backend import EdgeProver
+    from scara_opt.trajectory.limits import resolve_limits
+
+    cell = so.Cell([so.Cylinder("column", 0.03, 0.4, xyz=(0.28, 0.12, 0.0))])
+    checker = so.CollisionChecker(ROBOT, cell)
+    Q = np.array([[1.84, 1.437, 0.037, -0.44], [0.398, 1.687, 0.041, -0.598],
+                  [-1.043, 1.936, 0.045, -0.757], [-0.226, 0.307, 0.041, 0.161],
+                  [0.592, -1.322, 0.036, 1.079]])
+    limits = resolve_limits(ROBOT, ROBOT.nq, None, None)
+    assert EdgeProver(checker).path(Q)
+    first = check_path(checker, section_spline(Q, limits).cspl)
+    assert not first.clear and first.contact.depth > 0.005
+
+    traj, note = time_planned(checker, Q, limits)
+    assert "(attempt 1)" not in note and "proven clear (the spline it follows" in note
+    assert dense_clear_trajectory(checker, traj)
+    lo, hi = traj.position_range()
+    assert (lo >= ROBOT.lower - 1e-9).all() and (hi <= ROBOT.upper + 1e-9).all()
+
+
+def time_planned(checker, Q, limits):
+    """CellPlanning.timed_clear of the planned polyline Q with toppra: (trajectory, note)."""
+    import importlib
+
+    from scara_opt.motion.timing import time_section
+    from scara_opt.motion.tool_limits import ToolLimits, ToolProfile
+    from scara_opt.planning.planner import PathPlan
+
+    clearance = importlib.import_module("scara_opt.motion.clearance")
+
+    def timed(rows, owner):
+        profile = ToolProfile.per_point([ToolLimits()] * len(rows))
+        return (*time_section(ROBOT, rows, limits, profile), profile)
+
+    cp = clearance.CellPlanning(checker, 1.0, 0)
+    cp.plans[0] = PathPlan(PlanStatus.SOLVED, Q, "", "RRTConnect", 0.0, 0, 0, 0, 0.0, 0)
+    part, note, knots, _ = cp.timed_clear([(0, so.PTP(Q[-1]))], Q, [0] * len(Q), timed,
+                                          limits, "toppra", 0.0)
+    return so.Trajectory(part, limits, "toppra", Q, knots), note
+
+
+def test_a_spline_through_the_waypoints_that_leaves_the_limits_is_not_timed():
+    """A planned polyline with a corner 4 mrad inside theta1's upper limit: the spline
+    through its waypoints alone overshoots the limit by 0.9 mrad (its exact range); the
+    section is timed through more points and stays within the limits.
+
+    Mutation caught: the spline's range not checked (``_spline_clear`` without the limit
+    test): the trajectory comes back beyond the limit.
+    """
+    from scara_opt.motion.timing import section_spline
+    from scara_opt.trajectory.limits import resolve_limits
+    from scara_opt.trajectory.trajectory import cubic_range
+
+    checker = so.CollisionChecker(ROBOT)  # its own links only
+    Q = np.array([[0.5, -1.5, 0.02, 0.0], [2.09, 0.0, 0.02, 0.0], [1.6, 1.0, 0.02, 0.0],
+                  [1.0, 1.2, 0.02, 0.0]])
+    limits = resolve_limits(ROBOT, ROBOT.nq, None, None)
+    assert cubic_range(section_spline(Q, limits).cspl)[1][0] > ROBOT.upper[0] + 5e-4
+    traj, note = time_planned(checker, Q, limits)
+    assert "(attempt 1)" not in note
+    lo, hi = traj.position_range()
+    assert (lo >= ROBOT.lower - 1e-9).all() and (hi <= ROBOT.upper + 1e-9).all()

@@ -33,12 +33,13 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 from numpy.typing import NDArray
+from scipy.interpolate import PPoly
 
 from scara_opt.collision.checker import CollisionChecker
 
 Array = NDArray[np.float64]
 
-__all__ = ["CollisionReport", "Contact", "Proof", "VelocityBound", "check_trajectory",
+__all__ = ["CollisionReport", "Contact", "Proof", "VelocityBound", "check_path", "check_trajectory",
            "collision_report", "deepest", "prove", "prove_segment"]
 
 #: an interval whose motion bound is below this [m] and still not proven is not clear
@@ -242,32 +243,44 @@ class VelocityBound:
 
     From the trajectory's :meth:`~scara_opt.Trajectory.speed_bounds` (a Bernstein bound per
     polynomial piece); an interval takes the largest over the pieces it covers (a sparse
-    table answers each query in two lookups).
+    table answers each query in two lookups). Joints whose pieces share their breakpoints
+    (toppra's, a spline's) are looked up together.
     """
 
     def __init__(self, traj: object) -> None:
-        self.breaks: list[Array] = []
-        self.tables: list[Array] = []  # (levels, pieces): row L the largest over 2**L pieces
-        for x, b in traj.speed_bounds():  # type: ignore[attr-defined]
+        bounds = traj.speed_bounds()  # type: ignore[attr-defined]
+        self.nq = len(bounds)
+        groups: list[tuple[Array, list[int]]] = []
+        for j, (x, _) in enumerate(bounds):
+            for breaks, cols in groups:
+                if breaks is x or np.array_equal(breaks, x):
+                    cols.append(j)
+                    break
+            else:
+                groups.append((x, [j]))
+        # per group: breakpoints, joints, table (levels, pieces, joints): row L the largest
+        # over 2**L pieces
+        self.groups: list[tuple[Array, list[int], Array]] = []
+        for x, cols in groups:
+            b = np.column_stack([bounds[j][1] for j in cols])
             rows, step = [b], 1
             while 2 * step <= len(b):
                 rows.append(np.maximum(rows[-1][:-step], rows[-1][step:]))
                 step *= 2
-            table = np.zeros((len(rows), len(b)))
+            table = np.zeros((len(rows),) + b.shape)
             for level, row in enumerate(rows):
                 table[level, :len(row)] = row
-            self.breaks.append(x)
-            self.tables.append(table)
+            self.groups.append((np.asarray(x, float), cols, table))
 
     def __call__(self, t0: Array, t1: Array) -> Array:
         """Bounds (k, nq) on ``|q̇|`` over each interval ``[t0[i], t1[i]]`` [rad/s or m/s]."""
-        out = np.empty((len(t0), len(self.tables)))
-        for j, (x, table) in enumerate(zip(self.breaks, self.tables, strict=True)):
+        out = np.empty((len(t0), self.nq))
+        for x, cols, table in self.groups:
             n = table.shape[1]
             a = np.minimum(np.maximum(np.searchsorted(x, t0, side="right") - 1, 0), n - 1)
             b = np.minimum(np.maximum(np.searchsorted(x, t1, side="left") - 1, a), n - 1)
             k = np.minimum(np.log2(b - a + 1).astype(int), table.shape[0] - 1)
-            out[:, j] = np.maximum(table[k, a], table[k, b - (1 << k) + 1])
+            out[:, cols] = np.maximum(table[k, a], table[k, b - (1 << k) + 1])
         return out
 
 
@@ -288,9 +301,61 @@ def check_trajectory(checker: CollisionChecker, traj: object, *, locate: bool = 
     T = traj.duration
     t = np.unique(np.concatenate([np.linspace(0.0, T, samples + 1),
                                   np.clip(traj.waypoint_times, 0.0, T)]))
-    Q = traj.evaluate(t)
-    D = checker.distances_many(Q)
-    vel = VelocityBound(traj)
+    return _prove_curve(checker, t, traj.evaluate, VelocityBound(traj), locate, TIME_TOL)
+
+
+class _PathBounds:
+    """A joint path seen as :class:`VelocityBound` sees a trajectory.
+
+    Per joint: the path's breakpoints and a bound on ``|q'(s)|`` on each piece (the
+    largest Bernstein coefficient, :func:`~scara_opt.trajectory.trajectory.piece_bounds`).
+    """
+
+    def __init__(self, path: PPoly) -> None:
+        from scara_opt.trajectory.trajectory import piece_bounds
+
+        d = path.derivative()
+        x = np.asarray(path.x, float)
+        self._bounds = [(x, piece_bounds(PPoly(d.c[:, :, j], d.x, extrapolate=False)))
+                        for j in range(d.c.shape[2])]
+
+    def speed_bounds(self) -> list[tuple[Array, Array]]:
+        """Per joint: breakpoints (m + 1,) and a bound (m,) on ``|q'(s)|`` on each piece."""
+        return self._bounds
+
+
+def check_path(checker: CollisionChecker, path: PPoly, *, locate: bool = False) -> Proof:
+    r"""Prove a joint path :math:`q(s)` clear of collision over its whole domain.
+
+    The rule of the module docstring with the path parameter in place of time: on
+    :math:`[s_0, s_1]` the relative motion of a pair is at most
+    :math:`(s_1 - s_0)\, w \cdot \bar v` with :math:`\bar v_j` a bound on
+    :math:`|q_j'(s)|` there (each piece's Bernstein coefficients). A trajectory that runs
+    along the path, :math:`q(s(t))` with :math:`s(t)` nondecreasing over the domain (as
+    every timing of :func:`~scara_opt.motion.timing.time_section` does), visits only its
+    configurations: the path proven clear, so is the trajectory.
+
+    Args:
+        checker: the robot in its cell.
+        path: a :class:`~scara_opt.Trajectory`-free joint path: a ``PPoly`` whose values
+            are (nq,) (toppra's ``SplineInterpolator.cspl``), its breakpoints the waypoints.
+        locate: find the first contact to within 1e-6 of the parameter.
+
+    Returns:
+        A :class:`Proof`; ``contact.at`` is the path parameter.
+    """
+    x = np.asarray(path.x, float)
+
+    def evaluate(u: Array) -> Array:
+        return path(np.clip(u, x[0], x[-1]))
+
+    return _prove_curve(checker, x, evaluate, VelocityBound(_PathBounds(path)), locate, 1e-6)
+
+
+def _prove_curve(checker: CollisionChecker, t: Array, evaluate: Callable[[Array], Array],
+                 vel: VelocityBound, locate: bool, tol: float) -> Proof:
+    """:func:`prove` over a curve from the samples ``t``, its speed bounded by ``vel``."""
+    D = checker.distances_many(evaluate(t))
     W = checker.weights
     seen: list = [None, None]
 
@@ -302,8 +367,8 @@ def check_trajectory(checker: CollisionChecker, traj: object, *, locate: bool = 
     def bound(lo: Array, hi: Array) -> Array:
         return (hi - lo)[:, None] * (speeds(lo, hi) @ W.T)
 
-    p = prove(t, D, traj.evaluate, bound, checker.pair_distances, checker.pair_names,
-              margin=checker.margin, locate=locate, tol=TIME_TOL,
+    p = prove(t, D, evaluate, bound, checker.pair_distances, checker.pair_names,
+              margin=checker.margin, locate=locate, tol=tol,
               apart=_trajectory_gaps(checker, speeds))
     return replace(p, evaluations=p.evaluations + len(t))
 

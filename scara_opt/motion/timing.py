@@ -101,6 +101,17 @@ def _factor(robot: Robot, traj: Trajectory, tool: ToolProfile, knots: Array,
                math.sqrt(ratios["acceleration"]), torque)
 
 
+def section_spline(Q: Array, limits: Limits) -> object:
+    """The joint path :func:`time_section` times: toppra's cubic spline through ``Q`` (n, nq).
+
+    Parameterised by the chord parameter (:func:`~scara_opt.trajectory.toppra_backend.
+    chord_parameter`) in [0, 1]; its ``cspl`` is the path as a scipy ``CubicSpline``.
+    """
+    import toppra
+
+    return toppra.SplineInterpolator(chord_parameter(Q, limits.vmax), Q)
+
+
 def time_section(robot: Robot, Q: Array, limits: Limits, tool: ToolProfile,
                  dynamics: RobotDynamics | None = None) -> tuple[tuple[PPoly, ...], str, Array]:
     """Fastest rest-to-rest timing of joint waypoints ``Q`` (n, nq) within all limits.
@@ -117,11 +128,10 @@ def time_section(robot: Robot, Q: Array, limits: Limits, tool: ToolProfile,
             limit by more than :data:`MAX_STRETCH` between grid points.
         DynamicsError: gravity alone exceeds a torque limit on the path.
     """
-    import toppra
     import toppra.constraint as constraint
 
-    s = chord_parameter(Q, limits.vmax)
-    path = toppra.SplineInterpolator(s, Q)
+    path = section_spline(Q, limits)
+    s = path.ss_waypoints
     scale = 1.0 - MARGIN
     cons = [constraint.JointVelocityConstraint(limits.vmax * scale),
             constraint.JointAccelerationConstraint(
