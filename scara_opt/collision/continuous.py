@@ -314,10 +314,9 @@ class _PathBounds:
     def __init__(self, path: PPoly) -> None:
         from scara_opt.trajectory.trajectory import piece_bounds
 
-        d = path.derivative()
         x = np.asarray(path.x, float)
-        self._bounds = [(x, piece_bounds(PPoly(d.c[:, :, j], d.x, extrapolate=False)))
-                        for j in range(d.c.shape[2])]
+        bounds = piece_bounds(path.derivative())  # (pieces, nq)
+        self._bounds = [(x, bounds[:, j]) for j in range(bounds.shape[1])]
 
     def speed_bounds(self) -> list[tuple[Array, Array]]:
         """Per joint: breakpoints (m + 1,) and a bound (m,) on ``|q'(s)|`` on each piece."""

@@ -104,14 +104,51 @@ def cubic_range(pp: PPoly) -> tuple[Array, Array]:
 
 
 def piece_bounds(pp: PPoly) -> Array:
-    """A bound on ``|f|`` over each piece of a 1-D piecewise polynomial, (n_pieces,).
+    """A bound on ``|f|`` over each piece of a piecewise polynomial.
 
-    The largest Bernstein coefficient in absolute value (convex hull property): never
-    below the true largest ``|f|`` on the piece.
+    (n_pieces,), or (n_pieces, nq) for values in (nq,). The largest Bernstein coefficient
+    in absolute value (convex hull property): never below the true largest ``|f|`` on the
+    piece.
     """
-    d = pp.c.shape[0] - 1
-    alpha = pp.c[::-1] * np.diff(pp.x) ** np.arange(d + 1.0)[:, None]
-    return np.abs(_to_bernstein(d) @ alpha).max(axis=0)
+    c, x = pp.c, pp.x
+    d = c.shape[0] - 1
+    alpha = c[::-1] * (np.diff(x) ** np.arange(d + 1.0)[:, None]).reshape(
+        (d + 1, -1) + (1,) * (c.ndim - 2))  # α_k = a_k h^k, lowest power first
+    out = np.abs(_to_bernstein(d) @ alpha.reshape(d + 1, -1)).max(axis=0)
+    return out.reshape(c.shape[1:])
+
+
+def sup_abs_columns(c: Array, x: Array) -> Array:
+    """Largest ``|f|`` (n,) of n piecewise polynomials sharing their breakpoints, exact.
+
+    ``c`` (d + 1, m, n): coefficients in PPoly's layout (highest power first), ``x`` (m + 1,)
+    the breakpoints. As :func:`extrema`, all columns at once: the pieces' ends, then the
+    real roots of ``f'`` inside the pieces whose Bernstein coefficients leave the ends'
+    range (the only ones that can reach beyond it).
+    """
+    d = c.shape[0] - 1
+    h = np.diff(x)
+    right = c[0].copy()
+    for row in c[1:]:
+        right = right * h[:, None] + row
+    ends = np.concatenate([c[-1], right])
+    lo, hi = ends.min(axis=0), ends.max(axis=0)
+    best = np.maximum(np.abs(lo), np.abs(hi))
+    if d < 2:
+        return best
+    alpha = c[::-1] * (h ** np.arange(d + 1.0)[:, None])[:, :, None]  # a_k h^k, lowest first
+    b = (_to_bernstein(d) @ alpha.reshape(d + 1, -1)).reshape(alpha.shape)
+    i, j = np.nonzero((b.max(axis=0) > hi) | (b.min(axis=0) < lo))
+    if i.size:  # those pieces laid end to end (as in extrema): one root search for all
+        x_sub = np.concatenate([[0.0], np.cumsum(h[i])])
+        sub = PPoly(c[:, i, j], x_sub, extrapolate=False)
+        roots = sub.derivative().roots(discontinuity=False, extrapolate=False)
+        roots = roots[np.isfinite(roots)]
+        if roots.size:
+            values = np.abs(sub(roots))
+            col = j[np.clip(np.searchsorted(x_sub, roots, side="right") - 1, 0, i.size - 1)]
+            np.maximum.at(best, col, values)
+    return best
 
 
 def sup_abs(pp: PPoly) -> float:
@@ -257,6 +294,16 @@ class Trajectory:
         orders = {"velocity": 1, "acceleration": 2}
         if self.limits.jmax is not None:
             orders["jerk"] = 3
+        x = self.pieces[0].x
+        if all(p.x is x or np.array_equal(p.x, x) for p in self.pieces):  # all at once
+            c = np.stack([p.c for p in self.pieces], axis=-1)  # (d + 1, m, nq)
+            out = {}
+            power = np.arange(c.shape[0] - 1, -1, -1.0)  # of each coefficient's τ
+            for name, order in orders.items():  # d^r/dτ^r τ^p = p (p-1) ... (p-r+1) τ^(p-r)
+                factor = np.prod(power[None, :] - np.arange(order)[:, None], axis=0)
+                keep = len(power) - order
+                out[name] = sup_abs_columns(c[:keep] * factor[:keep, None, None], x)
+            return out
         return {name: np.array([sup_abs(self._derivative(k, order)) for k in range(self.nq)])
                 for name, order in orders.items()}
 
