@@ -336,3 +336,32 @@ def test_a_spline_through_the_waypoints_that_leaves_the_limits_is_not_timed():
     assert "(attempt 1)" not in note
     lo, hi = traj.position_range()
     assert (lo >= ROBOT.lower - 1e-9).all() and (hi <= ROBOT.upper + 1e-9).all()
+
+
+def test_section_spline_and_toppra_constraints_are_kept_by_their_inputs():
+    """The spline a section is proven along is the object toppra times (kept by waypoints
+    and velocity limits), and toppra's joint constraints are kept by both limits: other
+    limits give another spline and another timing.
+
+    Mutation caught: the spline kept by the waypoints alone (``vmax`` out of the key): the
+    chord parameter of other velocity limits is not recomputed. Mutation caught: the
+    constraints kept by the velocity limits alone: halving the acceleration limits does
+    not slow the section.
+    """
+    from scara_opt.motion.timing import section_spline, time_section
+    from scara_opt.motion.tool_limits import ToolLimits, ToolProfile
+    from scara_opt.trajectory.limits import resolve_limits
+    from scara_opt.trajectory.toppra_backend import chord_parameter
+
+    Q = np.array([QA, [0.2, 1.4, 0.01, 0.3], QB])
+    fast = resolve_limits(ROBOT, ROBOT.nq, None, None)
+    spline = section_spline(Q, fast)
+    assert section_spline(Q.copy(), fast) is spline
+    vmax = ROBOT.velocity_limit * np.array([1.0, 0.2, 1.0, 1.0])
+    other = resolve_limits(ROBOT, ROBOT.nq, vmax, None)
+    assert np.array_equal(section_spline(Q, other).ss_waypoints, chord_parameter(Q, vmax))
+    profile = ToolProfile.per_point([ToolLimits()] * len(Q))
+    slow = resolve_limits(ROBOT, ROBOT.nq, None, ROBOT.acceleration_limit / 2)
+    t_fast = time_section(ROBOT, Q, fast, profile)[2][-1]
+    t_slow = time_section(ROBOT, Q, slow, profile)[2][-1]
+    assert t_slow > 1.05 * t_fast
