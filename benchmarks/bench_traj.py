@@ -162,9 +162,8 @@ def main() -> None:
              for m in ("quintic", "toppra", "ruckig")}
         print(f"{name:<26}{d['quintic']:>12.4f}{d['toppra']:>12.4f}{d['ruckig']:>12.4f}"
               f"{d['toppra'] / d['quintic']:>16.3f}{d['ruckig'] / d['quintic']:>16.3f}")
-    print("(quintic and ruckig stop at every waypoint, toppra moves through them; on short "
-          "segments ruckig's jerk limit makes it slower than the quintic, whose jerk is not "
-          "limited)")
+    print("(quintic stops at every waypoint; toppra and ruckig move through them, ruckig "
+          "jerk-limited)")
 
 
 if __name__ == "__main__":

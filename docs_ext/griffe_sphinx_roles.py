@@ -9,8 +9,10 @@ The package's docstrings link with Sphinx roles (``:class:`~scara_opt.Robot```,
 - a dotted target that does **not** exist stays a plain autoref, which ``mkdocs build
   --strict`` reports as "Could not find cross-reference target": a broken docstring
   reference fails the build;
-- an undotted or relative target (``:meth:`fk```, ``:mod:`.task```) and ``:math:`` become
-  inline code; a ``.. math::`` block becomes a fenced LaTeX block.
+- an undotted or relative target (``:meth:`fk```, ``:mod:`.task```) becomes inline code;
+- ``:math:`` becomes inline LaTeX ``\\( ... \\)`` and a ``.. math::`` block display LaTeX
+  ``\\[ ... \\]``, which ``pymdownx.arithmatex`` (generic) hands to the KaTeX that
+  ``mkdocs.yml`` loads (vendored under ``docs/javascripts``), as written: nothing stripped.
 
 ``~`` shows only the last name, as in Sphinx.
 """
@@ -27,7 +29,8 @@ try:
 except ImportError:  # convert() and exists() work without griffe (the tests use them alone)
     Extension = object  # type: ignore[assignment,misc]
 
-ROLE = re.compile(r":(?:py:)?(class|func|meth|attr|data|mod|exc|obj|math):"
+MATH = re.compile(r":math:`([^`]+)`")
+ROLE = re.compile(r":(?:py:)?(class|func|meth|attr|data|mod|exc|obj):"
                   r"`(?:(?P<title>[^`<]+?)\s*<(?P<target2>[^`>]+)>|(?P<target>[^`]+))`")
 
 
@@ -69,7 +72,7 @@ def convert(text: str, scope: str = "") -> str:
         target = (m.group("target2") or m.group("target")).strip()
         short = target.startswith("~")
         target = target.lstrip("~").rstrip("()")
-        if role == "math" or "." not in target or target.startswith("."):
+        if "." not in target or target.startswith("."):
             return f"`{title or target}`"
         shown = title or (target.rsplit(".", 1)[-1] if short else target)
         for full in (target, *(f"{s}.{target}" for s in scopes)):
@@ -77,11 +80,12 @@ def convert(text: str, scope: str = "") -> str:
                 return f'<autoref identifier="{full}" optional><code>{shown}</code></autoref>'
         return f"[`{shown}`][{target}]"
 
+    text = MATH.sub(lambda m: "\\(" + m.group(1) + "\\)", text)
     return _math_blocks(ROLE.sub(one, text))
 
 
 def _math_blocks(text: str) -> str:
-    """Each ``.. math::`` directive as a fenced block of its LaTeX (readable without MathJax)."""
+    """Each ``.. math::`` directive as a display-math paragraph ``\\[ ... \\]`` of its LaTeX."""
     lines, out, k = text.split("\n"), [], 0
     while k < len(lines):
         line = lines[k]
@@ -94,7 +98,7 @@ def _math_blocks(text: str) -> str:
         while k < len(lines) and (not lines[k].strip() or lines[k].startswith(indent + " ")):
             body.append(lines[k].strip())
             k += 1
-        out += [f"{indent}```latex", *(f"{indent}{b}" for b in body if b), f"{indent}```", ""]
+        out += [f"{indent}\\[", *(f"{indent}{b}" for b in body if b), f"{indent}\\]", ""]
     return "\n".join(out)
 
 

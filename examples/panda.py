@@ -45,6 +45,8 @@ META = "pso"
 META_TOL = 1e-3  # [m, rad]
 #: Franka's published joint acceleration limits [rad/s²] (FCI documentation, "limits")
 AMAX = (15.0, 7.5, 10.0, 12.5, 15.0, 20.0, 20.0)
+#: Franka's "ready" pose [rad] (libfranka's examples; every joint inside its limits)
+READY = np.array([0.0, -np.pi / 4, 0.0, -3 * np.pi / 4, 0.0, np.pi / 2, np.pi / 4])
 TIMING = "toppra"
 OUT = Path(__file__).resolve().parent / "out"
 
@@ -93,8 +95,12 @@ def solve_all(robot: so.Robot, poses: list[so.Target]) -> list[np.ndarray]:
 
 
 def timed_path(robot: so.Robot, solutions: list[np.ndarray]) -> None:
-    """Time the path home -> each solution with ``TIMING``."""
-    Q = np.vstack([np.clip(np.zeros(robot.nq), robot.lower, robot.upper), *solutions])
+    """Time the path from Franka's ready pose (``READY``) through each solution with ``TIMING``.
+
+    (Zeros clipped into the limits put joint 4 on its upper limit, and toppra's spline
+    through the waypoints then leaves it: refused, rightly.)
+    """
+    Q = np.vstack([READY, *solutions])
     traj = so.time_parameterize(Q, robot, method=TIMING, amax=np.array(AMAX))
     ratios = traj.check_limits()
     print(f"{TIMING} path through {len(Q)} waypoints: {traj.duration:.3f} s; largest "

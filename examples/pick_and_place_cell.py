@@ -58,8 +58,8 @@ def main() -> None:
     print(f"{'run':>3} {'moves':18} {'time [s]':>9} {'speed':>6} {'acc':>6} {'yaw':>6}")
     for i, note in enumerate(traj.notes.split("; ")):
         dt = traj.waypoint_times[i + 1] - traj.waypoint_times[i]
-        own = traj.tool_limits[i]  # a PTP honours only its own tool limits: "-" = none
-        cells = [f"{ratios['tool_' + k][i]:6.3f}" if getattr(own, k) else f"{'-':>6}"
+        own = traj.profiles[i][1]  # the run's tool limits ("-": none; a PTP has only its own)
+        cells = [f"{ratios['tool_' + k][i]:6.3f}" if own.limited(k) else f"{'-':>6}"
                  for k in ("speed", "acceleration", "yaw_rate")]
         print(f"{i:3d} {note.split(':')[0]:18} {dt:9.4f} " + " ".join(cells))
     print("blended corners missed by [mm]: "

@@ -18,8 +18,8 @@ Reproduces the path study of Zavar et al. (2024), Table 3 and Fig. 7
   |θ1| <= 120°: followed as one path it needs an elbow flip, which ik_path reports as a
   jump instead of hiding it.
 * That joint path timed three ways within the (assumed) limits of robots/zavar2024.toml:
-  shortest quintic (stops at each point), TOPP-RA (through the points), Ruckig (stops at
-  each point), with the flip allowed explicitly (``allow_jumps=True``).
+  shortest quintic (stops at each point), TOPP-RA (through the points), Ruckig (through
+  the points, jerk-limited), with the flip allowed explicitly (``allow_jumps=True``).
 
 Prints the per-point table and the durations; saves ``examples/out/zavar2024_circle_xy.png``
 (the circle, the workspace's inner boundary and the tip path of the timed trajectory, which

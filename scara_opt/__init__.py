@@ -30,6 +30,8 @@ _EXPORTS = {
                     "scara_opt.errors"),
     **dict.fromkeys(("Box", "Capsule", "Cell", "CollisionChecker", "Cylinder", "Mesh",
                      "Sphere", "load_cell"), "scara_opt.collision"),
+    **dict.fromkeys(("CompilingWarning", "FallbackWarning", "NativeCodeWarning",
+                     "ScaraOptWarning"), "scara_opt.errors"),
     **dict.fromkeys(("CIRC", "LIN", "PTP", "MotionTrajectory", "ToolLimits", "cycle_time",
                      "plan"), "scara_opt.motion"),
     **dict.fromkeys(("IKResult", "Reason", "Status", "get_solver", "ik_all", "register_solver",
@@ -60,6 +62,7 @@ __all__ = [
     "Box", "Capsule", "Cell", "CellError", "CollisionChecker", "CollisionError", "Cylinder",
     "load_cell", "Mesh", "MeshNotFoundError", "MoveCollisionError", "NoPathFoundError",
     "Sphere", "UnknownBodyError",
+    "CompilingWarning", "FallbackWarning", "NativeCodeWarning", "ScaraOptWarning",
 ]
 
 

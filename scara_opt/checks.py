@@ -38,16 +38,30 @@ MAX_BYTES = 4 * 2**30
 _UNITS = ("B", "KiB", "MiB", "GiB", "TiB", "PiB", "EiB")
 
 
+def short_repr(value: object, width: int = 60) -> str:
+    """``repr(value)`` cut at ``width`` characters, for messages.
+
+    An integer of 10**15 or more is written as its order of magnitude, e.g. ``1e+5000``
+    (Python refuses to print one above 4,300 digits whole).
+    """
+    if isinstance(value, int) and not isinstance(value, bool) and abs(value) >= 10**15:
+        return count_text(value)
+    try:
+        text = repr(value)
+    except ValueError:  # holds an integer above 4,300 digits
+        return f"a {type(value).__name__} holding an integer too long to print"
+    return text if len(text) <= width else text[:width - 3] + "..."
+
+
 def describe(value: object) -> str:
     """A short description of a value for messages: its repr (cut at 60 characters) and type."""
-    text = repr(value)
-    if len(text) > 60:
-        text = text[:57] + "..."
-    return f"{text} ({type(value).__name__})"
+    return f"{short_repr(value)} ({type(value).__name__})"
 
 
 def human_bytes(n: float) -> str:
     """``n`` bytes in binary units, e.g. ``"29.1 TiB"``; beyond EiB in powers of ten."""
+    if isinstance(n, int) and n >= 1024**7:  # beyond EiB (and beyond a float, at any size)
+        return f"{count_text(n)} B"
     size = float(n)
     for unit in _UNITS:
         if size < 1024 or unit == _UNITS[-1]:
@@ -59,8 +73,13 @@ def human_bytes(n: float) -> str:
 
 
 def count_text(n: int) -> str:
-    """An item count for messages: ``1,000,000`` up to 10**15, then ``1e+30``."""
-    return f"{n:,}" if abs(n) < 10**15 else f"{float(n):.3g}"
+    """An item count for messages: ``1,000,000`` up to 10**15, then ``1e+30`` (any size)."""
+    if abs(n) < 10**15:
+        return f"{n:,}"
+    exponent = math.floor(math.log10(abs(n)))  # any int (no float overflow); may be one high
+    exponent -= abs(n) < 10**exponent
+    mantissa = abs(n) // 10**(exponent - 2) / 100  # three digits, exact
+    return f"{'-' if n < 0 else ''}{mantissa:.3g}e+{exponent}"
 
 
 def check_memory(what: str, count: int, per_item: int, advice: str) -> int:
@@ -83,8 +102,9 @@ def check_memory(what: str, count: int, per_item: int, advice: str) -> int:
     if estimate > MAX_BYTES:
         raise InputError(
             f"{what} would need about {human_bytes(estimate)} of memory ({count_text(count)} x "
-            f"{per_item} B), more than the {human_bytes(MAX_BYTES)} allowed; {advice}, or, if "
-            "this machine really has the memory, raise scara_opt.checks.MAX_BYTES")
+            f"{count_text(per_item)} B), more than the {human_bytes(MAX_BYTES)} allowed; "
+            f"{advice}, or, if this machine really has the memory, raise "
+            "scara_opt.checks.MAX_BYTES")
     return estimate
 
 

@@ -17,16 +17,19 @@ import json
 import math
 import os
 import sys
-from collections.abc import Sequence
+import warnings
+from collections.abc import Iterator, Sequence
+from contextlib import contextmanager
 from typing import Any
 
 import numpy as np
 
 from scara_opt import cli_motion, cli_plan, interrupt
 from scara_opt.checks import count_text
-from scara_opt.cli_units import joint_scale as _joint_scale
-from scara_opt.cli_units import joint_units as _units
-from scara_opt.errors import InputError, ScaraOptError
+from scara_opt.cli_args import add_limit_options, degrees, joint_limits
+from scara_opt.cli_args import joint_scale as _joint_scale
+from scara_opt.cli_args import joint_units as _units
+from scara_opt.errors import InputError, ScaraOptError, ScaraOptWarning
 from scara_opt.outputs import (
     COMPARE_FILES,
     FORCE_HELP,
@@ -126,8 +129,8 @@ def cmd_ik(args: argparse.Namespace) -> int:
                              f"{' or '.join(given)}; drop {' and '.join(given)} or --all")
         results = so.ik_all(robot, target, tol=args.tol)
     else:
-        results = [so.solve_ik(robot, target, method=args.method or "auto",
-                               seed=args.seed or 0, tol=args.tol)]
+        results = [so.solve_ik(robot, target, method="auto" if args.method is None
+                               else args.method, seed=args.seed or 0, tol=args.tol)]
     rows = [_result_dict(robot, r, args.deg, args.mm) for r in results]
     if target.kind == "rotation":  # the angle error is the rotation's, not a yaw's
         for row, res in zip(rows, results, strict=True):
@@ -171,9 +174,22 @@ def _int_at_least(low: int, high: int | None = None) -> Any:
 MAX_WORKERS = 256
 
 
+def _entries(text: str, what: str) -> list[str]:
+    """The comma-separated entries of ``text``, stripped.
+
+    An empty entry (``10,,20``, a trailing comma) is refused, not skipped.
+    """
+    entries = [v.strip() for v in text.split(",")]
+    if "" in entries:
+        raise argparse.ArgumentTypeError(
+            f"expected comma-separated {what}, got {text!r}, which has an empty entry")
+    return entries
+
+
 def _int_list(text: str) -> list[int]:
+    entries = _entries(text, "integers")
     try:
-        values = [int(v) for v in text.split(",") if v.strip()]
+        values = [int(v) for v in entries]
     except ValueError:
         raise argparse.ArgumentTypeError(
             f"expected comma-separated integers, got {text!r}") from None
@@ -182,15 +198,30 @@ def _int_list(text: str) -> list[int]:
     return values
 
 
+def _methods(text: str) -> list[str] | str:
+    """``--methods``: ``all``, or comma-separated names (none empty)."""
+    return text if text == "all" else _entries(text, "method names")
+
+
 def _ignore_sigint() -> None:
-    """A worker's initializer: Ctrl-C is handled by the main process (one line, exit 130)."""
+    """A worker's initializer: Ctrl-C and scara_opt's warnings as in the main process.
+
+    Ctrl-C is handled by the main process (one line, exit 130); a warning is one ``note:``
+    line.
+    """
     import signal
+    import warnings
 
     signal.signal(signal.SIGINT, signal.SIG_IGN)
+    warnings.showwarning = _show_warning
 
 
-def _executor(args: argparse.Namespace) -> Any:
-    """A process pool for --workers N, a dask client's executor for --dask ADDRESS, or None."""
+@contextmanager
+def _executor(args: argparse.Namespace) -> Iterator[Any]:
+    """A process pool for --workers N, a dask client's executor for --dask ADDRESS, or None.
+
+    On leaving, the pool is shut down (its queued jobs cancelled), the dask client closed.
+    """
     if args.dask:
         try:
             from distributed import Client
@@ -198,15 +229,24 @@ def _executor(args: argparse.Namespace) -> Any:
             raise ScaraOptError(
                 "--dask needs dask.distributed: pip install 'scara-opt[dask]'") from None
         try:
-            return Client(args.dask, timeout=10).get_executor()
+            client = Client(args.dask, timeout=10)
         except (OSError, ValueError, TypeError) as exc:
             raise ScaraOptError(f"cannot reach a dask scheduler at {args.dask!r} ({exc}); "
                                 "pass its address, e.g. --dask tcp://host:8786") from None
-    if args.workers and args.workers > 1:
+        try:
+            yield client.get_executor()
+        finally:
+            client.close()
+    elif args.workers and args.workers > 1:
         from concurrent.futures import ProcessPoolExecutor
 
-        return ProcessPoolExecutor(args.workers, initializer=_ignore_sigint)
-    return None
+        pool = ProcessPoolExecutor(args.workers, initializer=_ignore_sigint)
+        try:
+            yield pool
+        finally:
+            pool.shutdown(cancel_futures=True)
+    else:
+        yield None
 
 
 def cmd_compare(args: argparse.Namespace) -> int:
@@ -217,18 +257,14 @@ def cmd_compare(args: argparse.Namespace) -> int:
     robot = so.load_robot(args.robot)
     L = 1000.0 if args.mm else 1.0
     # "all" goes to the library as is: it leaves out methods that do not apply to the robot
-    methods = "all" if args.methods == "all" else [m.strip() for m in args.methods.split(",")]
+    methods = "all" if args.methods == "all" else args.methods
     out = OutputDir(args.out, COMPARE_FILES, args.force, last=["summary.csv"])
     with out:
-        executor = _executor(args)
-        try:
+        with _executor(args) as executor:
             table = compare(robot, [np.asarray(args.target, float) / L], methods=methods,
                             populations=args.populations, iterations=args.iterations,
                             seeds=range(args.seeds), executor=executor, progress=True,
                             tol=args.tol)
-        finally:
-            if executor is not None:
-                executor.shutdown(cancel_futures=True)
         summary = write_compare(out, table, args.tol)
     print(summary.to_string(index=False))
     print(f"wrote runs.csv, summary.csv and 3 figures in {out.final}")
@@ -256,9 +292,10 @@ def _yaw_arg(text: str) -> float | str:
     if text == "tangent":
         return text
     try:
-        return math.radians(float(text))
+        float(text)
     except ValueError:
         raise argparse.ArgumentTypeError(f"expected degrees or 'tangent', got {text!r}") from None
+    return math.radians(degrees(text))
 
 
 def _path_targets(args: argparse.Namespace) -> list[Any]:
@@ -283,6 +320,7 @@ def cmd_path(args: argparse.Namespace) -> int:
         q_start = robot.check_q(args.q_start, "--q-start") / _joint_scale(robot, args.deg,
                                                                            args.mm)
     targets = _path_targets(args)
+    limits = joint_limits(args, robot, need_jerk=args.time == "ruckig")  # before any IK
     names = ["joint_path.csv", "trajectory.csv", "trajectory.png"]
     if args.html is not None:
         names.append(html_name(args.html))
@@ -294,7 +332,9 @@ def cmd_path(args: argparse.Namespace) -> int:
         if not args.json:
             print(jp.summary())
         jp.raise_if_invalid(allow_jumps=args.allow_jumps)  # exit 2
-        traj = so.time_parameterize(jp, robot, method=args.time, allow_jumps=args.allow_jumps)
+        traj = so.time_parameterize(jp, robot, method=args.time, vmax=limits.vmax,
+                                    amax=limits.amax, jmax=limits.jmax,
+                                    allow_jumps=args.allow_jumps)
         traj.to_csv(out / "trajectory.csv")
         traj.plot(out / "trajectory.png")
         if args.html is not None:
@@ -329,6 +369,14 @@ def cmd_reproduce(args: argparse.Namespace) -> int:
         counts = ", ".join(f"{verdicts.count(v)} {v}" for v in dict.fromkeys(verdicts))
         print(f"{rep.paper}: {counts} ({rep.time_s:.1f} s)")
     print(f"wrote {out.final / 'summary.md'}")
+    return 0
+
+
+def cmd_doctor(args: argparse.Namespace) -> int:
+    """Versions, compiler, cache folder, and what is compiled or falls back (exit 0)."""
+    from scara_opt.doctor import report
+
+    print("\n".join(report()))
     return 0
 
 
@@ -370,6 +418,10 @@ def build_parser() -> argparse.ArgumentParser:
     p = sub.add_parser("solvers", help="list the registered IK methods")
     p.set_defaults(func=cmd_solvers)
 
+    p = sub.add_parser("doctor", help="versions, C compiler, cache folder, and what is "
+                       "compiled or falls back")
+    p.set_defaults(func=cmd_doctor)
+
     units = argparse.ArgumentParser(add_help=False)
     units.add_argument("--mm", action="store_true",
                        help="lengths (positions, prismatic joints) in mm instead of m")
@@ -400,7 +452,8 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--target", type=float, nargs=3, required=True, metavar=("X", "Y", "Z"),
                    help="target position (m, or mm with --mm)")
     p.add_argument("--mm", action="store_true", help="target in mm")
-    p.add_argument("--methods", default="all", help="comma-separated names, or all")
+    p.add_argument("--methods", type=_methods, default="all",
+                   help="comma-separated names, or all")
     p.add_argument("--populations", type=_int_list, default=[20, 40, 60, 80, 100],
                    help="comma-separated population sizes (default 20,40,60,80,100)")
     p.add_argument("--iterations", type=_int_at_least(1), default=200,
@@ -436,6 +489,7 @@ def build_parser() -> argparse.ArgumentParser:
                    help="configuration the path starts from (units per --deg/--mm)")
     p.add_argument("--allow-jumps", action="store_true",
                    help="time the path even if the joints jump (elbow flip, wrist turn)")
+    add_limit_options(p, jerk="--time ruckig only (default 10/s x amax)")
     p.add_argument("--seed", type=_int_at_least(0), default=0, help="random seed (default 0)")
     p.add_argument("--tol", type=float, default=1e-9, help="residual counted as solved [m]")
     p.add_argument("--out", required=True, help="output folder")
@@ -474,10 +528,24 @@ def _one_line(exc: BaseException) -> str:
     return " ".join(str(exc).split()) or type(exc).__name__
 
 
+_PYTHON_SHOWWARNING = warnings.showwarning
+
+
+def _show_warning(message: Warning | str, category: type[Warning], filename: str, lineno: int,
+                  file: Any = None, line: str | None = None) -> None:
+    """scara_opt's warnings as one line ``scara-opt: note: ...`` on stderr; others as Python."""
+    if issubclass(category, ScaraOptWarning):
+        print(f"scara-opt: note: {' '.join(str(message).split())}", file=sys.stderr)
+    else:
+        _PYTHON_SHOWWARNING(message, category, filename, lineno, file, line)
+
+
 def main(argv: Sequence[str] | None = None) -> int:
     """Run the command line; returns the exit code (0, 2 bad input, 130 interrupted)."""
     try:
-        with interrupt.quiet_casadi_warning(), interrupt.watch() as sigint:  # one line below
+        with interrupt.quiet_casadi_warning(), interrupt.watch() as sigint, \
+                warnings.catch_warnings():  # one line below
+            warnings.showwarning = _show_warning
             try:
                 args = build_parser().parse_args(argv)
                 return int(args.func(args))
@@ -495,5 +563,5 @@ def main(argv: Sequence[str] | None = None) -> int:
         return 2
 
 
-if __name__ == "__main__":
-    sys.exit(main())
+if __name__ == "__main__":  # python -m scara_opt.cli: it ends as the scara-opt script does
+    interrupt.exit_now(main())

@@ -9,9 +9,10 @@ from __future__ import annotations
 import argparse
 import json
 
+from scara_opt.cli_args import add_limit_options, joint_limits
+from scara_opt.cli_args import nonnegative as _nonnegative
+from scara_opt.cli_args import positive as _positive
 from scara_opt.cli_plan import add_cell_arguments, cell_keywords
-from scara_opt.cli_units import nonnegative as _nonnegative
-from scara_opt.cli_units import positive as _positive
 from scara_opt.outputs import FORCE_HELP
 
 #: the files ``cycle`` writes into ``--out`` when asked, by option
@@ -22,7 +23,7 @@ def cmd_cycle(args: argparse.Namespace) -> int:
     """Place and time the cycle; print the times; write CSV / ROS YAML / figure / 3-D view."""
     import scara_opt as so
     from scara_opt.errors import InputError
-    from scara_opt.motion.cycle import cycle_time, cycle_with_payload
+    from scara_opt.motion.cycle import check_cycle_blend, cycle_time, cycle_with_payload
     from scara_opt.motion.plot import plot_motion
     from scara_opt.outputs import OutputDir, write_animation
 
@@ -31,11 +32,14 @@ def cmd_cycle(args: argparse.Namespace) -> int:
         raise InputError(f"--{' --'.join(asked)}: the files go into a folder; give it with "
                          "--out DIR")
     robot = so.load_robot(args.robot)
+    joint = joint_limits(args, robot, need_jerk=False)  # before any IK
+    check_cycle_blend(args.blend, args.up, args.across, args.down, "mm", 1.0, "--blend")
     limits = None
     if args.speed is not None or args.acceleration is not None:
         limits = so.ToolLimits(speed=args.speed, acceleration=args.acceleration)
     res = cycle_time(robot, args.up / 1e3, args.across / 1e3, args.down / 1e3, limits,
-                     args.blend / 1e3, **cell_keywords(args))
+                     args.blend / 1e3, vmax=joint.vmax, amax=joint.amax,
+                     **cell_keywords(args))
     traj = res.trajectory
     loaded = (None if args.payload is None
               else cycle_with_payload(robot, res, args.payload, limits))
@@ -47,9 +51,9 @@ def cmd_cycle(args: argparse.Namespace) -> int:
             if args.ros:
                 traj.to_ros_yaml(out / FILES["ros"], dt=args.dt)
             if args.plot:
-                plot_motion(robot, traj, out / FILES["plot"], title=f"{robot.name}: {res!r}")
+                plot_motion(robot, traj, out / FILES["plot"], title=res.title)
             if args.html:
-                write_animation(robot, traj, out / FILES["html"], f"{robot.name}: {res!r}")
+                write_animation(robot, traj, out / FILES["html"], res.title.replace("\n", "; "))
         written = [str(out.final / FILES[k]) for k in asked]
     if args.json:
         print(json.dumps({"robot": robot.name, "up_mm": args.up, "across_mm": args.across,
@@ -97,6 +101,7 @@ def add_parser(sub: argparse._SubParsersAction) -> argparse.ArgumentParser:
     p.add_argument("--speed", type=_positive, help="tool speed limit on the LIN strokes [m/s]")
     p.add_argument("--acceleration", type=_positive,
                    help="tool acceleration limit on the LIN strokes [m/s²]")
+    add_limit_options(p)
     p.add_argument("--payload", type=_nonnegative, metavar="KG",
                    help="also time it by toppra with KG at the tool under the robot's torque "
                         "limits (needs its inertias)")

@@ -13,7 +13,7 @@ import json
 
 import numpy as np
 
-from scara_opt.cli_units import nonnegative, positive
+from scara_opt.cli_args import nonnegative, positive
 from scara_opt.outputs import FORCE_HELP
 
 #: the files ``plan`` writes into ``--out`` when asked, by option
@@ -64,8 +64,8 @@ def cell_keywords(args: argparse.Namespace) -> dict:
 def cmd_plan(args: argparse.Namespace) -> int:
     """Plan one PTP from --start to --goal (joints) or --xyz (a tool position) in the cell."""
     import scara_opt as so
+    from scara_opt.cli_args import joint_scale, joint_units
     from scara_opt.cli_pose import target_from_args
-    from scara_opt.cli_units import joint_scale, joint_units
     from scara_opt.errors import InputError, NoPathFoundError
     from scara_opt.outputs import OutputDir, write_animation
 

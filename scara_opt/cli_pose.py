@@ -12,6 +12,7 @@ from typing import Any
 
 import numpy as np
 
+from scara_opt.cli_args import degrees
 from scara_opt.errors import InputError
 from scara_opt.pose import matrix_to_quat, matrix_to_rpy, quat_to_matrix, rpy_to_matrix
 from scara_opt.target import Target
@@ -20,7 +21,7 @@ from scara_opt.target import Target
 def add_orientation_arguments(p: argparse.ArgumentParser) -> None:
     """``--yaw`` | ``--rpy R P Y`` | ``--quat W X Y Z`` (one of them), and ``--rpy-unit``."""
     group = p.add_mutually_exclusive_group()
-    group.add_argument("--yaw", type=float, metavar="DEG",
+    group.add_argument("--yaw", type=degrees, metavar="DEG",
                        help="tool angle [deg] about the robot's yaw axis (SCARA-type robots)")
     group.add_argument("--rpy", type=float, nargs=3, metavar=("ROLL", "PITCH", "YAW"),
                        help="full orientation as roll, pitch, yaw about fixed x, y, z "

@@ -217,3 +217,30 @@ class NoPathFoundError(MoveError):
         self.states = states
         self.checks = checks
         super().__init__(index, message)
+
+
+class ScaraOptWarning(UserWarning):
+    """Base class of every scara_opt warning (filter them all with this class)."""
+
+
+class NativeCodeWarning(ScaraOptWarning):
+    """Something about the native code compiled for this machine (:mod:`scara_opt.model.compiled`).
+
+    Said at most once per process for each of its kinds below; filter this class to
+    silence both.
+    """
+
+
+class CompilingWarning(NativeCodeWarning):
+    """A one-off build of native code took a noticeable time (the first call's cost).
+
+    The library is kept in the cache folder: later processes load it instead.
+    """
+
+
+class FallbackWarning(NativeCodeWarning):
+    """Native code is unavailable here (no compiler, a failing one, an unwritable cache).
+
+    The pure forms run instead (casadi's virtual machine, numpy): the same numbers, slower.
+    The message names the cause (with the compiler's own error text) and the remedy.
+    """

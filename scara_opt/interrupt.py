@@ -10,12 +10,16 @@ raises ``KeyboardInterrupt`` again (:func:`check` does the same from a solve's s
 
 from __future__ import annotations
 
+import _thread
+import os
 import signal
 import sys
 import threading
+import time
 from collections.abc import Iterator
 from contextlib import contextmanager
-from typing import Any
+from types import FrameType
+from typing import Any, NoReturn
 
 #: IPOPT return statuses that mean the solve was stopped by a user interrupt
 INTERRUPT_STATUSES = frozenset({"User_Requested_Stop"})
@@ -138,9 +142,59 @@ class _Watch:
 
 _WATCH = _Watch()
 
+#: modules whose functions Python calls from C and whose exceptions it drops with an
+#: "Exception ignored in ..." message (weakref callbacks: WeakKeyDictionary's ``remove``)
+_CALLBACK_FILES = ("weakref.py", "_weakrefset.py")
 
-def _note_sigint(signum: int, frame: Any) -> None:
+
+def in_ignored_callback(frame: FrameType | None) -> bool:
+    """Whether ``frame`` runs inside a callback whose exceptions Python ignores.
+
+    A weakref callback or a ``__del__`` (run by the garbage collector at any moment): a
+    ``KeyboardInterrupt`` raised there is printed as "Exception ignored in ..." and lost.
+    """
+    while frame is not None:
+        code = frame.f_code
+        if code.co_name == "__del__" or code.co_filename.endswith(_CALLBACK_FILES):
+            return True
+        frame = frame.f_back
+    return False
+
+
+class _Redeliver:
+    """A daemon thread that signals the main thread again a millisecond after it is asked.
+
+    The SIGINT handler asks it when the interrupt landed inside a callback (where raising
+    would lose it): the handler then runs again once the callback has returned.
+    """
+
+    def __init__(self) -> None:
+        self.wanted = threading.Event()
+        self.thread: threading.Thread | None = None
+
+    def request(self) -> None:
+        if self.thread is None:
+            self.thread = threading.Thread(target=self._run, name="scara_opt-sigint",
+                                           daemon=True)
+            self.thread.start()
+        self.wanted.set()
+
+    def _run(self) -> None:
+        while True:
+            self.wanted.wait()
+            self.wanted.clear()
+            time.sleep(1e-3)
+            _thread.interrupt_main(signal.SIGINT)  # nothing if the handler is gone by now
+
+
+_REDELIVER = _Redeliver()
+
+
+def _note_sigint(signum: int, frame: FrameType | None) -> None:
     _WATCH.received = True
+    if in_ignored_callback(frame):  # raised there, it would be printed and lost
+        _REDELIVER.request()
+        return
     raise KeyboardInterrupt
 
 
@@ -164,6 +218,29 @@ def watch() -> Iterator[_Watch]:
     finally:
         if install:
             signal.signal(signal.SIGINT, prior)
+
+
+def exit_now(code: int) -> NoReturn:
+    """End the process with ``code`` now: stdout and stderr flushed, Python's teardown skipped.
+
+    After a command has finished, Python's teardown (joining threads, atexit handlers, the
+    garbage collector, then its signal handlers reset) is where a Ctrl-C printed "Exception
+    ignored ..." or a traceback, or killed the process by SIGINT with no message. The
+    command line's work is done and its files are written by then: Ctrl-C is ignored from
+    here, and the process ends at once with the command's exit code.
+    """
+    while True:
+        try:
+            if threading.current_thread() is threading.main_thread():
+                signal.signal(signal.SIGINT, signal.SIG_IGN)
+            for stream in (sys.stdout, sys.stderr):
+                try:
+                    stream.flush()
+                except (OSError, ValueError, AttributeError):  # a closed pipe (`| head`)
+                    pass
+            os._exit(code)
+        except KeyboardInterrupt:  # arrived before SIG_IGN took over: once more
+            continue
 
 
 def raise_if_received() -> None:

@@ -72,9 +72,9 @@ from numpy.typing import NDArray
 
 from scara_opt.checks import (
     check_memory,
+    check_real,
     count_text,
     describe,
-    is_real,
     memory_guard,
 )
 from scara_opt.errors import InputError
@@ -537,9 +537,8 @@ def _check_args(robot: object, n: object, grid: object, footprint: object) -> in
         raise InputError(f"n (number of samples) must be an integer >= {MIN_SAMPLES}, e.g. "
                          f"60_000 (fewer give no usable area, see Workspace.xy_area_uncertainty); "
                          f"got {describe(n)}")
-    if grid is not None and (not is_real(grid) or not math.isfinite(grid) or grid <= 0):
-        raise InputError(f"grid (cell size) must be a positive length [m] or None (automatic); "
-                         f"got {describe(grid)}")
+    if grid is not None:  # an int beyond any float counts as infinite, refused
+        check_real("grid (cell size, or None: automatic)", grid, 0.0, low_open=True, unit="m")
     if not isinstance(footprint, (bool, Footprint)) and footprint is not None:
         raise InputError(f"footprint must be True (the robot file's), False/None, or a "
                          f"Footprint; got {describe(footprint)}")

@@ -90,3 +90,78 @@ def test_check_robot_tells_to_load_a_name_first():
         check_robot("zavar2024")
     with pytest.raises(so.InputError, match=r"None \(NoneType\)"):
         check_robot(None)
+
+
+HUGE = [10**400, -10**400, 10**5000]  # beyond any float; 10**5000 beyond Python's int repr
+
+
+def _huge_calls(robot):
+    """Every entry point that takes a count, a budget or a length, fed one huge integer."""
+    t = so.Target((0.3, 0.1, -0.07))
+    calls = {"tol": lambda v: so.solve_ik(robot, t, tol=v),
+             "solve_many tol": lambda v: so.solve_many(robot, [(0.3, 0.1, -0.07)], tol=v),
+             "solve_many targets": lambda v: so.solve_many(robot, [(v, 0.1, -0.07)]),
+             "ik_all tol": lambda v: so.ik_all(robot, t, tol=v),
+             "workspace n": lambda v: so.workspace(robot, n=v),
+             "workspace grid": lambda v: so.workspace(robot, n=1000, grid=v),
+             "compare iterations": lambda v: so.compare(robot, [t], methods="pso", iterations=v,
+                                                        progress=False),
+             "compare populations": lambda v: so.compare(robot, [t], methods="pso",
+                                                         populations=[v], progress=False),
+             "Target": lambda v: so.Target((v, 0.0, 0.0)),
+             "fk": lambda v: robot.fk([v, 0, 0, 0]),
+             "circle n": lambda v: so.paths.circle((0.3, 0.0), 0.05, -0.07, n=v)}
+    for method in so.solvers():
+        for option in so.get_solver(method).defaults:
+            calls[f"{method} {option}"] = \
+                lambda v, m=method, o=option: so.solve_ik(robot, t, method=m, **{o: v})
+    return calls
+
+
+@pytest.mark.parametrize("value", HUGE, ids=["1e400", "-1e400", "1e5000"])
+def test_huge_integers_anywhere_are_input_errors(robots, value):
+    """10**400 (no float holds it) as tol, population, max_iter, any option of any method,
+    workspace(n=), a grid, a coordinate...: a ScaraOptError naming it, never a bare
+    OverflowError (``math.isnan(10**400)``, ``float(n)``) or ValueError (``repr`` of an int
+    above 4,300 digits).
+
+    Mutation caught: ``math.isnan(value)`` for ints again in ``check_number`` -> an
+    OverflowError; ``count_text`` through ``float(n)`` again -> OverflowError; fails.
+    """
+    escaped = {}
+    for name, call in _huge_calls(robots["zavar2024"]).items():
+        try:
+            call(value)
+        except so.ScaraOptError as exc:
+            assert len(str(exc)) < 600, name  # the number is not printed in full
+        except Exception as exc:  # noqa: BLE001 (what the test looks for)
+            escaped[name] = f"{type(exc).__name__}: {str(exc)[:80]}"
+    assert not escaped
+
+
+def test_a_huge_tol_or_budget_says_what_to_pass(robots):
+    """The messages read ``tol=1e+400 is above 1``, ``population=1e+400 x ...``, and name the
+    bound or the memory, with the number in short."""
+    zavar = robots["zavar2024"]
+    t = so.Target((0.3, 0.1, -0.07))
+    with pytest.raises(so.InputError, match=r"tol=1e\+400 is above 1 \[m, rad\]"):
+        so.solve_ik(zavar, t, tol=10**400)
+    with pytest.raises(so.InputError, match=r"population=1e\+400 x iterations=200 .* memory"):
+        so.solve_ik(zavar, t, method="pso", population=10**400)
+    with pytest.raises(so.InputError, match=r"option max_iter=1e\+400 must be an integer in"):
+        so.solve_ik(zavar, t, method="lm", max_iter=10**400)
+    with pytest.raises(so.InputError, match=r"workspace\(n=1e\+400\) would need about"):
+        so.workspace(zavar, n=10**400)
+
+
+def test_count_text_and_short_repr_at_any_size():
+    """Counts of any size in three digits and a power of ten; a repr Python refuses, named.
+
+    Mutation caught: the exponent not lowered for 10**20 - 1 -> ``0.999e+20``; fails.
+    """
+    assert checks.count_text(10**20 - 1) == "9.99e+19"
+    assert checks.count_text(-10**400) == "-1e+400"
+    assert checks.count_text(10**5000) == "1e+5000"
+    assert checks.short_repr(10**5000) == "1e+5000"
+    assert checks.short_repr([10**5000]) == "a list holding an integer too long to print"
+    assert checks.human_bytes(10**400) == "1e+400 B"

@@ -90,7 +90,8 @@ def test_ik_all_lists_the_branches():
      "unknown IK method 'bogus'; registered:"),
     (("fk", "zavar2024", "1", "2"), "must have shape (4,)"),
     (("fk", "no_such_robot", "1"), "no bundled robot named 'no_such_robot'"),
-    (("ik", "zavar2024", "--xyz", "0.2", "0.1", "-0.06", "--yaw", "nan"), "yaw must be finite"),
+    (("ik", "zavar2024", "--xyz", "0.2", "0.1", "-0.06", "--yaw", "nan"),
+     "--yaw: nan deg: an angle must be finite"),
     (("workspace", "zavar2024", "-n", "0", "--out", "OUT"), "n"),
     # zavar2024 Table 3's circle (r = 16 cm, z = -6 cm) lies inside the hole around the base
     (("path", "zavar2024", "--circle", "0", "0", "160", "-60", "--mm", "-n", "10", "--out",
@@ -107,9 +108,20 @@ def test_ik_all_lists_the_branches():
       "--out", "/proc/scara_opt_forbidden"), "cannot write into --out"),
     (("compare", "zavar2024", "--target", "-0.23", "0.20", "-0.07", "--methods", "pso",
       "--dask", "notanaddress", "--out", "OUT"), "cannot reach a dask scheduler"),
+    # an empty method ran auto; an empty entry of a list was skipped
+    (("ik", "zavar2024", "--xyz", "0.2", "0.1", "-0.06", "--method", ""),
+     "unknown IK method ''; registered:"),
+    (("compare", "zavar2024", "--target", "-0.23", "0.20", "-0.07", "--methods", "pso",
+      "--populations", "10,,20", "--out", "OUT"), "got '10,,20', which has an empty entry"),
+    (("compare", "zavar2024", "--target", "-0.23", "0.20", "-0.07", "--methods", "pso,",
+      "--out", "OUT"), "got 'pso,', which has an empty entry"),
 ])
 def test_bad_input_is_one_line_and_exit_2(args, message, tmp_path):
-    """Bad input: exit code 2, a one-line error on stderr, no traceback."""
+    """Bad input: exit code 2, a one-line error on stderr, no traceback.
+
+    Mutations caught: ``args.method or "auto"`` again -> ``--method ""`` solves, exit 0;
+    empty entries skipped in ``_entries`` -> ``10,,20`` accepted; both fail.
+    """
     out = run(*(str(tmp_path) if a == "OUT" else a for a in args))
     assert out.returncode == 2, out
     assert message in out.stderr and "Traceback" not in out.stderr

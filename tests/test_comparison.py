@@ -2,7 +2,9 @@
 
 from __future__ import annotations
 
-from concurrent.futures import ProcessPoolExecutor
+import subprocess
+import sys
+from concurrent.futures import ProcessPoolExecutor, ThreadPoolExecutor
 
 import numpy as np
 import pandas as pd
@@ -52,17 +54,109 @@ def test_process_pool_gives_the_serial_numbers(robots, serial):
     assert par[SAME].equals(serial[SAME])
 
 
-def test_dask_local_cluster_gives_the_serial_numbers(robots, serial):
+@pytest.fixture(scope="module")
+def cluster():
+    """A real dask scheduler with two worker processes on 127.0.0.1 (closed after the module)."""
+    distributed = pytest.importorskip("distributed", reason="pip install 'scara-opt[dask]'")
+    with distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True,
+                                  host="127.0.0.1", dashboard_address=":0",
+                                  timeout=120) as local:
+        yield local
+
+
+def test_dask_local_cluster_gives_the_serial_numbers(robots, serial, cluster):
     """A dask.distributed LocalCluster's executor reproduces the serial table exactly.
 
     Mutation caught: as for the process pool (a job that ignores its seed).
     """
-    distributed = pytest.importorskip("distributed", reason="pip install 'scara-opt[dask]'")
-    with distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True,
-                                  dashboard_address=None) as cluster, \
-            distributed.Client(cluster) as client:
+    from distributed import Client
+
+    with Client(cluster, timeout=120) as client:
         par = compare(robots["zavar2024"], TARGETS, executor=client.get_executor(), **SWEEP)
     assert par[SAME].equals(serial[SAME])
+
+
+def test_the_cli_finishes_on_a_real_dask_cluster_with_the_serial_numbers(cluster, tmp_path):
+    """``scara-opt compare --dask tcp://ADDRESS`` against a scheduler and two workers: exit 0,
+    the files written, runs.csv equal to a serial run's but for the times (it crashed with
+    ``ClientExecutor.shutdown() got an unexpected keyword argument 'cancel_futures'``, exit
+    1, --out empty).
+
+    Mutation caught: ``shutdown(cancel_futures=True)`` on the dask executor again -> exit 1.
+    """
+    base = [sys.executable, "-m", "scara_opt.cli", "compare", "zavar2024", "--target", "0.3",
+            "0.1", "-0.07", "--methods", "pso", "--populations", "8", "--iterations", "10",
+            "--seeds", "6"]
+    runs = {}
+    for name, extra in (("dask", ["--dask", cluster.scheduler_address]), ("serial", [])):
+        out = subprocess.run([*base, *extra, "--out", str(tmp_path / name)],
+                             capture_output=True, text=True, timeout=600)
+        assert out.returncode == 0, out.stderr
+        assert "Traceback" not in out.stderr
+        runs[name] = pd.read_csv(tmp_path / name / "runs.csv")
+    keep = [c for c in runs["serial"].columns if not c.startswith(("time_s", "setup_s"))]
+    assert len(runs["dask"]) == 8 and runs["dask"][keep].equals(runs["serial"][keep])
+
+
+def test_the_cli_closes_its_dask_client(cluster):
+    """The command line's dask client is closed when compare ends, even by an error.
+
+    Mutation caught: ``client.close()`` removed from ``cli._executor`` -> status "running".
+    """
+    import argparse
+
+    from scara_opt.cli import _executor
+
+    args = argparse.Namespace(dask=cluster.scheduler_address, workers=1)
+    with pytest.raises(ZeroDivisionError), _executor(args) as executor:
+        client = executor._client
+        assert client.status == "running"
+        raise ZeroDivisionError
+    assert client.status == "closed"
+
+
+class _CountingPool(ThreadPoolExecutor):
+    """A thread pool that counts the futures submitted to it."""
+
+    def __init__(self, workers: int) -> None:
+        super().__init__(workers)
+        self.submitted = 0
+
+    def submit(self, fn, /, *args, **kwargs):  # type: ignore[override]
+        self.submitted += 1
+        return super().submit(fn, *args, **kwargs)
+
+
+def test_jobs_go_to_an_executor_in_batches_with_the_serial_numbers(robots):
+    """40 solves on 2 workers go out as 8 batches (4 per worker; one future per ~6 ms solve
+    made dask slower than serial), dealt in turn; ``chunksize=1`` sends one per solve;
+    the numbers equal the serial ones either way.
+
+    Mutation caught: one future per job again (``chunksize`` ignored) -> 40 futures; fails.
+    """
+    args = dict(methods=["pso"], populations=[6], iterations=4, seeds=range(40),
+                progress=False, reference=False)
+    serial = compare(robots["zavar2024"], TARGETS[:1], **args)
+    for chunksize, futures in ((None, 8), (1, 40), (15, 3)):
+        with _CountingPool(2) as pool:
+            table = compare(robots["zavar2024"], TARGETS[:1], executor=pool,
+                            chunksize=chunksize, **args)
+        assert pool.submitted == futures
+        assert table[SAME].equals(serial[SAME])
+    with pytest.raises(so.InputError, match="chunksize must be a positive integer"):
+        compare(robots["zavar2024"], TARGETS[:1], chunksize=0, **args)
+
+
+def test_batches_are_dealt_in_turn_and_capped():
+    """Batches hold every job once, in turn (k mod n); at most MAX_BATCH jobs each."""
+    from scara_opt.comparison import MAX_BATCH, batches
+
+    jobs = list(range(1000))
+    dealt = batches(jobs, 2)  # type: ignore[arg-type]
+    assert sorted(j for b in dealt for j in b) == jobs
+    assert dealt[0][:3] == [0, len(dealt), 2 * len(dealt)]
+    assert max(len(b) for b in dealt) <= MAX_BATCH and len(dealt) == 1000 // MAX_BATCH
+    assert len(batches(jobs[:5], 4)) == 5  # never an empty batch
 
 
 def test_summary_and_convergence(serial):

@@ -17,7 +17,7 @@ import pytest
 from tests.conftest import ROOT
 
 GUIDES = ["index.md", "getting-started.md", "own-robot.md", "ik-methods.md", "time-optimal.md",
-          "motion.md", "planning.md"]
+          "motion.md", "planning.md", "native-code.md"]
 
 
 def _roles():
@@ -142,9 +142,9 @@ def test_sphinx_roles_become_checked_cross_references():
     assert roles.convert(":func:`~scara_opt.solve_ikk`") == "[`solve_ikk`][scara_opt.solve_ikk]"
     scoped = roles.convert(":meth:`Robot.from_urdf`", "scara_opt.model.robot.Robot.fk")
     assert 'identifier="scara_opt.model.robot.Robot.from_urdf"' in scoped
-    assert roles.convert(":meth:`fk` :math:`θ u`") == "`fk` `θ u`"
+    assert roles.convert(":meth:`fk` :math:`θ u`") == "`fk` \\(θ u\\)"
     assert roles.exists("scara_opt.model.robot.Robot.metadata")  # an attribute the class documents
-    assert roles.convert("A:\n\n.. math::\n    x^2\n\nB") == "A:\n\n```latex\nx^2\n```\n\nB"
+    assert roles.convert("A:\n\n.. math::\n    x^2\n\nB") == "A:\n\n\\[\nx^2\n\\]\n\nB"
 
 
 def test_strict_build_fails_on_a_broken_docstring_reference(tmp_path):

@@ -213,8 +213,10 @@ def test_bundled_robots_carry_inertias_and_torque_limits():
 
 # ---------------------------------------------------------------------------- bad input
 @pytest.mark.parametrize("kwargs, error, match", [
-    ({"payload": -1.0}, so.InputError, "mass must be a finite number >= 0"),
-    ({"payload": float("nan")}, so.InputError, "mass must be a finite number >= 0"),
+    ({"payload": -1.0}, so.InputError, r"mass must be a number in \[0, 1e\+06\] kg"),
+    ({"payload": float("nan")}, so.InputError, r"mass must be a number in \[0, 1e\+06\] kg"),
+    ({"payload": 1e308}, so.InputError, r"mass must be a number in \[0, 1e\+06\] kg"),
+    ({"payload": (1.0, [0, 0, 1e308])}, so.InputError, r"com must be finite, within ±1000 m"),
     ({"payload": (1.0, [0, 0])}, so.InputError, r"com must have shape \(3,\)"),
     ({"payload": (1.0, [0, 0, np.inf])}, so.InputError, "must be finite"),
     ({"payload": (1.0, [0, 0, 0], -np.eye(3))}, so.InputError, "positive semi-definite"),
@@ -339,6 +341,25 @@ def test_a_urdf_with_a_negative_mass_or_nan_inertial_is_refused(old, new):
     """
     with pytest.raises(so.URDFError, match="link 'arm' has <(mass|inertial)"):
         so.Robot(link_urdf().replace(old, new, 1), "tip")
+
+
+@pytest.mark.parametrize("inertia", ['ixx="0.01" ixy="0" ixz="0" iyy="-1" iyz="0" izz="0.01"',
+                                     'ixx="0.001" ixy="0" ixz="0" iyy="0.001" iyz="0" '
+                                     'izz="0.01"',
+                                     'ixx="0.01" ixy="0.02" ixz="0" iyy="0.01" iyz="0" '
+                                     'izz="0.01"'])
+def test_a_urdf_inertia_no_body_has_is_refused(inertia):
+    """``iyy="-1"`` (a negative moment), ``izz > ixx + iyy`` (the triangle inequality
+    broken) or a product that makes the matrix indefinite: URDFError naming the link and
+    the rules, as a robot file's inertia is (they were loaded as given). The point mass of
+    ``link_urdf`` (an all-zero inertia) stays valid.
+
+    Mutation caught: check_urdf_inertials without ``check_inertia_matrix`` -> loads; fails.
+    """
+    zero = '<inertia ixx="0" ixy="0" ixz="0" iyy="0" iyz="0" izz="0"/>'
+    with pytest.raises(so.URDFError, match=r"link 'arm': <inertia>: .* is not a body's "
+                                           r"inertia .* ixx \+ iyy >= izz"):
+        so.Robot(link_urdf().replace(zero, f"<inertia {inertia}/>"), "tip")
 
 
 def test_rnea_of_a_pendulum_in_a_vertical_plane_is_m_r2_qdd_plus_m_g_r_cos_q():

@@ -206,6 +206,19 @@ def test_solve_many_reports_misses_honestly(robots):
     assert robot.within_limits(batch.q).all()
 
 
+@pytest.mark.parametrize("targets", [np.array([["0.3", "0.1", "-0.07"]]),
+                                     [["0.3", "0.1", "-0.07"]], [[True, False, True]],
+                                     np.array([[0.3, 0.1, None]], dtype=object)])
+def test_solve_many_refuses_what_target_refuses(robots, targets):
+    """Arrays of strings or bools were parsed as numbers by solve_many (``Target`` refuses
+    them): now an InputError naming the argument.
+
+    Mutation caught: ``np.asarray(targets, dtype=float)`` again -> the strings solved; fails.
+    """
+    with pytest.raises(so.InputError, match="targets, an .* must be numeric"):
+        solve_many(robots["zavar2024"], targets)
+
+
 def test_threads_get_their_own_buffers(robots):
     """Solves from several threads at once give the serial answers."""
     robot = robots["inverted5"]

@@ -10,7 +10,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 import scara_opt as so
-from tests.conftest import BUNDLED, DATA, IN, paper_fk, random_q
+from tests.conftest import BUNDLED, DATA, IN, ROOT, paper_fk, random_q
 
 
 @pytest.mark.parametrize("name", BUNDLED)
@@ -153,6 +153,37 @@ def test_missing_file_and_unknown_robot():
         so.Robot.from_urdf("/nonexistent/robot.urdf")
     with pytest.raises(so.RobotNotFoundError, match="zavar2024"):
         so.load_robot("no_such_robot")
+
+
+def test_a_path_too_long_is_a_urdf_error_not_an_os_error():
+    """load_robot('a' * 5000) raised OSError [Errno 36]: now a URDFError that says why, in
+    short, and lists the bundled robots; Robot.from_urdf likewise.
+
+    Mutation caught: ``path.stat()``'s OSError not caught in load_robot -> OSError; fails.
+    """
+    with pytest.raises(so.URDFError, match=r"'a{56}\.\.\. \(5,000 characters\) cannot be "
+                                           r"looked up: File name too long; .*zavar2024"):
+        so.load_robot("a" * 5000)
+    with pytest.raises(so.URDFError, match="cannot be read: File name too long"):
+        so.Robot.from_urdf("a" * 5000 + ".urdf")
+
+
+def test_urdfdom_says_nothing_on_stderr_and_its_words_reach_the_error(capfd):
+    """A joint origin of 4 numbers: urdfdom's C++ ``Error:`` lines went to the process's
+    stderr before the clean exception; now stderr stays empty and the URDFError carries
+    urdfdom's reasons (the one line the command line prints).
+
+    Mutation caught: ``urdfdom_messages`` a no-op -> the lines on fd 2; fails.
+    """
+    text = (ROOT / "robots" / "zavar2024.urdf").read_text()
+    bad = text.replace('<origin xyz="0 0 0" rpy="0 0 0"/>', '<origin xyz="1 2 3 4"/>', 1)
+    assert bad != text
+    capfd.readouterr()
+    with pytest.raises(so.URDFError, match=r"\(urdfdom: Parser found 4 elements but 3 "
+                                           r"expected while parsing vector \[1 2 3 4\]; "
+                                           r"Malformed parent origin element"):
+        so.Robot(bad, "tool")
+    assert capfd.readouterr().err == ""
 
 
 def _write(tmp_path, text):

@@ -190,8 +190,7 @@ def test_trajectory_sampling_grid_csv_and_plot(fang, tmp_path):
     assert traj.positions(0.1).shape == (len(t), 4)
     csv = traj.to_csv(tmp_path / "traj.csv", dt=0.05)
     header = csv.read_text().splitlines()[0].split(",")
-    assert header[:4] == ["t_s", "theta1_rad", "theta1_rad_per_s", "theta1_rad_per_s2"]
-    assert "d3_m" in header
+    assert header[:5] == ["t_s", "theta1_rad", "theta2_rad", "d3_m", "theta4_rad"]
     assert np.loadtxt(csv, delimiter=",", skiprows=1).shape == (len(traj.times(0.05)), 13)
     png = traj.plot(tmp_path / "traj.png")
     assert png.read_bytes()[:4] == b"\x89PNG"
@@ -290,8 +289,9 @@ def test_timing_properties_on_random_waypoints(fang, method, case):
     """No NaN, positive duration, through every waypoint, rest at the ends, ratios <= 1 + 1e-6.
 
     The robot's position limits are left out (robot=None): a spline through arbitrary
-    waypoints may leave them, which toppra refuses (tested below); the stopping methods
-    never leave the box of their waypoints.
+    waypoints may leave them, which toppra refuses (tested below), and so may ruckig's
+    moving timings (they keep within the robot's limits when given, tested below); the
+    quintic, rest to rest, never leaves the box of its waypoints.
     """
     u, scale = case
     Q = fang.lower + u * (fang.upper - fang.lower)
@@ -304,13 +304,18 @@ def test_timing_properties_on_random_waypoints(fang, method, case):
     assert np.allclose(traj.evaluate(traj.waypoint_times), Q, atol=1e-9)
     assert np.allclose(qd[[0, -1]], 0, atol=1e-9)
     assert worst_ratio(traj) <= 1 + RATIO_TOL
-    if method != "toppra":
+    if method == "quintic":
         lo, hi = traj.position_range()
         assert np.all(lo >= Q.min(axis=0) - 1e-9) and np.all(hi <= Q.max(axis=0) + 1e-9)
 
 
 def test_toppra_refuses_a_spline_that_leaves_the_joint_limits(zavar):
-    """Waypoints at the limit on both sides of a turn: the spline overshoots, toppra refuses."""
+    """Waypoints at the limit on both sides of a turn: the spline overshoots, toppra refuses;
+    ruckig, moving through them, keeps within.
+
+    Mutation caught: a joined segment that leaves the limits kept (``if solver.leaves(
+    limits) and ...`` -> ``if False and ...`` in ruckig_backend) -> theta1 at 2.121 rad.
+    """
     Q = np.zeros((4, 4))
     Q[:, 0], Q[:, 1], Q[:, 2] = [1.5, 2.09, 2.09, 1.5], [0.0, 0.3, 0.6, 0.9], 0.02
     with pytest.raises(TrajectoryError, match="theta1.*between waypoints 1 and 2.*ruckig"):
@@ -321,16 +326,28 @@ def test_toppra_refuses_a_spline_that_leaves_the_joint_limits(zavar):
 
 # ---------------------------------------------------------------- ik_path
 def test_ik_path_reports_the_elbow_flip_on_the_reachable_circle(zavar, circle_path):
-    """All ten points solved; the one jump is the elbow flip between points 7 and 8."""
+    """All ten points solved; the one jump is the elbow flip, forced by point 8.
+
+    The righty branch reaches points 0-7 and the lefty 7-9 (θ1 within ±120°): the global
+    walk flips once, where it costs least (step 6→7), and names point 8 as the one forcing
+    it; the greedy walk flips where its branch ends (7→8). Mutation caught: the forcing
+    point searched from the candidate after the jump (``int(choice[j - 1])`` ->
+    ``int(choice[j])`` in branches._forcing_points) -> no forcing point, fails.
+    """
     jp = circle_path
     assert jp.solved.all() and jp.error.max() < 1e-12 and not jp.ok
-    assert [j.index for j in jp.jumps] == [8]
+    assert jp.branches == "global" and [j.index for j in jp.jumps] == [7]
     jump = jp.jumps[0]
-    assert jump.joints == ("theta2",)
-    assert np.sign(jp.q[7, 1]) != np.sign(jp.q[8, 1]) and abs(jump.delta[1]) > math.radians(160)
-    assert "jumps at steps 8" in jp.summary() and str(jump).startswith("step 7→8")
+    assert jump.joints == ("theta2",) and jump.forced_by == 8 and jp.forced == [8]
+    assert np.sign(jp.q[6, 1]) != np.sign(jp.q[7, 1]) and abs(jump.delta[1]) > math.radians(160)
+    assert "jumps at steps 7 (forced by points 8)" in jp.summary()
+    assert str(jump).startswith("step 6→7") and "does not reach point 8" in str(jump)
+    greedy = ik_path(zavar, paths.zavar2024_circle(reachable=True), branches="greedy")
+    assert [j.index for j in greedy.jumps] == [8] and greedy.jumps[0].forced_by is None
+    assert (jp.travel / zavar.velocity_limit).sum() <= (greedy.travel
+                                                        / zavar.velocity_limit).sum()
     analytic = ik_path(zavar, paths.zavar2024_circle(reachable=True), method="analytic")
-    assert [j.index for j in analytic.jumps] == [8]
+    assert [j.index for j in analytic.jumps] == [7]
     assert np.allclose(analytic.q, jp.q, atol=1e-9)
 
 
@@ -355,8 +372,8 @@ def test_jumps_must_be_allowed_explicitly(zavar, circle_path, caplog):
     with caplog.at_level(logging.WARNING, logger="scara_opt"):
         traj = time_parameterize(circle_path, zavar, method="ruckig", allow_jumps=True)
     assert "jump" in caplog.text and worst_ratio(traj) <= 1 + RATIO_TOL
-    part = circle_path.subset(slice(0, 8))
-    assert part.ok and len(part) == 8
+    part = circle_path.subset(slice(0, 7))
+    assert part.ok and len(part) == 7
     assert time_parameterize(part, zavar).duration > 0
 
 

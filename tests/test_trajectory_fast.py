@@ -22,6 +22,7 @@ from scara_opt import paths
 from scara_opt.errors import TrajectoryError
 from scara_opt.trajectory import (
     ik_path,
+    passing,
     registry,
     resolve_limits,
     ruckig_point_to_point,
@@ -30,7 +31,13 @@ from scara_opt.trajectory import (
 from scara_opt.trajectory import limits as limits_mod
 from scara_opt.trajectory import waypoints as waypoints_mod
 from scara_opt.trajectory.limits import LIMIT_RANGES, _per_joint
-from scara_opt.trajectory.ruckig_backend import _add_phases, _Ruckig, ruckig_segment
+from scara_opt.trajectory.ruckig_backend import (
+    _add_phases,
+    _Ruckig,
+    _timed_pieces,
+    _within_position_limits,
+    ruckig_segment,
+)
 from scara_opt.trajectory.trajectory import concatenate
 from scara_opt.trajectory.waypoints import DUPLICATE_TOL, LIMIT_SLACK, prepare_waypoints
 
@@ -58,15 +65,21 @@ def _reference_pieces(t, j, a, v, p, duration: float) -> PPoly:
     return PPoly.construct_fast(coeffs, breaks, extrapolate=False)
 
 
-def _reference_trajectory(Q: np.ndarray, limits) -> tuple[list[PPoly], np.ndarray]:
-    """Fresh Ruckig objects per segment, each joint converted alone, then concatenated."""
+def _reference_trajectory(Q: np.ndarray, limits, V: np.ndarray | None = None
+                          ) -> tuple[list[PPoly], np.ndarray]:
+    """Fresh Ruckig objects per segment, each joint converted alone, then concatenated.
+
+    ``V``: the waypoint velocities (default: rest at each).
+    """
     import ruckig
 
     nq = Q.shape[1]
+    V = np.zeros_like(Q) if V is None else V
     segments, durations = [], []
-    for qa, qb in zip(Q[:-1], Q[1:], strict=True):
+    for i, (qa, qb) in enumerate(zip(Q[:-1], Q[1:], strict=True)):
         otg, inp, out = ruckig.Ruckig(nq), ruckig.InputParameter(nq), ruckig.Trajectory(nq)
         inp.current_position, inp.target_position = list(qa), list(qb)
+        inp.current_velocity, inp.target_velocity = list(V[i]), list(V[i + 1])
         inp.max_velocity, inp.max_acceleration = list(limits.vmax), list(limits.amax)
         inp.max_jerk = list(limits.jmax)
         inp.synchronization = ruckig.Synchronization.Time
@@ -103,30 +116,41 @@ def _cases() -> list[tuple[so.Robot | None, np.ndarray, dict]]:
 
 def test_ruckig_pieces_equal_the_reference_conversion_bit_for_bit():
     """Same breaks, coefficients (dtype, shape, every bit), duration and waypoint times as
-    the per-joint numpy conversion with fresh Ruckig objects per segment.
+    the per-joint numpy conversion with fresh Ruckig objects per segment: at rest at every
+    waypoint, and joined at the path's velocities.
 
     Each after a timing of the same joints under other limits (most fail: -101), which
-    leaves this thread's kept Ruckig set as it may. Mutations caught: the limits set only
-    when the set is made; ``x / 6`` -> ``x * (1 / 6)`` (differs in the last bit);
-    ``ends[-1] = duration`` dropped (the last break is the phases' sum, not the duration);
-    the segment start not added to the breaks; ``c`` in Fortran order (the values the same).
+    leaves this thread's kept Ruckig set as it may, and the rest-to-rest conversion after
+    a joined one. Mutations caught: the limits set only when the set is made; ``x / 6`` ->
+    ``x * (1 / 6)`` (differs in the last bit); ``ends[-1] = duration`` dropped (the last
+    break is the phases' sum, not the duration); the segment start not added to the
+    breaks; ``c`` in Fortran order (the values the same); the velocities of a joined
+    timing not reset (``self.moving[0] = False`` and the reset dropped) -> the next
+    rest-to-rest conversion differs.
     """
     for robot, Q, kw in _cases():
         try:  # this thread's kept Ruckig set, left by a failure under other limits
             time_parameterize(Q, robot, method="ruckig", **{**kw, "vmax": 1e-6, "jmax": 1e3})
         except TrajectoryError:
             pass
-        traj = time_parameterize(Q, robot, method="ruckig", **kw)
         limits = resolve_limits(robot, Q.shape[1], need_jerk=True, **kw)
-        pieces, times = _reference_trajectory(Q, limits)
-        assert _same_bits(traj.waypoint_times, times)
-        assert traj.duration == pieces[0].x[-1]
-        for ours, ref in zip(traj.pieces, pieces, strict=True):
-            assert _same_bits(ours.x, ref.x) and _same_bits(ours.c, ref.c)
-            assert ours.c.flags.c_contiguous and ours.extrapolate is False
-        if len(Q) == 2:  # the public one-segment helper too
+        runs = [None]
+        if len(Q) > 2:
+            V = passing.passing_velocities(Q, limits)
+            runs.insert(0, _within_position_limits(_Ruckig(Q.shape[1], limits), Q, V, limits))
+        for V in runs:
+            ours, times = _timed_pieces(Q, limits, V)
+            pieces, ref_times = _reference_trajectory(Q, limits, V)
+            assert _same_bits(np.array(times), ref_times)
+            for mine, ref in zip(ours, pieces, strict=True):
+                assert _same_bits(mine.x, ref.x) and _same_bits(mine.c, ref.c)
+                assert mine.c.flags.c_contiguous and mine.extrapolate is False
+        traj = time_parameterize(Q, robot, method="ruckig", **kw)
+        if len(Q) == 2:  # rest to rest, and the public one-segment helper too
+            assert _same_bits(traj.waypoint_times, ref_times)
+            assert traj.duration == pieces[0].x[-1]
             seg, T = ruckig_segment(Q[0], Q[1], limits)
-            assert T == times[-1]
+            assert T == ref_times[-1]
             assert all(_same_bits(s.x, r.x) and _same_bits(s.c, r.c)
                        for s, r in zip(seg, pieces, strict=True))
 

@@ -338,7 +338,8 @@ def ref_check_number(name, value, low, high=math.inf, *, integer=False, low_open
 
 def ref_check_tol(tol):
     ok = isinstance(tol, numbers.Real) and not isinstance(tol, (bool, np.bool_))
-    if not (ok and math.isfinite(tol) and tol > 0):
+    # an int is finite at any size (10**400: an InputError, not math.isfinite's OverflowError)
+    if not (ok and (isinstance(tol, numbers.Integral) or math.isfinite(tol)) and tol > 0):
         raise InputError(f"tol must be a positive number [m, rad]; got {tol!r}")
     if tol < TOL_FLOOR:
         raise InputError("floor")

@@ -5,6 +5,10 @@ timed apart as ``setup_s``), times the search and hands the answer to
 :func:`scara_opt.ik.verdict.judge`; a subclass implements :meth:`Solver._solve` (and, if it
 builds something once, :meth:`Solver.prepare`).
 
+Where ``q0`` is given, the answer is first turned to the whole turn of each revolute joint
+nearest ``q0`` (:func:`scara_opt.ik.turns.nearest_turn`: the same pose, no joint wound
+round where it need not be), for every method alike.
+
 Every solver's answer is judged by the verdict, the same way: the final ``q`` goes through
 the robot's FK, the residual is recomputed, ``solved`` is granted only within ``tol`` and
 ``unreachable`` only with a certificate (see :mod:`scara_opt.ik.verdict`).
@@ -14,16 +18,20 @@ from __future__ import annotations
 
 import math
 import numbers
+import sys
 import time
 from abc import ABC, abstractmethod
+from dataclasses import replace
 from typing import Any, ClassVar, cast
 
 import numpy as np
 from numpy.typing import NDArray
 
+from scara_opt.checks import short_repr
 from scara_opt.errors import InputError, JointLimitError, SolverOptionError
 from scara_opt.ik.result import IKResult, SolverOutput
 from scara_opt.ik.task import LIMIT_SLACK, check_task, default_q0
+from scara_opt.ik.turns import nearest_turn
 from scara_opt.ik.verdict import judge
 from scara_opt.model.robot import Robot
 from scara_opt.target import Target, as_target
@@ -99,7 +107,12 @@ def _check_number_full(name: str, value: Any, low: float, high: float, *, intege
     """:func:`check_number` without its fast path for plain ints and floats in range."""
     ok_type = isinstance(value, (int, np.integer)) if integer else isinstance(
         value, (int, float, np.integer, np.floating))
-    ok = ok_type and not isinstance(value, bool) and not math.isnan(value)
+    # an int compares exactly with the float bounds, at any size (math.isnan(10**400) would
+    # raise OverflowError)
+    ok = ok_type and not isinstance(value, bool) and not (
+        isinstance(value, (float, np.floating)) and math.isnan(value))
+    if ok and not integer and isinstance(value, int) and abs(value) > sys.float_info.max:
+        ok = False  # an int no float holds (a float option is used as a float)
     if ok:
         ok = ((value > low if low_open else value >= low)
               and (value < high if high_open else value <= high))
@@ -109,7 +122,7 @@ def _check_number_full(name: str, value: Any, low: float, high: float, *, intege
             span = f"{'>' if low_open else '>='} {low:g}"
         else:
             span = f"in {'(' if low_open else '['}{low:g}, {high:g}{')' if high_open else ']'}"
-        raise InputError(f"option {name}={value!r} must be {kind} {span}")
+        raise InputError(f"option {name}={short_repr(value)} must be {kind} {span}")
 
 
 def check_flag(name: str, value: Any) -> None:
@@ -119,7 +132,7 @@ def check_flag(name: str, value: Any) -> None:
         InputError: the message names the option and the value given.
     """
     if not isinstance(value, (bool, np.bool_)):
-        raise InputError(f"option {name}={value!r} must be True or False")
+        raise InputError(f"option {name}={short_repr(value)} must be True or False")
 
 
 def check_tol(tol: Any) -> float:
@@ -131,16 +144,17 @@ def check_tol(tol: Any) -> float:
     if type(tol) is float and TOL_FLOOR <= tol <= TOL_CEILING:  # the common case, ~0.4 µs less
         return tol
     ok = isinstance(tol, numbers.Real) and not isinstance(tol, (bool, np.bool_))
-    if not (ok and math.isfinite(tol) and tol > 0):
-        raise InputError(f"tol must be a positive number [m, rad]; got {tol!r}")
+    # an int is finite at any size, and compares exactly (math.isfinite(10**400) overflows)
+    if not (ok and (isinstance(tol, numbers.Integral) or math.isfinite(tol)) and tol > 0):
+        raise InputError(f"tol must be a positive number [m, rad]; got {short_repr(tol)}")
     if tol < TOL_FLOOR:
         raise InputError(f"tol={tol:g} is below {TOL_FLOOR:g} [m, rad], the round-off of the "
                          "forward kinematics: an exact solution could not be told from a miss; "
                          f"pass tol >= {TOL_FLOOR:g}")
     if tol > TOL_CEILING:
-        raise InputError(f"tol={tol:g} is above {TOL_CEILING:g} [m, rad]: every configuration "
-                         f"of a metre-scale arm would count as solved; pass tol <= "
-                         f"{TOL_CEILING:g}")
+        raise InputError(f"tol={short_repr(tol)} is above {TOL_CEILING:g} [m, rad]: every "
+                         f"configuration of a metre-scale arm would count as solved; pass "
+                         f"tol <= {TOL_CEILING:g}")
     return float(tol)
 
 
@@ -226,7 +240,9 @@ class Solver(ABC):
         Args:
             robot: the robot.
             target: a :class:`Target` or a bare (3,) position [m].
-            q0: (nq,) start / preferred configuration within the limits, or ``None``.
+            q0: (nq,) start / preferred configuration within the limits, or ``None``; of
+                the answers equal up to whole turns of the revolute joints, the one
+                nearest ``q0`` is returned.
             seed: seed of the solver's ``numpy.random.Generator`` (same seed, same result).
             tol: residual [m and rad] below which the target counts as reached.
 
@@ -247,6 +263,10 @@ class Solver(ABC):
         setup = self.timed_prepare(robot, target.kind)
         start = time.perf_counter()
         out = self._solve(robot, target, q0a, rng, tol)
+        if q0a is not None:  # of the answers equivalent by whole turns, the nearest q0
+            turned = nearest_turn(robot, out.q, q0a)
+            if turned is not out.q:
+                out = replace(out, q=turned)
         elapsed = time.perf_counter() - start - out.setup_s
         return judge(robot, target, out, tol=tol, method=self.name, seed=seed, time_s=elapsed,
                      setup_s=setup + out.setup_s,

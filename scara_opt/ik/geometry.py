@@ -19,6 +19,7 @@ from typing import Any
 import numpy as np
 import pinocchio as pin
 
+from scara_opt.checks import describe
 from scara_opt.errors import InputError, ScaraOptError
 from scara_opt.ik.task import LIMIT_SLACK, default_q0
 from scara_opt.model.robot import Array, Robot
@@ -212,7 +213,7 @@ def check_fixed(fixed: object) -> Mapping[str, Any]:
         return {}
     if not isinstance(fixed, Mapping) or not all(isinstance(k, str) for k in fixed):
         raise InputError(f"fixed must be a dict of joint names to values [rad or m], e.g. "
-                         f"{{'P1': 0.02}}; got {fixed!r}")
+                         f"{{'P1': 0.02}}; got {describe(fixed)}")
     return fixed
 
 

@@ -52,6 +52,7 @@ from scara_opt.ik.lm import (
 )
 from scara_opt.ik.problem import nlp_params
 from scara_opt.ik.task import check_task, errors_from_poses
+from scara_opt.ik.turns import nearest_turns
 from scara_opt.model.robot import Array, Robot, check_robot
 from scara_opt.target import Target, as_target
 
@@ -115,11 +116,8 @@ def _targets(robot: Robot, targets: object) -> tuple[_Stacked, list[Target] | No
         rot = np.array([t.rotation for t in ts]) if ts[0].kind == "rotation" else None
         yaw = np.array([t.yaw for t in ts]) if ts[0].kind == "yaw" else None
         return _Stacked(ts[0].kind, np.array([t.position for t in ts]), yaw, rot), ts
-    try:
-        A = np.asarray(targets, dtype=float)
-    except (TypeError, ValueError):
-        raise InputError("targets must be an (n, 3) or (n, 4) array [x, y, z(, yaw)] [m, rad] "
-                         "or a sequence of Target") from None
+    A = float_array(targets, "targets, an (n, 3) or (n, 4) array [x, y, z(, yaw)] [m, rad] or "
+                    "a sequence of Target,")
     if A.ndim != 2 or A.shape[1] not in (3, 4) or len(A) == 0 or not np.isfinite(A).all():
         raise InputError("targets must be a finite, non-empty (n, 3) or (n, 4) array "
                          f"[x, y, z(, yaw)] [m, rad]; got shape {A.shape}")
@@ -256,7 +254,8 @@ def solve_many(robot: Robot, targets: object, q0s: object | None = None, *,
         targets: an (n, 3) array of positions [m], an (n, 4) array ``[x, y, z, yaw]``
             [m, rad], or a sequence of :class:`~scara_opt.Target` of one kind.
         q0s: ``None`` (default start), one (nq,) ``q0`` for all, or (n, nq), one per
-            target; each is the first start and the configuration to stay nearest to.
+            target; each is the first start and the configuration to stay nearest to
+            (whole turns of the revolute joints included, as for ``solve_ik``).
         tol: residual [m, rad] below which a target counts as reached.
         max_iter: iterations per start and target.
         restarts: further seeded random starts for a target whose start stalls.
@@ -287,9 +286,10 @@ def solve_many(robot: Robot, targets: object, q0s: object | None = None, *,
     batch = _Batch(robot, stacked.kind, _params_rows(stacked, ts, Q_ref), limits(robot)[0],
                    np.array([residual_tol(w, tol) for w in weights]), int(max_iter), bool(jit),
                    nearest)
+    near = None if q0s is None else Q_ref  # as solve_ik: the turns nearest a given q0
     if phase_driver(robot, stacked.kind, bool(jit)) is not None:  # the C loop, target by target
         return _result(robot, stacked, *_one_by_one(batch, Q_ref, int(restarts), seed),
-                       time.perf_counter() - clock, tol)
+                       time.perf_counter() - clock, tol, near)
     best_Q, best_e = Q_ref.copy(), np.full(n, math.inf)
     iterations, starts = np.zeros(n, np.int64), np.zeros(n, np.int64)
     draws: dict[int, Iterator[Array]] = {}  # per target: the draws of a single solve
@@ -310,7 +310,8 @@ def solve_many(robot: Robot, targets: object, q0s: object | None = None, *,
         rows = rows[best_e[rows] > within_tol(batch.e_tol[rows])]  # as search_filled
         if not rows.size:
             break
-    return _result(robot, stacked, best_Q, iterations, starts, time.perf_counter() - clock, tol)
+    return _result(robot, stacked, best_Q, iterations, starts, time.perf_counter() - clock, tol,
+                   near)
 
 
 def _one_by_one(batch: _Batch, Q_ref: Array, restarts: int, seed: int | None,
@@ -338,9 +339,16 @@ def _one_by_one(batch: _Batch, Q_ref: Array, restarts: int, seed: int | None,
 
 
 def _result(robot: Robot, stacked: _Stacked, Q: Array, iterations: NDArray[np.int64],
-            starts: NDArray[np.int64], time_s: float, tol: float) -> BatchResult:
-    """Judge every row by the robot's own FK, as the base does for single solves."""
+            starts: NDArray[np.int64], time_s: float, tol: float,
+            Q_ref: Array | None = None) -> BatchResult:
+    """Judge every row by the robot's own FK, as the base does for single solves.
+
+    With ``Q_ref`` (the given ``q0s``), each row first takes the whole turns nearest its
+    row of ``Q_ref`` (:func:`~scara_opt.ik.turns.nearest_turns`), as ``solve_ik`` does.
+    """
     Q = np.clip(Q, robot.lower, robot.upper)
+    if Q_ref is not None:
+        Q = nearest_turns(robot, Q, Q_ref)
     dp, dang = errors_from_poses(robot, stacked, robot.fk_batch(Q))  # type: ignore[arg-type]
     error = np.linalg.norm(dp, axis=1)
     if dang is not None:

@@ -18,6 +18,7 @@ from typing import Any, ClassVar, Generic, TypeVar, cast
 import numpy as np
 from numpy.typing import NDArray
 
+from scara_opt.checks import human_bytes, short_repr
 from scara_opt.errors import InputError
 from scara_opt.ik.auto import AutoSolver
 from scara_opt.ik.base import LazyGenerator, Solver, SolverOutput, check_number, default_q0
@@ -170,9 +171,10 @@ class PopulationSolver(Solver, Generic[S]):
         if need > MEMORY_LIMIT:
             o = self.options
             raise InputError(
-                f"{self.name}: population={o['population']} x iterations={o['iterations']} "
-                f"for {nq} joints needs about {need / 1024**3:.3g} GiB of working memory, "
-                f"more than the {MEMORY_LIMIT / 1024**3:g} GiB allowed; lower population "
+                f"{self.name}: population={short_repr(o['population'])} x iterations="
+                f"{short_repr(o['iterations'])} for {nq} joints needs about "
+                f"{human_bytes(need)} of working memory, more than the "
+                f"{human_bytes(MEMORY_LIMIT)} allowed; lower population "
                 "(tens to a few hundred individuals are usual) or iterations")
 
     @abstractmethod

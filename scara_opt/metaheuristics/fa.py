@@ -10,6 +10,7 @@ from typing import Any, ClassVar, Protocol
 
 import numpy as np
 
+from scara_opt.checks import short_repr
 from scara_opt.errors import InputError
 from scara_opt.ik.registry import register_solver
 from scara_opt.metaheuristics.base import (
@@ -112,7 +113,7 @@ class FireflySolver(PopulationSolver[Population]):
         check_number("alpha", o["alpha"], 0.0, 1.0, low_open=True)
         check_number("alpha_end", o["alpha_end"], 0.0, o["alpha"], low_open=True)
         if not isinstance(o["sweep"], str) or o["sweep"] not in SWEEPS:
-            raise InputError(f"option sweep={o['sweep']!r} must be one of "
+            raise InputError(f"option sweep={short_repr(o['sweep'])} must be one of "
                              f"{', '.join(map(repr, SWEEPS))}")
 
     def memory_estimate(self, nq: int) -> int:

@@ -9,6 +9,7 @@ from typing import Any, ClassVar
 import numpy as np
 from numpy.typing import NDArray
 
+from scara_opt.checks import short_repr
 from scara_opt.errors import InputError
 from scara_opt.ik.registry import register_solver
 from scara_opt.metaheuristics.base import (
@@ -95,9 +96,9 @@ class ShuffledFrogSolver(PopulationSolver[Frogs]):
         check_number("max_leap", o["max_leap"], 0.0, low_open=True)
         if o["population"] < 2 * o["memeplexes"]:
             raise InputError(
-                f"sfla needs at least 2 frogs per memeplex: population={o['population']} "
-                f"with memeplexes={o['memeplexes']}; raise population to "
-                f"{2 * o['memeplexes']} or lower memeplexes")
+                f"sfla needs at least 2 frogs per memeplex: population="
+                f"{short_repr(o['population'])} with memeplexes={short_repr(o['memeplexes'])}; "
+                f"raise population to {short_repr(2 * o['memeplexes'])} or lower memeplexes")
 
     def initialize(self, problem: Problem, population: Population,
                    rng: np.random.Generator) -> Frogs:

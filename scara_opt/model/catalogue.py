@@ -7,11 +7,12 @@ the optional ``example-robot-data`` package.
 
 from __future__ import annotations
 
+import stat
 import tomllib
 from os import PathLike
 from pathlib import Path
 
-from scara_opt.checks import describe
+from scara_opt.checks import describe, short_repr
 from scara_opt.errors import InputError, RobotNotFoundError, URDFError
 from scara_opt.model.robot import Robot
 from scara_opt.model.urdf_checks import check_tip
@@ -33,8 +34,9 @@ def load_robot(name: str | Path, tip: str | None = None) -> Robot:
     Raises:
         InputError: ``name`` not a str or Path or with a NUL byte, ``tip`` not a str or None.
         RobotNotFoundError: neither a bundled name nor an existing file (lists the names).
-        URDFError: ``name`` is a folder, or the file is malformed (see :meth:`Robot.from_urdf` and
-            :func:`scara_opt.dh.load_dh`).
+        URDFError: ``name`` is a folder or a path that cannot be looked up (too long, in a
+            folder that may not be entered), or the file is malformed (see
+            :meth:`Robot.from_urdf` and :func:`scara_opt.dh.load_dh`).
     """
     from scara_opt.model.dh_file import bundled_dir, load_dh
 
@@ -53,10 +55,19 @@ def load_robot(name: str | Path, tip: str | None = None) -> Robot:
         raise InputError(f"robot path {str(name)!r} contains a NUL byte; pass a bundled robot "
                          "name or a plain path")
     path = Path(name)
-    if path.is_dir():
+    try:
+        mode = path.stat().st_mode
+    except (FileNotFoundError, NotADirectoryError):
+        raise RobotNotFoundError(str(name), list_robots()) from None
+    except OSError as exc:  # a name too long for a path, a folder it may not enter, ...
+        raise URDFError(f"robot path {short_repr(str(name))} ({len(str(name)):,} characters) "
+                        f"cannot be looked up: {exc.strerror}; pass a bundled robot name "
+                        f"({', '.join(list_robots())}) or the path of a .urdf or .toml file"
+                        ) from None
+    if stat.S_ISDIR(mode):
         raise URDFError(f"{str(name)!r} is a folder, not a robot file; pass the path of a "
                         ".urdf or .toml file, or a bundled robot name")
-    if not path.is_file():
+    if not stat.S_ISREG(mode):
         raise RobotNotFoundError(str(name), list_robots())
     if path.suffix == ".toml":
         robot = Robot.from_dh(load_dh(path), tip or "tool")

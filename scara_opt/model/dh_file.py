@@ -15,7 +15,7 @@ from pathlib import Path
 import numpy as np
 import pinocchio as pin
 
-from scara_opt.errors import URDFError
+from scara_opt.errors import JointLimitError, URDFError
 from scara_opt.model.citation import check_citation
 from scara_opt.model.dh import (
     ANGLE_UNITS,
@@ -130,6 +130,24 @@ def _table(value: object, where: str) -> dict:
     return value
 
 
+def _check_limits(row: dict, at: str, name: str, unit: str) -> None:
+    """Refuse a joint's limits in the file's own units (``unit`` of the joint variable).
+
+    Raises:
+        JointLimitError: a lower limit not below the upper one, or a velocity or
+            acceleration limit <= 0, quoted as the file gives them.
+    """
+    lower, upper = _number(row, "lower", at), _number(row, "upper", at)
+    if not lower < upper:
+        raise JointLimitError(f"{at}: lower limit {lower:g} {unit} is not below upper limit "
+                              f"{upper:g} {unit}; swap them or fix the robot file", joint=name)
+    for key, per in (("velocity", "/s"), ("acceleration", "/s^2")):
+        value = _number(row, key, at, 1.0)
+        if not value > 0:
+            raise JointLimitError(f"{at}: {key} limit {value:g} {unit}{per} must be > 0; fix "
+                                  "the robot file", joint=name)
+
+
 def load_dh(path: str | Path) -> DHRobot:
     """Read a robot file (TOML with a DH table in stated units) into SI units.
 
@@ -178,6 +196,8 @@ def load_dh(path: str | Path) -> DHRobot:
             raise URDFError(f"{at}: radius must be > 0 [{lu}] (the collision capsule of the "
                             f"link the joint moves), got {row['radius']!r}; give the link's "
                             "half-width or leave radius out")
+        if jtype in ("revolute", "prismatic"):  # another type: DHJoint says what is wrong
+            _check_limits(row, at, name, au if jtype == "revolute" else lu)
         joints.append(
             DHJoint(
                 name=name,

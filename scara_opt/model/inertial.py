@@ -59,6 +59,20 @@ def check_inertial(where: str, mass: float, com: Array, inertia: Array, effort: 
     if effort < 0:
         raise URDFError(f"{where}: effort (torque limit) must be > 0 [N·m or N], got "
                         f"{effort!r}; give the joint's peak torque or leave effort out")
+    check_inertia_matrix(where, inertia)
+
+
+def check_inertia_matrix(where: str, inertia: Array) -> None:
+    """Refuse a finite (3, 3) inertia [kg·m²] that no body has.
+
+    A body's inertia about its centre of mass is positive semi-definite (zero only along
+    the axis of a rod or for a point mass) and its principal moments obey the triangle
+    inequalities: ``ixx + iyy >= izz``, ``iyy + izz >= ixx``, ``ixx + izz >= iyy`` (for
+    the diagonal of any frame, as of the principal one).
+
+    Raises:
+        URDFError: naming ``where``, the matrix, its eigenvalues and the rules.
+    """
     eig = np.linalg.eigvalsh(inertia)
     d = np.diag(inertia)
     triangle = min(d[0] + d[1] - d[2], d[1] + d[2] - d[0], d[0] + d[2] - d[1])
@@ -83,7 +97,9 @@ def check_urdf_inertials(text: str, where: str) -> None:
     """Refuse ``<inertial>`` elements the URDF parser would silently drop or misread.
 
     urdfdom skips an ``<inertial>`` it cannot parse (a ``nan``, a missing value) with a
-    message on stderr, and the link then weighs nothing: refused here instead.
+    message on stderr, and the link then weighs nothing: refused here instead. An inertia
+    no body has (``iyy="-1"``, a triangle inequality broken) is refused as in a robot file
+    (:func:`check_inertia_matrix`).
 
     Raises:
         URDFError: naming the link, the element and the value.
@@ -103,11 +119,14 @@ def check_urdf_inertials(text: str, where: str) -> None:
                     raise URDFError(f"{at} has <inertial><origin {key}={raw!r}>; give 3 finite "
                                     "numbers [m or rad]")
             inertia = inertial.find("inertia")
+            six = []
             for key in ("ixx", "ixy", "ixz", "iyy", "iyz", "izz"):
                 raw = None if inertia is None else inertia.get(key)
-                if _numbers(raw, 1, "") is None:
+                if (number := _numbers(raw, 1, "")) is None:
                     raise URDFError(f"{at} has <inertia {key}={raw!r}>; every <inertial> needs "
                                     "<inertia> with 6 finite numbers [kg·m²]")
+                six += number
+            check_inertia_matrix(f"{at}: <inertia>", inertia_matrix(tuple(six)))
 
 
 def check_model_inertias(model: pin.Model, where: str) -> None:

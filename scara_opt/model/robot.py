@@ -24,7 +24,7 @@ import numpy as np
 import pinocchio as pin
 from numpy.typing import NDArray
 
-from scara_opt.checks import describe
+from scara_opt.checks import describe, short_repr
 from scara_opt.errors import InputError, URDFError
 from scara_opt.model import batch_fk
 from scara_opt.model.copies import rebuild_robot, with_limits
@@ -178,10 +178,14 @@ class Robot(JointChecks, ToolAngle, InertialData):
                              f"got {describe(path)}")
         check_tip(tip)
         path = Path(path)
-        if not path.is_file():
-            raise URDFError(f"URDF file {str(path)!r} does not exist; check the path")
         try:
+            if not path.is_file():
+                raise URDFError(f"URDF file {short_repr(str(path))} does not exist; check the "
+                                "path")
             text = path.read_text(encoding="utf-8")
+        except OSError as exc:  # a name too long for a path, a file it may not read, ...
+            raise URDFError(f"URDF file {short_repr(str(path))} cannot be read: {exc.strerror}; "
+                            "check the path") from None
         except UnicodeDecodeError as exc:
             raise URDFError(f"URDF file {str(path)!r} is not UTF-8 text ({exc.reason} at byte "
                             f"{exc.start}); pass a URDF (XML) file, saved as UTF-8") from None

@@ -16,7 +16,12 @@
 from __future__ import annotations
 
 import logging
+import os
+import sys
+import tempfile
 import xml.etree.ElementTree as ET
+from collections.abc import Iterator
+from contextlib import contextmanager
 from dataclasses import dataclass
 from typing import Any
 
@@ -162,20 +167,57 @@ def _pinocchio_text(text: str, drop_mimic: set[str]) -> str:
             joint.remove(mimic)
     return ET.tostring(root, encoding="unicode")
 
+@contextmanager
+def urdfdom_messages(said: list[str]) -> Iterator[None]:
+    """Keep urdfdom's messages (C++ ``Error:`` lines on the process's stderr) out of stderr.
+
+    The block's output to file descriptor 2 goes to a temporary file; its messages, each
+    once and without urdfdom's source locations, are appended to ``said`` (for the error
+    that follows, or the log). Pinocchio's parse holds the GIL, so no Python thread writes
+    meanwhile. Where descriptor 2 cannot be redirected the block runs as it is.
+    """
+    try:
+        sys.stderr.flush()
+        saved = os.dup(2)
+    except (OSError, ValueError, AttributeError):  # no fd 2, or no sys.stderr
+        yield
+        return
+    try:
+        with tempfile.TemporaryFile() as tmp:
+            os.dup2(tmp.fileno(), 2)
+            try:
+                yield
+            finally:
+                os.dup2(saved, 2)
+                tmp.seek(0)
+                for line in tmp.read().decode(errors="replace").splitlines():
+                    line = line.strip().removeprefix("Error:").strip()
+                    if line and not line.startswith("at line ") and line not in said:
+                        said.append(line)
+    finally:
+        os.close(saved)
+
+
 def build_model(text: str, urdf: Any, path: list[Any],
                  where: str) -> tuple[pin.Model, dict[str, float]]:
     """The Pinocchio model of the path's joints, the others locked; and the locked values."""
     kept, locked = _split(urdf, path, where)
     on_path_mimic = any(j.mimic is not None for j in kept)
     xml = _pinocchio_text(text, drop_mimic=set(locked))
+    said: list[str] = []
     try:  # the mimic flag only when needed: Pinocchio < 3.4 lacks it
-        full = pin.buildModelFromXML(xml, True) if on_path_mimic else pin.buildModelFromXML(xml)
+        with urdfdom_messages(said):
+            full = pin.buildModelFromXML(xml, True) if on_path_mimic else \
+                pin.buildModelFromXML(xml)
     except TypeError:
         raise URDFError(f"{where}: mimic joints on the path to {path[-1].child!r} need "
                         f"Pinocchio >= 3.4 (installed: {pin.__version__}); pip install -U pin"
                         ) from None
     except (RuntimeError, ValueError) as exc:
-        raise URDFError(f"Pinocchio could not build {where}: {exc}") from None
+        why = f" (urdfdom: {'; '.join(said)})" if said else ""
+        raise URDFError(f"Pinocchio could not build {where}: {exc}{why}") from None
+    if said:
+        log.info("%s: urdfdom said: %s", where, "; ".join(said))
     if not locked:
         return full, locked
     q_ref = pin.neutral(full)

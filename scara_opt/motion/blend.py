@@ -52,10 +52,8 @@ def blended_joints(section: list[tuple[int, Move]], robot: Robot, q_prev: Array,
         curves.append((curve, yaw, yaw1))
         p, yaw = curve.end, yaw1
     for j, (index, move) in enumerate(section[:-1]):
-        half = min(curves[j][0].length, curves[j + 1][0].length) / 2
-        if move.blend > half:
-            raise MoveError(index, f"blend radius {move.blend:g} m is more than half of this or "
-                                   f"the next move's tool path; pass blend <= {half:.6g}")
+        geometry.check_blend(index, move.blend,
+                             min(curves[j][0].length, curves[j + 1][0].length) / 2)
     P, Y, owner, corners = [], [], [], []
     for j, (index, move) in enumerate(section):
         curve, y0, y1 = curves[j]

@@ -78,10 +78,8 @@ def joint_blended(section: list[tuple[int, Move]], robot: Robot, q_prev: Array, 
         paths.append((Q, robot.positions(Q)))
         q = Q[-1]
     for j, (index, move) in enumerate(section[:-1]):
-        half = min(_tool_length(paths[j][1]), _tool_length(paths[j + 1][1])) / 2
-        if move.blend > half:
-            raise MoveError(index, f"blend radius {move.blend:g} m is more than half of this or "
-                                   f"the next move's tool path; pass blend <= {half:.6g}")
+        geometry.check_blend(index, move.blend,
+                             min(_tool_length(paths[j][1]), _tool_length(paths[j + 1][1])) / 2)
     rows, owner, corners = [q_prev[None, :]], [section[0][0]], []
     start = 1  # first row of the current move's path still to take
     for j, (index, move) in enumerate(section):

@@ -1,8 +1,11 @@
 """Cycle time of the standard SCARA pick-and-place cycle: 25 mm up, 305 mm across, 25 mm down, back.
 
-The cycle is placed where the robot reaches it (:func:`place_cycle`): the horizontal stroke
-perpendicular to a ray from the shoulder axis, its ends at the same distance, the vertical
-strokes centred in the height range; the first placement (nearest the middle of the reach,
+The cycle is placed where the robot reaches it (:func:`place_cycle`), up along the world z
+axis (the robot files put the base's z against gravity): on a SCARA with a vertical axis
+the horizontal stroke perpendicular to a ray from the shoulder axis, its ends at the same
+distance, the vertical strokes centred in the height range; on an arm whose axis is
+horizontal (nguyen, moving in the x-z plane) all three strokes in its plane, the across
+stroke horizontal; the first placement (nearest the middle of the reach,
 the ray along the first joint's zero first) whose six corners the closed-form IK reaches on one
 elbow branch and whose program plans is used. The program is LIN up, PTP across, LIN down,
 and the same back, stopping at each corner (as cycle-time specifications are measured).
@@ -32,13 +35,14 @@ from scara_opt.collision.continuous import prove_segment
 from scara_opt.errors import CollisionError, InputError, MoveError
 from scara_opt.ik.analytic import ik_all
 from scara_opt.model.robot import Robot, check_robot
-from scara_opt.motion import branch
+from scara_opt.motion import branch, geometry
 from scara_opt.motion.clearance import in_cell
 from scara_opt.motion.moves import LIN, PTP
 from scara_opt.motion.plan import plan
 from scara_opt.motion.result import MotionTrajectory
 from scara_opt.motion.tool_limits import ToolLimits
 from scara_opt.target import Target
+from scara_opt.trajectory.limits import resolve_limits
 from scara_opt.trajectory.registry import time_parameterize
 
 Array = NDArray[np.float64]
@@ -77,6 +81,14 @@ class CycleResult:
     corners: Array
     blend: float = 0.0
 
+    @property
+    def title(self) -> str:
+        """Two lines for a figure: robot, strokes and blend; then each method's time."""
+        blend = f", corners blended within {self.blend * 1e3:g} mm" if self.blend else ""
+        times = ", ".join(f"{k} {v:.3f} s" for k, v in self.durations.items())
+        return (f"{self.robot}: pick-and-place cycle {self.up * 1e3:g}/{self.across * 1e3:g}/"
+                f"{self.down * 1e3:g} mm{blend}\n{times}")
+
     def __repr__(self) -> str:
         times = ", ".join(f"{k} {v:.4f} s" for k, v in self.durations.items())
         blend = f", blend {self.blend * 1e3:g} mm" if self.blend else ""
@@ -84,7 +96,17 @@ class CycleResult:
                 f"{self.down * 1e3:g} mm{blend}, {times})")
 
 
+#: world up: the robot files put the base's z axis against gravity
+UP = np.array([0.0, 0.0, 1.0])
+
+
 def _candidates(robot: Robot, up: float, across: float, down: float):
+    """Placements ``(A, B, up_direction)``: lower corners [m] and world up, nearest first.
+
+    A SCARA with a vertical axis (the usual one) strokes up and down along it, across in
+    its plane; an arm whose axis is horizontal (nguyen: it moves in the x-z plane) strokes
+    up and down and across in its plane, across horizontal, at mid-range of its heights.
+    """
     g = branch.geometry(robot)
     if g is None:
         raise InputError(f"cycle_time needs a SCARA-type robot; {robot.name!r} is not")
@@ -92,13 +114,17 @@ def _candidates(robot: Robot, up: float, across: float, down: float):
                     for k in g.heights)
     hi = g.h0 + sum(max(g.sigma[k] * robot.lower[k], g.sigma[k] * robot.upper[k])
                     for k in g.heights)
+    vertical = abs(float(g.n @ UP)) > 0.5
     stroke = max(up, down)
-    if hi - lo < stroke:
+    if vertical and hi - lo < stroke:
         raise InputError(f"robot {robot.name!r} has a vertical stroke of {(hi - lo) * 1e3:.4g} "
                          f"mm, less than the {stroke * 1e3:g} mm asked; pass up= and down= "
                          f"<= {(hi - lo):.4g} m")
-    h_pick = (lo + hi) / 2 - up / 2
-    h_place = h_pick + up - down
+    side = math.copysign(1.0, float(g.n @ UP))  # the axis n points up (+1) or down (-1)
+    mid = (lo + hi) / 2  # along n
+    h_pick = mid - side * up / 2 if vertical else mid
+    h_place = h_pick + side * (up - down) if vertical else mid
+    level = np.cross(g.n, UP) / max(float(np.linalg.norm(np.cross(g.n, UP))), 1e-300)
     reach = g.l1 + g.l2
     base = g.base[0] * g.e1 + g.base[1] * g.e2
     phi0 = g.phi1
@@ -107,11 +133,11 @@ def _candidates(robot: Robot, up: float, across: float, down: float):
             continue
         for a in ANGLES:
             u = math.cos(phi0 + a) * g.e1 + math.sin(phi0 + a) * g.e2
-            w = np.cross(g.n, u)
+            w = np.cross(g.n, u) if vertical else level
             centre = base + d * u
             A = centre - across / 2 * w + h_pick * g.n
             B = centre + across / 2 * w + h_place * g.n
-            yield A, B, g.n
+            yield A, B, UP
 
 
 def place_cycle(robot: Robot, up: float = 0.025, across: float = 0.305,
@@ -144,9 +170,31 @@ def placements(robot: Robot, up: float, across: float, down: float):
                 break
 
 
+def check_cycle_blend(blend: float, up: float, across: float, down: float,
+                      unit: str = "m", scale: float = 1.0, option: str = "blend") -> None:
+    """Refuse a blend radius above half the shortest stroke (up to round-off).
+
+    ``unit``, ``scale`` and ``option``: how the message quotes the values (the command
+    line's are in mm and named ``--blend``, ``--up``, ...).
+
+    Raises:
+        InputError: the radius, the strokes and the largest radius allowed, in ``unit``.
+    """
+    most = min(up, across, down) / 2
+    if blend > most * (1.0 + geometry.BLEND_SLACK):
+        dash = "--" if option.startswith("--") else ""
+        raise InputError(
+            f"{option} {blend * scale:.10g} {unit} is more than half of the shortest stroke "
+            f"({dash}up {up * scale:.10g}, {dash}across {across * scale:.10g}, {dash}down "
+            f"{down * scale:.10g} {unit}): the rounded corner would pass the stroke's middle; "
+            f"pass {option} <= {most * scale:.10g}")
+
+
 def cycle_time(robot: Robot, up: float = 0.025, across: float = 0.305, down: float = 0.025,
-               limits: ToolLimits | None = None, blend: float = 0.0, *, cell: object = None,
-               margin: float = 0.0, time_limit: float = 1.0, seed: int = 0) -> CycleResult:
+               limits: ToolLimits | None = None, blend: float = 0.0, *,
+               vmax: object | None = None, amax: object | None = None,
+               cell: object = None, margin: float = 0.0, time_limit: float = 1.0,
+               seed: int = 0) -> CycleResult:
     """Time the pick-and-place cycle (A up, across, down to B, and back) three ways.
 
     Args:
@@ -157,6 +205,9 @@ def cycle_time(robot: Robot, up: float = 0.025, across: float = 0.305, down: flo
         limits: optional tool limits for the LIN strokes of the toppra plan.
         blend: radius [m] within which a second toppra plan rounds the upper corners
             (``durations["toppra_blended"]``; 0: none); at most half a vertical stroke.
+        vmax: joint velocity limits, scalar or (nq,) [rad/s or m/s]; default the robot's.
+        amax: joint acceleration limits, scalar or (nq,) [rad/s² or m/s²]; default the
+            robot's (a URDF carries none: pass it).
         cell: a :class:`~scara_opt.Cell` (or a :class:`~scara_opt.CollisionChecker`): the
             cycle is planned in it (:func:`~scara_opt.plan` with ``cell=``): the first
             placement whose program plans clear of the cell is used, the PTPs across go
@@ -167,22 +218,28 @@ def cycle_time(robot: Robot, up: float = 0.025, across: float = 0.305, down: flo
         seed: the planner's seed.
 
     Raises:
-        InputError: strokes not positive, or no reachable placement (in a cell: none whose
-            program plans clear of it).
-        MoveError: a blend radius above half of a stroke (the largest allowed is named).
+        InputError: strokes not positive, bad limits, no reachable placement (in a cell:
+            none whose program plans clear of it), or a blend radius above half of the
+            shortest stroke (the largest allowed is named).
+        TrajectoryError: a joint without a limit of its own and none given (checked before
+            any IK).
     """
     robot = check_robot(robot)
     up = check_real("up", up, 0.0, 1.0, low_open=True, unit="m")
     down = check_real("down", down, 0.0, 1.0, low_open=True, unit="m")
     across = check_real("across", across, 0.0, 10.0, low_open=True, unit="m")
     blend = check_real("blend", blend, 0.0, 1.0, unit="m")
+    check_cycle_blend(blend, up, across, down)
+    joint = resolve_limits(robot, robot.nq, vmax, amax)  # before any IK
+    vmax, amax = joint.vmax, joint.amax
     ctx = in_cell(robot, cell, margin, time_limit, seed)
-    kw = {} if ctx is None else {"cell": ctx.checker, "time_limit": time_limit, "seed": seed}
-    n = branch.geometry(robot).n if branch.geometry(robot) is not None else None
+    kw = {"vmax": vmax, "amax": amax}
+    if ctx is not None:
+        kw.update(cell=ctx.checker, time_limit=time_limit, seed=seed)
     stops, tried = None, []
     for A, B, q0, elbow in (placements(robot, up, across, down) if ctx is not None
                             else [place_cycle(robot, up, across, down)]):
-        Au, Bu = A + up * n, B + down * n
+        Au, Bu = A + up * UP, B + down * UP
 
         def program(r: float, Au: Array = Au, Bu: Array = Bu, A: Array = A, B: Array = B,
                     elbow: str = elbow) -> list:
@@ -211,7 +268,8 @@ def cycle_time(robot: Robot, up: float = 0.025, across: float = 0.305, down: flo
                                 **kw).duration}
     if ctx is None or all(prove_segment(ctx.checker, a, b).clear
                           for a, b in zip(corners[:-1], corners[1:], strict=True)):
-        durations["quintic"] = time_parameterize(corners, robot, method="quintic").duration
+        durations["quintic"] = time_parameterize(corners, robot, method="quintic", vmax=vmax,
+                                                 amax=amax).duration
     traj = stops
     if blend:
         traj = plan(robot, program(blend), limits, start=q0, **kw)
@@ -223,10 +281,12 @@ def cycle_with_payload(robot: Robot, result: CycleResult, payload: object,
                        limits: ToolLimits | None = None) -> MotionTrajectory:
     """The placed cycle of ``result`` timed by toppra under the robot's torque limits too.
 
-    ``payload``: the load at the tool, ``mass`` [kg] or ``(mass, com[, inertia])``.
+    ``payload``: the load at the tool, ``mass`` [kg] or ``(mass, com[, inertia])``. The
+    joint limits are those ``result`` was timed with.
 
     Raises:
         DynamicsError: the robot has no inertias or torque limits, or cannot hold the load.
     """
+    joint = result.trajectory.limits
     return plan(robot, result.trajectory.moves, limits, start=result.corners[0],
-                payload=payload)
+                vmax=joint.vmax, amax=joint.amax, payload=payload)

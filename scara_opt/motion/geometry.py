@@ -12,7 +12,13 @@ import math
 import numpy as np
 from numpy.typing import NDArray
 
+from scara_opt.errors import MoveError
+
 Array = NDArray[np.float64]
+
+#: share by which a blend radius may exceed half a tool path: the path's length comes from
+#: the FK of its joint values (a 25 mm stroke measures 0.024999999999999994 m)
+BLEND_SLACK = 1e-9
 
 #: below this sine of the angle at the start, the three CIRC points count as collinear
 COLLINEAR_SINE = 1e-6
@@ -21,6 +27,21 @@ COLLINEAR_SINE = 1e-6
 def nearest_turn(yaw: float, reference: float) -> float:
     """``yaw + 2πk`` nearest to ``reference`` [rad]."""
     return reference + math.remainder(yaw - reference, 2.0 * math.pi)
+
+
+def check_blend(index: int, radius: float, half: float) -> None:
+    """Refuse a blend radius above ``half`` [m], half the shorter of two tool paths.
+
+    Up to round-off (:data:`BLEND_SLACK`) it is allowed: a radius of exactly half a 25 mm
+    stroke passes. The largest radius named is itself allowed (10 significant digits).
+
+    Raises:
+        MoveError: naming the move, the radius and the largest one allowed.
+    """
+    if radius > half * (1.0 + BLEND_SLACK):
+        raise MoveError(index, f"blend radius {radius:.10g} m is more than half of this or the "
+                               f"next move's tool path ({2 * half:.10g} m); pass blend <= "
+                               f"{half:.10g}")
 
 
 def count(length: float, step: float, least: int = 8) -> int:

@@ -19,67 +19,39 @@ acceleration. Its limit ratios are checked like toppra's (exact joints, 1 kHz to
 
 from __future__ import annotations
 
-import math
-
 import numpy as np
 from numpy.typing import NDArray
 from scipy.interpolate import PPoly
 
-from scara_opt.errors import TrajectoryError
 from scara_opt.model.robot import Robot
 from scara_opt.motion.timing import _factor
-from scara_opt.motion.tool_limits import UNLIMITED, ToolProfile, path_derivatives
+from scara_opt.motion.tool_limits import ToolProfile, path_derivatives
 from scara_opt.trajectory.limits import JERK_PER_ACCELERATION, Limits, resolve_limits
+from scara_opt.trajectory.passing import bounds_grid, check_bounds, compose, path_bounds
 from scara_opt.trajectory.registry import time_parameterize
 from scara_opt.trajectory.toppra_backend import chord_parameter
 from scara_opt.trajectory.trajectory import Trajectory, stretch
 
 Array = NDArray[np.float64]
 
-#: grid points per waypoint interval at which the bounds are evaluated (at least 200 in all)
-SAMPLES = 4
-
 
 def _bounds(robot: Robot, path, s: Array, limits: Limits, tool: ToolProfile) -> tuple[float, float]:
-    n = max(SAMPLES * (len(s) - 1), 200)
-    grid = np.linspace(0.0, 1.0, n + 1)
-    dq, ddq = np.abs(path(grid, 1)), np.abs(path(grid, 2))
+    """The joints' bounds (:func:`~scara_opt.trajectory.passing.path_bounds`), then the tool's."""
+    grid = bounds_grid(s)
     dp, ddp, dyaw = path_derivatives(robot, path, grid)
     sp, spp = np.linalg.norm(dp, axis=1), np.linalg.norm(ddp, axis=1)
     with np.errstate(divide="ignore"):
-        V = float(np.min(limits.vmax / dq))
-        V = min(V, float(np.min(tool.at("speed", grid, s) / sp)))
+        cap = float(np.min(tool.at("speed", grid, s) / sp))
         if dyaw is not None:
-            V = min(V, float(np.min(tool.at("yaw_rate", grid, s) / np.abs(dyaw))))
-        V = min(V, float(np.min(np.sqrt(0.5 * limits.amax / ddq))))
+            cap = min(cap, float(np.min(tool.at("yaw_rate", grid, s) / np.abs(dyaw))))
         acc = tool.at("acceleration", grid, s)
-        if (acc < UNLIMITED).any():
-            V = min(V, float(np.min(np.sqrt(0.5 * acc / spp))))
-        U = float(np.min((limits.amax - ddq * V**2) / dq))
-        if (acc < UNLIMITED).any():
+        if np.isfinite(acc).any():
+            cap = min(cap, float(np.min(np.sqrt(0.5 * acc / spp))))
+        V, U, _, _ = path_bounds(path, s, limits, cap)
+        if np.isfinite(acc).any():
             U = min(U, float(np.min((acc - spp * V**2) / sp)))
-    if not (math.isfinite(V) and math.isfinite(U) and V > 0 and U > 0):
-        raise TrajectoryError("the jerk-limited variant found no positive bound on the path "
-                              "speed or acceleration for this run; use method='toppra'")
+    check_bounds(V, U, "the jerk-limited variant")
     return V, U
-
-
-def _compose(spline, ps: PPoly, knots: Array) -> tuple[tuple[PPoly, ...], Array]:
-    """``q(s(t))`` exactly, as degree-9 PPolys; and the times ``s(t)`` reaches each knot."""
-    hits = [0.0] + [float(ps.solve(k, extrapolate=False)[0]) for k in knots[1:-1]]
-    hits.append(float(ps.x[-1]))
-    br = np.unique(np.concatenate([ps.x, hits]))
-    br = br[np.concatenate([[True], np.diff(br) > 1e-12])]
-    nodes = (1 - np.cos(np.pi * (np.arange(10) + 0.5) / 10)) / 2  # Chebyshev on [0, 1]
-    h = np.diff(br)
-    tau = h[:, None] * nodes[None, :]  # (m, 10) local times
-    sv = np.clip(ps(br[:-1, None] + tau), 0.0, 1.0)
-    Qv = spline(sv.ravel()).reshape(len(h), 10, -1)  # (m, 10, nq)
-    V = np.vander(nodes, 10)  # fit in the unit variable, then rescale to time
-    coef = np.linalg.solve(V[None], Qv)  # (m, 10, nq), highest power first
-    coef = coef / (h[:, None, None] ** np.arange(9, -1, -1)[None, :, None])
-    pieces = tuple(PPoly(coef[:, :, k].T, br, extrapolate=False) for k in range(Qv.shape[2]))
-    return pieces, np.array(hits)
 
 
 def jerk_limited_section(robot: Robot, Q: Array, limits: Limits,
@@ -93,7 +65,7 @@ def jerk_limited_section(robot: Robot, Q: Array, limits: Limits,
     one = resolve_limits(None, 1, V, U, JERK_PER_ACCELERATION * U, need_jerk=True)
     ps = time_parameterize([[0.0], [1.0]], None, method="ruckig", vmax=one.vmax,
                            amax=one.amax, jmax=one.jmax).pieces[0]
-    pieces, knots = _compose(path.cspl, ps, s)
+    pieces, knots = compose(path.cspl, ps, s)
     traj = Trajectory(pieces, limits, "ruckig", Q, knots)
     factor = _factor(robot, traj, tool, knots)
     note = f"ruckig along s: |s'| <= {V:.4g}/s, |s''| <= {U:.4g}/s², |s'''| <= {10 * U:.4g}/s³"

@@ -136,15 +136,6 @@ def _sections(program: list[Move], offset: int) -> list[list[tuple[int, Move]]]:
     return runs
 
 
-def _tightest(limits: list[ToolLimits]) -> ToolLimits:
-    """The smallest of each tool limit over ``limits`` (``None`` where none sets it)."""
-    def low(name: str) -> float | None:
-        values = [getattr(t, name) for t in limits if getattr(t, name) is not None]
-        return min(values) if values else None
-
-    return ToolLimits(low("speed"), low("acceleration"), low("yaw_rate"))
-
-
 def _flip(index: int, move: Move, robot: Robot, q: Array, exc: BranchError,
           step: float) -> list[list[tuple[int, Move]]]:
     """A LIN/CIRC that leaves its branch, split where it leaves it.
@@ -259,7 +250,8 @@ def plan(robot: Robot, moves: object, limits: ToolLimits | None = None, *,
         q, offset = check_within_limits(robot, start, "start"), 0
     if cellp is not None:
         cellp.check_start(q)
-    pieces, goals, tools, notes, corners, profiles = [], [q], [], [], [], []
+    pieces, goals, notes, corners, profiles = [], [q], [], [], []
+    tools: dict[int, ToolLimits] = {}  # each move's own tool limits, by index
     queue = deque(_sections(program, offset))
     while queue:
         run = queue.popleft()
@@ -281,7 +273,8 @@ def plan(robot: Robot, moves: object, limits: ToolLimits | None = None, *,
             corners += [(c, r, len(pieces)) for c, r in found]
         by_index = {i: (ToolLimits(m.speed, m.acceleration) if isinstance(m, PTP)
                         else tool.merged(m.speed, m.acceleration)) for i, m in run}
-        own = _tightest(list(by_index.values()))
+        for i, own in by_index.items():
+            tools.setdefault(i, own)
 
         def timed(Q: Array, owner: list[int], by_index: dict = by_index) -> tuple:
             profile = ToolProfile.per_point([by_index[i] for i in owner])
@@ -299,7 +292,6 @@ def plan(robot: Robot, moves: object, limits: ToolLimits | None = None, *,
         profiles.append((knots, profile))
         pieces.append(part)
         goals.append(Q[-1])
-        tools.append(own)
         kinds = "+".join(m.kind for _, m in run)
         notes.append(f"move {run[0][0]}" + (f"-{run[-1][0]}" if len(run) > 1 else "")
                      + f" ({kinds}): {note}")
@@ -308,7 +300,8 @@ def plan(robot: Robot, moves: object, limits: ToolLimits | None = None, *,
     ends = np.concatenate([[0.0], np.cumsum([p[0].x[-1] for p in pieces])])
     traj = MotionTrajectory(joined, joint_limits, method, np.array(goals), ends,
                             notes="; ".join(notes), robot=robot, moves=tuple(program),
-                            tool_limits=tuple(tools), corners=tuple(corners),
-                            profiles=tuple(profiles), dynamics=dynamics,
+                            tool_limits=tuple(tools[i] for i in sorted(tools)),
+                            corners=tuple(corners), profiles=tuple(profiles),
+                            dynamics=dynamics, stops=ends,
                             checker=None if cellp is None else cellp.checker)
-    return replace(traj, compute_time_s=time.perf_counter() - begin)
+    return replace(traj.with_corner_passages(), compute_time_s=time.perf_counter() - begin)

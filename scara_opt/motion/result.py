@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import TYPE_CHECKING
 
@@ -29,18 +29,21 @@ Array = NDArray[np.float64]
 class MotionTrajectory(Trajectory):
     """A :class:`~scara_opt.Trajectory` planned from moves; it also knows its tool limits.
 
-    Attributes (beyond Trajectory's; ``waypoints`` are the goals, ``waypoint_times`` the
-    start then the end of each move [s]):
+    Attributes (beyond Trajectory's; ``waypoints`` are where each move ends, ``waypoint_times``
+    the start then the end of each move [s]: a stop at its goal, or, for a blended move, the
+    configuration and time at which the tip passes closest to its corner):
         robot: the robot it was planned for.
         moves: the program.
-        tool_limits: the tightest tool limits of each stop-to-stop run (one per move without
-            blends).
+        tool_limits: the tool limits of each move, in program order: its own ``speed`` /
+            ``acceleration``, else the program's (a PTP: its own only).
         profiles: per run, the waypoint times [s] from the run's start and the tool limits
             per waypoint interval (:class:`~scara_opt.motion.tool_limits.ToolProfile`).
         corners: ``(C (3,), r, run)`` of each blended corner [m], ``run`` the index of the
             stop-to-stop run it belongs to.
         checker: the :class:`~scara_opt.CollisionChecker` of the cell it was planned in
             (``None``: planned without a cell).
+        stops: (n_runs + 1,) the start then the end of each stop-to-stop run [s], where the
+            robot is at rest.
     """
 
     robot: Robot | None = None
@@ -49,6 +52,51 @@ class MotionTrajectory(Trajectory):
     corners: tuple[tuple[Array, float, int], ...] = ()
     profiles: tuple[tuple[Array, ToolProfile], ...] = ()
     checker: CollisionChecker | None = None
+    stops: Array = field(default_factory=lambda: np.zeros(0))
+
+    def _stops(self) -> Array:
+        """:attr:`stops`, or the waypoint times of a trajectory built without them."""
+        return self.stops if len(self.stops) else self.waypoint_times
+
+    def _passages(self, dt: float) -> tuple[Array, Array]:
+        """Per blended corner: closest approach of the tip [m] and its time [s], FK at ``dt``.
+
+        The time is refined between the samples next to the closest one (bounded scalar
+        minimisation of the distance, FK by Pinocchio).
+        """
+        from scipy.optimize import minimize_scalar
+
+        t = self.times(dt)
+        P = self.robot.positions(self.evaluate(t))
+        stops = self._stops()
+        dist, when = [], []
+        for c, _, run in self.corners:  # only while that run is under way
+            inside = np.flatnonzero((t >= stops[run]) & (t <= stops[run + 1]))
+            k = inside[int(np.argmin(np.linalg.norm(P[inside] - c, axis=1)))]
+            lo, hi = t[max(k - 1, 0)], t[min(k + 1, len(t) - 1)]
+            best = minimize_scalar(lambda x, c=c: float(np.linalg.norm(
+                self.robot.position(self.evaluate(np.array([x]))[0]) - c)),
+                bounds=(lo, hi), method="bounded", options={"xatol": 1e-9})
+            d0 = float(np.linalg.norm(P[k] - c))
+            dist.append(min(d0, float(best.fun)))
+            when.append(float(best.x) if best.fun <= d0 else float(t[k]))
+        return np.array(dist), np.array(when)
+
+    def with_corner_passages(self) -> MotionTrajectory:
+        """This trajectory with each blended corner's passage among its waypoints.
+
+        A blended move ends where the tip passes closest to its corner: that time and the
+        configuration there join :attr:`waypoints` and :attr:`waypoint_times`, in order.
+        """
+        stops = self._stops()
+        if not self.corners or len(self.waypoint_times) != len(stops):  # none, or done
+            return self
+        when = self._passages(CHECK_DT)[1]
+        times = np.concatenate([stops, when])
+        order = np.argsort(times, kind="stable")
+        rows = np.concatenate([self.waypoints[:len(stops)], self.evaluate(when)])
+        return replace(self, waypoints=rows[order], waypoint_times=times[order],
+                       stops=stops)
 
     def blend_deviations(self, dt: float = CHECK_DT) -> Array:
         """Closest approach of the tip to each blended corner (n_corners,) [m], FK at ``dt``.
@@ -56,13 +104,7 @@ class MotionTrajectory(Trajectory):
         Each is at most that corner's radius (``corners[i][1]``), and above 0: the corner is
         cut, not stopped at.
         """
-        t = self.times(dt)
-        P = self.robot.positions(self.evaluate(t))
-        out = []
-        for c, _, run in self.corners:  # only while that run is under way
-            inside = (t >= self.waypoint_times[run]) & (t <= self.waypoint_times[run + 1])
-            out.append(np.linalg.norm(P[inside] - c, axis=1).min())
-        return np.array(out)
+        return self._passages(dt)[0]
 
     def tool_limit_ratios(self, dt: float = CHECK_DT) -> dict[str, Array]:
         """Worst tip speed / acceleration / yaw-rate ratio per run (n_runs,), by FK at ``dt``.
@@ -73,7 +115,7 @@ class MotionTrajectory(Trajectory):
         """
         rows: dict[str, list[float]] = {"speed": [], "acceleration": [], "yaw_rate": []}
         for i, (knots, profile) in enumerate(self.profiles):
-            t0, t1 = self.waypoint_times[i], self.waypoint_times[i + 1]
+            t0, t1 = self._stops()[i], self._stops()[i + 1]
             part = _window(self, t0, t1)
             for name, value in tool_ratios(self.robot, part, profile, knots, dt).items():
                 rows[name].append(value)

@@ -88,7 +88,8 @@ class ToolProfile:
     """Tool limits per interval between the waypoints of a joint path, (n-1,) each.
 
     A blended run crosses moves with different limits: interval ``i`` (waypoints ``i`` to
-    ``i+1``) takes the smaller of its two points' limits. :data:`UNLIMITED` where none.
+    ``i+1``) takes the smaller of its two points' limits. ``inf`` where none (toppra's
+    constraints take :data:`UNLIMITED` there).
     """
 
     speed: Array
@@ -99,7 +100,7 @@ class ToolProfile:
     def per_point(cls, tools: list[ToolLimits]) -> ToolProfile:
         """From one :class:`ToolLimits` per waypoint (n >= 2)."""
         def row(name: str) -> Array:
-            v = np.array([UNLIMITED if getattr(t, name) is None else getattr(t, name)
+            v = np.array([math.inf if getattr(t, name) is None else getattr(t, name)
                           for t in tools])
             return np.minimum(v[:-1], v[1:])
         return cls(row("speed"), row("acceleration"), row("yaw_rate"))
@@ -116,14 +117,26 @@ class ToolProfile:
         out[on] = np.minimum(out[on], v[i[on] - 1])
         return out
 
+    def __repr__(self) -> str:
+        """Each limit's distinct values and on how many intervals, ``none`` where unlimited."""
+        def show(name: str) -> str:
+            values, counts = np.unique(getattr(self, name), return_counts=True)
+            labels = [f"{v:g} {UNITS[name]}" if np.isfinite(v) else "none" for v in values]
+            if len(values) > 1:
+                labels = [f"{label} on {c}" for label, c in zip(labels, counts, strict=True)]
+            return ", ".join(labels)
+
+        return (f"ToolProfile({len(self.speed)} intervals; speed {show('speed')}; acceleration "
+                f"{show('acceleration')}; yaw_rate {show('yaw_rate')})")
+
     def limited(self, name: str) -> bool:
         """Whether some interval limits ``name``."""
-        return bool((getattr(self, name) < UNLIMITED).any())
+        return bool(np.isfinite(getattr(self, name)).any())
 
     def scaled(self, factor: float) -> ToolProfile:
         """Every finite limit times ``factor``."""
         def sc(v: Array) -> Array:
-            return np.where(v < UNLIMITED, v * factor, UNLIMITED)
+            return v * factor  # inf stays inf
         return ToolProfile(sc(self.speed), sc(self.acceleration), sc(self.yaw_rate))
 
 
@@ -204,7 +217,8 @@ def acceleration_constraint(robot: Robot, tool: ToolProfile, knots: Array) -> An
             across = np.linalg.norm(ddp - along[:, None] * e1, axis=1)
             a = np.column_stack([speed, np.zeros_like(speed)])
             b = np.column_stack([along, across])
-            lim = tool.at("acceleration", gridpoints, knots) * math.cos(math.pi / POLYGON)
+            lim = np.minimum(tool.at("acceleration", gridpoints, knots), UNLIMITED) * math.cos(
+                math.pi / POLYGON)
             g = np.repeat(lim[:, None], POLYGON, axis=1)
             Fs = np.repeat(F[None], len(gridpoints), axis=0)
             return canlinear_colloc_to_interpolate(a, b, np.zeros_like(a), Fs, g, None, None,

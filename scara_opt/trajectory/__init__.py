@@ -7,7 +7,9 @@ registered methods:
 
 - ``"toppra"``: time-optimal along a cubic spline through the waypoints (TOPP-RA;
   velocity and acceleration limits, with a documented safety margin);
-- ``"ruckig"``: jerk-limited and time-optimal, stopping at every waypoint (free Ruckig);
+- ``"ruckig"``: jerk-limited; rest to rest between two waypoints, moving through more
+  (the community Ruckig has no intermediate waypoints: segments joined at velocities
+  chosen from the path, or Ruckig along the path parameter, :mod:`.passing`);
 - ``"quintic"``: rest-to-rest quintic per segment, for a given duration or the shortest
   within the limits (fang's Tables 2–3).
 

@@ -87,8 +87,10 @@ def _in_range(value: object, nq: int, what: str) -> Array | None:
 
 
 def _per_joint(value: object, nq: int, what: str, unit: str,
-               names: tuple[str, ...]) -> Array:
+               names: tuple[str, ...], option: str = "{}=") -> Array:
     """``value`` (scalar or (nq,)) as a checked (nq,) array within :data:`LIMIT_RANGES`.
+
+    ``option``: how the messages spell the option, ``"{}="`` (``vmax=``) or ``"--{}"``.
 
     Raises:
         InputError: not numeric, wrong shape, NaN, a zero/negative/infinite entry, or one
@@ -114,7 +116,7 @@ def _per_joint(value: object, nq: int, what: str, unit: str,
         if not (v > 0 and math.isfinite(v)):
             raise InputError(
                 f"{what} for joint {names[k]!r} is {v:g} [{unit}]; each limit must be finite and "
-                f"> 0: pass a positive {what}= (scalar or one per joint)")
+                f"> 0: pass a positive {option.format(what)} (scalar or one per joint)")
     low, high = LIMIT_RANGES[what]
     for k, v in enumerate(arr):
         if not low <= v <= high:
@@ -123,13 +125,13 @@ def _per_joint(value: object, nq: int, what: str, unit: str,
                    f"effectively unlimited joint pass {high:g}")
             raise InputError(
                 f"{what} for joint {names[k]!r} is {v:g} [{unit}], {why}: each {what} must lie "
-                f"in [{low:g}, {high:g}] [{unit}]; pass {what}= within that range")
+                f"in [{low:g}, {high:g}] [{unit}]; pass {option.format(what)} within that range")
     return arr
 
 
 def resolve_limits(robot: Robot | None, nq: int, vmax: object | None = None,
                    amax: object | None = None, jmax: object | None = None,
-                   need_jerk: bool = False) -> Limits:
+                   need_jerk: bool = False, option: str = "{}=") -> Limits:
     """The limits of a timing: overrides where given, else the robot's own.
 
     Args:
@@ -142,6 +144,8 @@ def resolve_limits(robot: Robot | None, nq: int, vmax: object | None = None,
             ``JERK_PER_ACCELERATION × amax`` (only used when ``need_jerk``).
         need_jerk: whether the method uses a jerk limit (then ``jmax / amax`` is at most
             :data:`MAX_JERK_RATIO` per joint).
+        option: how the messages name the options: ``"{}="`` (``pass amax=``), or
+            ``"--{}"`` for the command line (``pass --amax``).
 
     Raises:
         InputError: wrong shape, non-numeric, NaN, zero, negative or infinite limits, or
@@ -163,17 +167,18 @@ def resolve_limits(robot: Robot | None, nq: int, vmax: object | None = None,
 
     def pick(value: object | None, own: str, what: str, u: str) -> Array:
         if value is not None:
-            return _per_joint(value, nq, what, u, names)
+            return _per_joint(value, nq, what, u, names, option)
         if robot is None:
-            raise InputError(f"without a robot, {what}= is required (scalar or one per joint) "
-                             f"[{u}]")
+            raise InputError(f"without a robot, {option.format(what)} is required (scalar or "
+                             f"one per joint) [{u}]")
         arr = getattr(robot, own)
         if _in_range(arr, nq, what) is not None:
             return arr
         missing = [names[k] for k in np.flatnonzero(~np.isfinite(arr))]
         if missing:
             raise TrajectoryError(f"robot {robot.name!r} has no {what} for joints {missing}; "
-                                  f"pass {what}= (scalar or one per joint) [{u}]")
+                                  f"pass {option.format(what)} (scalar or one per joint) "
+                                  f"[{u}]")
         try:
             return _per_joint(arr, nq, what, u, names)
         except InputError as exc:
@@ -185,7 +190,7 @@ def resolve_limits(robot: Robot | None, nq: int, vmax: object | None = None,
     j = None
     if need_jerk:
         j = (JERK_PER_ACCELERATION * a if jmax is None
-             else _per_joint(jmax, nq, "jmax", "rad/s³ or m/s³", names))
+             else _per_joint(jmax, nq, "jmax", "rad/s³ or m/s³", names, option))
         over = np.flatnonzero(j > MAX_JERK_RATIO * a)
         if over.size:
             k = int(over[0])
@@ -193,5 +198,5 @@ def resolve_limits(robot: Robot | None, nq: int, vmax: object | None = None,
                 f"jmax / amax for joint {names[k]!r} is {j[k] / a[k]:.3g} /s (jmax {j[k]:g}, "
                 f"amax {a[k]:g}): above {MAX_JERK_RATIO:g} /s the jerk phases are shorter "
                 "than Ruckig resolves and the acceleration limit is exceeded (by 4e-4 at "
-                f"1e11 /s); pass jmax <= {MAX_JERK_RATIO:g} x amax")
+                f"1e11 /s); pass {option.format('jmax')} <= {MAX_JERK_RATIO:g} x amax")
     return Limits(v, a, j, names, types, np.asarray(lower, float), np.asarray(upper, float))

@@ -1,11 +1,17 @@
-"""IK along a Cartesian path: a branch-continuous :class:`JointPath`, its problems reported.
+"""IK along a Cartesian path: a :class:`JointPath` with the fewest jumps, its problems reported.
 
-:func:`ik_path` solves the targets in order, each from the previous solution (``q0``), so a
-solver that honours ``q0`` stays on the previous branch: IPOPT's regulariser and polish pull
-toward it (for redundant robots: the solution locally nearest to it, minimal joint motion),
-the closed form picks the nearest branch and wrist turn. Nothing is hidden: every point
-keeps its status and residual, and a step of any joint above the jump threshold (an elbow
-flip, a 2π wrist turn, a redundant joint sliding away) is listed in :attr:`JointPath.jumps`.
+:func:`ik_path` chooses the branch sequence over the whole path by default
+(``branches="global"``, :mod:`scara_opt.trajectory.branches`): every IK solution of every
+point (the closed form's elbow branches and whole turns on SCARA-type robots; the distinct
+solutions of a seeded multi-start elsewhere), then the walk with the fewest jumps and,
+among those, the least joint travel weighted by each joint's speed limit. Where one branch
+covers the whole path there is no jump; where none does, each jump names the point that
+forces it. ``branches="greedy"`` solves the targets in order instead, each from the
+previous solution (``q0``): a solver that honours ``q0`` stays on the previous branch and
+takes each joint's whole turn nearest it, but the first point's branch is chosen without
+a look at the rest. Nothing is hidden: every point keeps its status and residual, and a
+step of any joint above the jump threshold (an elbow flip, a 2π wrist turn, a redundant
+joint sliding away) is listed in :attr:`JointPath.jumps`.
 """
 
 from __future__ import annotations
@@ -21,18 +27,26 @@ from numpy.typing import NDArray
 
 from scara_opt.checks import describe, float_array
 from scara_opt.errors import InputError, TrajectoryError
-from scara_opt.ik.base import check_seed
+from scara_opt.ik.base import Solver, check_seed, check_tol
 from scara_opt.ik.registry import get_solver
-from scara_opt.ik.result import IKResult, Status
+from scara_opt.ik.result import IKResult, SolverOutput, Status
+from scara_opt.ik.task import default_q0, wrap_angle
+from scara_opt.ik.verdict import judge
 from scara_opt.model.robot import Robot, check_robot
 from scara_opt.paths import as_targets
 from scara_opt.target import Target
+from scara_opt.trajectory import branches as walk
 
 Array = NDArray[np.float64]
 
 #: default jump thresholds per step: revolute joints [rad], prismatic joints [m]
 REVOLUTE_JUMP = math.pi / 2
 PRISMATIC_JUMP = 0.1
+
+#: the branch choices of :func:`ik_path`
+BRANCHES = ("global", "greedy")
+#: the methods that return the solution nearest ``q0``: ``branches="global"`` by default
+NEAREST_METHODS = ("auto", "lm", "ipopt", "analytic")
 
 
 @dataclass(frozen=True)
@@ -43,15 +57,21 @@ class Jump:
         index: the step from point ``index - 1`` to point ``index``.
         delta: (nq,) joint change over the step [rad or m].
         joints: names of the joints whose change exceeds their threshold.
+        forced_by: the first point that the configuration before the jump cannot reach
+            without one (``branches="global"``: no branch goes on from there), or ``None``
+            (not known: the greedy walk).
     """
 
     index: int
     delta: Array
     joints: tuple[str, ...]
+    forced_by: int | None = None
 
     def __str__(self) -> str:
+        why = ("" if self.forced_by is None
+               else f" (forced: the branch before it does not reach point {self.forced_by})")
         return (f"step {self.index - 1}→{self.index}: joints {', '.join(self.joints)} move by "
-                f"{np.array2string(self.delta, precision=3, separator=', ')}")
+                f"{np.array2string(self.delta, precision=3, separator=', ')}{why}")
 
 
 @dataclass(frozen=True, repr=False, eq=False)
@@ -69,8 +89,10 @@ class JointPath:
         jump_threshold: (nq,) per-joint step threshold [rad or m].
         method: IK method used.
         joint_names: one name per joint.
-        results: the per-point :class:`~scara_opt.IKResult`.
+        results: the per-point :class:`~scara_opt.IKResult` (closed-form points of a global
+            walk are judged by the verdict when first read).
         time_s: wall-clock time of all solves [s].
+        branches: how the branch sequence was chosen, ``"global"`` or ``"greedy"``.
     """
 
     q: Array
@@ -83,8 +105,9 @@ class JointPath:
     jump_threshold: Array
     method: str
     joint_names: tuple[str, ...]
-    results: tuple[IKResult, ...]
+    results: Sequence[IKResult]
     time_s: float = 0.0
+    branches: str = "greedy"
 
     def __len__(self) -> int:
         return int(self.q.shape[0])
@@ -98,6 +121,16 @@ class JointPath:
     def unsolved(self) -> list[int]:
         """Indices of the points not reached (unreachable, failed or out of budget)."""
         return [int(i) for i in np.flatnonzero(~self.solved)]
+
+    @property
+    def forced(self) -> list[int]:
+        """The points that force each jump (see :attr:`Jump.forced_by`), where known."""
+        return [j.forced_by for j in self.jumps if j.forced_by is not None]
+
+    @property
+    def travel(self) -> Array:
+        """(nq,) total joint travel along the path, ``sum |Δq|`` per joint [rad or m]."""
+        return np.abs(np.diff(self.q, axis=0)).sum(axis=0)
 
     @property
     def ok(self) -> bool:
@@ -146,7 +179,7 @@ class JointPath:
         sel = np.atleast_1d(sel)
         return _assemble(self.q[sel], [self.results[i] for i in sel],
                          [self.targets[i] for i in sel], self.jump_threshold, self.method,
-                         self.joint_names, self.time_s)
+                         self.joint_names, self.time_s, self.branches)
 
     def summary(self) -> str:
         """One line: points solved, largest errors, jumps."""
@@ -154,7 +187,10 @@ class JointPath:
             return f"{self.method}: no points"
         steps = ", ".join(str(j.index) for j in self.jumps)
         jumps = f"jumps at steps {steps}" if steps else "no jumps"
-        return (f"{self.method}: {int(self.solved.sum())}/{len(self)} points solved, max "
+        if self.forced:
+            jumps += f" (forced by points {', '.join(map(str, self.forced))})"
+        return (f"{self.method} ({self.branches} branches): {int(self.solved.sum())}/{len(self)} "
+                f"points solved, max "
                 f"position error {np.linalg.norm(self.position_error, axis=1).max():.3g} m, "
                 f"max angle error {np.abs(self.angle_error).max():.3g} rad, {jumps}")
 
@@ -164,14 +200,19 @@ class JointPath:
     __str__ = __repr__
 
 
-def find_jumps(Q: Array, threshold: Array, names: Sequence[str]) -> tuple[Jump, ...]:
-    """Steps of ``Q`` (n, nq) where some joint moves more than ``threshold`` (nq,)."""
+def find_jumps(Q: Array, threshold: Array, names: Sequence[str],
+               forced: dict[int, int | None] | None = None) -> tuple[Jump, ...]:
+    """Steps of ``Q`` (n, nq) where some joint moves more than ``threshold`` (nq,).
+
+    ``forced``: the point forcing each jump, by step (see :attr:`Jump.forced_by`).
+    """
     dQ = np.diff(Q, axis=0)
     out = []
     for i in np.flatnonzero((np.abs(dQ) > threshold).any(axis=1)):
         over = np.abs(dQ[i]) > threshold
-        out.append(Jump(int(i) + 1, dQ[i].copy(), tuple(n for n, o in zip(names, over,
-                                                                           strict=True) if o)))
+        out.append(Jump(int(i) + 1, dQ[i].copy(),
+                        tuple(n for n, o in zip(names, over, strict=True) if o),
+                        None if forced is None else forced.get(int(i) + 1)))
     return tuple(out)
 
 
@@ -190,48 +231,65 @@ def _threshold(robot: Robot, jump_threshold: object | None) -> Array:
 
 
 def _assemble(Q: Array, results: Sequence[IKResult], targets: Sequence[Target],
-              threshold: Array, method: str, names: Sequence[str], time_s: float) -> JointPath:
+              threshold: Array, method: str, names: Sequence[str], time_s: float,
+              branches: str = "greedy", forced: dict[int, int | None] | None = None
+              ) -> JointPath:
     return JointPath(
         q=np.asarray(Q, dtype=float), targets=tuple(targets),
         status=tuple(r.status for r in results),
         error=np.array([r.error for r in results]),
         position_error=np.array([r.position_error for r in results]).reshape(-1, 3),
         angle_error=np.array([0.0 if r.yaw_error is None else r.yaw_error for r in results]),
-        jumps=find_jumps(np.asarray(Q), threshold, names), jump_threshold=threshold,
-        method=method, joint_names=tuple(names), results=tuple(results), time_s=time_s)
+        jumps=find_jumps(np.asarray(Q), threshold, names, forced), jump_threshold=threshold,
+        method=method, joint_names=tuple(names), results=tuple(results), time_s=time_s,
+        branches=branches)
 
 
 def ik_path(robot: Robot, targets: object, method: str = "auto", q_start: object | None = None,
             jump_threshold: object | None = None, seed: int | None = 0, tol: float = 1e-9,
-            **options: Any) -> JointPath:
-    """Inverse kinematics along a path, each point warm-started from the previous solution.
+            branches: str | None = None, **options: Any) -> JointPath:
+    """Inverse kinematics along a path: one solution per point, the fewest jumps between them.
 
     Args:
         robot: the robot.
         targets: a sequence of :class:`~scara_opt.Target` or an (n, 3) / (n, 4) array
             ``[x, y, z(, yaw)]`` [m, rad] (see :mod:`scara_opt.paths`).
         method: any registered IK method (:func:`~scara_opt.solvers`); default ``"auto"``
-            (the fast ``"lm"`` solver, IPOPT only for its misses). Methods that honour
-            ``q0`` (``"auto"``, ``"lm"``, ``"ipopt"``, ``"analytic"``) keep the previous
-            branch; a metaheuristic
-            that ignores it may change branch, which then shows up in :attr:`JointPath.jumps`.
-        q_start: (nq,) configuration the path starts from: the ``q0`` of the first point (not
-            itself part of the path); ``None`` lets the solver choose.
-        jump_threshold: per-step joint change above which a step is reported as a jump,
-            scalar or (nq,) [rad or m] (``inf`` disables a joint); default π/2 rad for
-            revolute joints (elbow flips, 2π wrist turns) and 0.1 m for prismatic ones
-            (a redundant rail sliding away). A jump can also mean the points are too far
-            apart for the motion between them: sample the path more finely.
-        seed: seed of point 0; point ``i`` uses ``seed + i`` (``None``: unseeded).
+            (the fast ``"lm"`` solver, IPOPT only for its misses).
+        q_start: (nq,) configuration the path starts from (not itself part of the path):
+            the greedy walk's first ``q0``; the global choice counts its step to the first
+            point in the travel and keeps its branch there wherever some walk can (a jump
+            off it counts before the path's own). ``None``: no preference.
+        jump_threshold: per-step joint change above which a step is a jump, scalar or (nq,)
+            [rad or m] (``inf`` disables a joint); default π/2 rad for revolute joints
+            (elbow flips, 2π wrist turns) and 0.1 m for prismatic ones (a redundant rail
+            sliding away). The global choice takes it as a hard limit: the fewest jumps
+            first. A jump can also mean the points are too far apart: sample more finely.
+        seed: seed of point 0; point ``i`` uses ``seed + i`` (``None``: unseeded); the
+            global multi-start draws its starts from it too.
         tol: residual [m, rad] below which a point counts as solved.
+        branches: ``"global"`` (the default for the methods that return the solution
+            nearest ``q0``: ``"auto"``, ``"lm"``, ``"ipopt"``, ``"analytic"``): every
+            solution of every point, then the walk with the fewest jumps and the least
+            joint travel weighted by each joint's speed limit (:mod:`.branches`). On a
+            SCARA-type robot without redundant joints the closed form lists the solutions
+            (both elbow branches, every whole turn), whatever the method (their results say
+            ``method="analytic"``); the method solves only the points it misses, whose
+            verdicts say why. Elsewhere the method's own multi-start finds them; where the
+            robot has joints to spare for the targets (a continuum of solutions) the greedy
+            walk is kept unless another track has fewer jumps.
+            ``"greedy"`` (the default for the metaheuristics): each point from the
+            previous solution, in order.
         **options: options of the IK method (an unknown one raises SolverOptionError).
 
     Returns:
-        JointPath: every point, solved or not, with statuses, residuals and jumps.
-        Check :attr:`JointPath.ok` or call :meth:`JointPath.raise_if_invalid`.
+        JointPath: every point, solved or not, with statuses, residuals and jumps (each
+        global jump names the point forcing it). Check :attr:`JointPath.ok` or call
+        :meth:`JointPath.raise_if_invalid`.
 
     Raises:
-        InputError: ``robot`` not a Robot; malformed targets, threshold or ``seed``.
+        InputError: ``robot`` not a Robot; malformed targets, threshold, ``seed``, ``tol``
+            or ``branches`` (``"global"`` with a method that does not honour ``q0``).
         UnknownSolverError, SolverOptionError, JointLimitError, TargetError: as for
             :func:`~scara_opt.solve_ik`.
     """
@@ -239,10 +297,14 @@ def ik_path(robot: Robot, targets: object, method: str = "auto", q_start: object
     ts = as_targets(targets)
     threshold = _threshold(robot, jump_threshold)
     check_seed(seed)
+    tol = check_tol(tol)
     solver = get_solver(method, **options)
+    choice = _branches(branches, method)
     q0 = None if q_start is None else robot.check_q(q_start, "q_start")
-    results: list[IKResult] = []
     start = time.perf_counter()
+    if choice == "global":
+        return _global(robot, ts, solver, method, q0, threshold, seed, tol, start)
+    results: list[IKResult] = []
     for i, target in enumerate(ts):
         res = solver.solve(robot, target, q0=q0, seed=None if seed is None else seed + i,
                            tol=tol)
@@ -251,3 +313,113 @@ def ik_path(robot: Robot, targets: object, method: str = "auto", q_start: object
     elapsed = time.perf_counter() - start
     Q = np.array([r.q for r in results])
     return _assemble(Q, results, ts, threshold, method, robot.joint_names, elapsed)
+
+
+def _branches(branches: object, method: str) -> str:
+    """The branch choice: as given, else global for the methods nearest ``q0``.
+
+    Raises:
+        InputError: not one of :data:`BRANCHES`, or global with another method.
+    """
+    if branches is None:
+        return "global" if method in NEAREST_METHODS else "greedy"
+    if branches not in BRANCHES:
+        raise InputError(f"branches must be one of {list(BRANCHES)}; got {describe(branches)}")
+    if branches == "global" and method not in NEAREST_METHODS:
+        raise InputError(f"branches='global' needs a method that returns the solution nearest "
+                         f"q0 ({', '.join(NEAREST_METHODS)}); {method!r} does not: use one of "
+                         "them, or branches='greedy'")
+    return str(branches)
+
+
+def _global(robot: Robot, ts: list[Target], solver: Solver, method: str, q_start: Array | None,
+            threshold: Array, seed: int | None, tol: float, start: float) -> JointPath:
+    """:func:`ik_path` with ``branches="global"`` (see :mod:`scara_opt.trajectory.branches`)."""
+    weights = walk.travel_weights(robot)
+    q_ref = default_q0(robot) if q_start is None else q_start
+    listed = walk.candidates_closed_form(robot, ts, q_ref)
+    if listed is None:
+        Q, valid, kept = walk.candidates_searched(robot, ts, solver, q_start, seed, tol)
+        w = walk.least_cost_walk(Q, valid, threshold, weights, q_start)
+        if walk.redundant(robot, ts):  # a continuum: the greedy walk unless it jumps more
+            first = walk.least_cost_walk(Q[:, :1], valid[:, :1], threshold, weights, q_start)
+            if (first.start_jump, len(first.jumps)) <= (w.start_jump, len(w.jumps)):
+                w = first
+        results = [kept[i][k] for i, k in enumerate(w.choice)]
+        return _assemble(Q[np.arange(len(ts)), w.choice], results, ts, threshold, method,
+                         robot.joint_names, time.perf_counter() - start, "global",
+                         dict(zip(w.jumps, w.forced_by, strict=True)))
+    Q, valid = listed
+    known: dict[int, IKResult] = {}
+    for i in np.flatnonzero(~valid.any(axis=1)):  # no branch reaches it: the method's verdict
+        known[int(i)] = solver.solve(robot, ts[i], q0=q_ref, seed=None if seed is None
+                                     else seed + int(i), tol=tol)
+        Q[i, 0], valid[i, 0] = known[int(i)].q, True
+    rows = np.arange(len(ts))
+    while True:  # a chosen candidate the FK does not confirm within tol is struck off
+        w = walk.least_cost_walk(Q, valid, threshold, weights, q_start)
+        Qc = Q[rows, w.choice]
+        dp, dang = _residuals(robot, ts, Qc)
+        err = np.maximum(np.linalg.norm(dp, axis=1), np.abs(dang))
+        bad = [int(i) for i in np.flatnonzero(~(err <= tol)) if int(i) not in known]
+        if not bad:
+            break
+        for i in bad:
+            valid[i, w.choice[i]] = False
+            if not valid[i].any():
+                known[i] = solver.solve(robot, ts[i], q0=q_ref, seed=None if seed is None
+                                        else seed + i, tol=tol)
+                Q[i, 0], valid[i, 0] = known[i].q, True
+    for i in np.flatnonzero(err > tol / 2):  # near tol: the verdict's own numbers decide
+        known.setdefault(int(i), judge(robot, ts[i], SolverOutput(q=Qc[i], evaluations=1),
+                                       tol=tol, method="analytic", seed=None, time_s=0.0))
+    results = JudgedResults(robot, ts, Qc, tol, known)
+    status = tuple(known[i].status if i in known else Status.SOLVED for i in rows.tolist())
+    for i, r in known.items():
+        dp[i], dang[i], err[i] = r.position_error, r.yaw_error or 0.0, r.error
+    return JointPath(
+        q=Qc, targets=tuple(ts), status=status, error=err, position_error=dp,
+        angle_error=dang, jumps=find_jumps(Qc, threshold, robot.joint_names,
+                                          dict(zip(w.jumps, w.forced_by, strict=True))),
+        jump_threshold=threshold, method=method, joint_names=tuple(robot.joint_names),
+        results=results, time_s=time.perf_counter() - start, branches="global")
+
+
+def _residuals(robot: Robot, ts: Sequence[Target], Q: Array) -> tuple[Array, Array]:
+    """Position errors (n, 3) [m] and wrapped yaw errors (n,) [rad] (0 without yaw), by FK."""
+    if all(t.kind == "position" for t in ts):
+        return robot.positions(Q) - [t.position for t in ts], np.zeros(len(ts))
+    T = robot.fk_batch(Q)
+    e1, e2 = robot.yaw_basis()
+    x = T[:, :3, 0]
+    yaw = np.arctan2(x @ e2, x @ e1) - [t.yaw if t.kind == "yaw" else 0.0 for t in ts]
+    dang = np.where([t.kind == "yaw" for t in ts], wrap_angle(yaw), 0.0)
+    return T[:, :3, 3] - [t.position for t in ts], dang
+
+
+class JudgedResults(Sequence[IKResult]):
+    """The per-point results of closed-form configurations, judged when first read.
+
+    Judging a point (:func:`scara_opt.ik.verdict.judge`: FK, residual, status) costs
+    ~40 µs; a 1,000-point path needs its statuses and residuals at once (computed in one
+    batch FK, each well within ``tol``), its :class:`~scara_opt.IKResult` objects rarely.
+    Points already judged (``known``) are returned as they are.
+    """
+
+    def __init__(self, robot: Robot, targets: Sequence[Target], Q: Array, tol: float,
+                 known: dict[int, IKResult]) -> None:
+        self._args = (robot, targets, Q, tol)
+        self._known = dict(known)
+
+    def __len__(self) -> int:
+        return len(self._args[1])
+
+    def __getitem__(self, i: Any) -> Any:
+        if isinstance(i, slice):
+            return [self[j] for j in range(*i.indices(len(self)))]
+        k = range(len(self))[i]  # IndexError out of range; negative indices count back
+        if k not in self._known:
+            robot, targets, Q, tol = self._args
+            self._known[k] = judge(robot, targets[k], SolverOutput(q=Q[k].copy(), evaluations=1),
+                                   tol=tol, method="analytic", seed=None, time_s=0.0)
+        return self._known[k]

@@ -101,7 +101,8 @@ def time_parameterize(path: object, robot: Robot | None = None, method: str = "t
         robot: the robot; its limits are the defaults and its position limits are checked.
             May be ``None`` when ``vmax`` and ``amax`` are given.
         method: a name from :func:`timing_methods`: ``"toppra"`` (time-optimal through the
-            waypoints), ``"ruckig"`` (jerk-limited, stops at each waypoint), ``"quintic"``
+            waypoints), ``"ruckig"`` (jerk-limited, moving through the interior waypoints:
+            :mod:`~scara_opt.trajectory.passing`), ``"quintic"``
             (rest-to-rest quintic per segment).
         vmax: velocity limits [rad/s or m/s], scalar or (nq,); default the robot's.
         amax: acceleration limits [rad/s² or m/s²], scalar or (nq,); default the robot's.

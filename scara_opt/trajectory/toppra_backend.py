@@ -262,8 +262,8 @@ def _check_positions(traj: Trajectory, span: tuple[Array, Array]) -> None:
             f"toppra's spline through the waypoints leaves the limits of joint "
             f"{lim.joint_names[k]!r}, [{lim.lower[k]:.6g}, {lim.upper[k]:.6g}] {lim.unit(k)} by "
             f"{excess[k]:.3g} {lim.unit(k)} between waypoints {i} and {i + 1}: add waypoints "
-            "there (sample the path more finely), or use method='ruckig' or 'quintic', "
-            "which stop at every waypoint and never overshoot")
+            "there (sample the path more finely), or use method='ruckig' (which keeps within "
+            "the limits) or 'quintic' (which stops at every waypoint)")
 
 
 def _overshoot(traj: Trajectory, dynamics: RobotDynamics | None = None) -> float:

@@ -397,19 +397,23 @@ class Trajectory:
     def to_csv(self, path: str | Path, dt: float = 0.01) -> Path:
         """Write t, q, qd, qdd on the grid ``dt`` to a CSV file; units in the column names.
 
-        A torque-limited trajectory adds each joint's torque ``<joint>_torque_Nm`` (or
-        ``_N`` for a prismatic joint), Pinocchio's RNEA with the payload it was timed for.
+        Columns in that order, each block over the joints: ``t_s``, every ``<joint>_rad``
+        (or ``_m``), every ``<joint>_rad_per_s``, every ``<joint>_rad_per_s2`` (the order
+        of ``to_json``'s ``t_s``, ``q``, ``qd``, ``qdd``). A torque-limited trajectory adds
+        each joint's torque ``<joint>_torque_Nm`` (or ``_N`` for a prismatic joint),
+        Pinocchio's RNEA with the payload it was timed for.
 
         Returns:
             The path written.
         """
         t = self.times(dt)
         q, qd, qdd = self.sample(t)
-        cols, header = [t], ["t_s"]
-        for k, name in enumerate(self.limits.joint_names):
-            u = {"rad": "rad", "m": "m"}.get(self.limits.unit(k), "unit")
-            cols += [q[:, k], qd[:, k], qdd[:, k]]
-            header += [f"{name}_{u}", f"{name}_{u}_per_s", f"{name}_{u}_per_s2"]
+        units = [{"rad": "rad", "m": "m"}.get(self.limits.unit(k), "unit")
+                 for k in range(self.nq)]
+        cols, header = [t, q, qd, qdd], ["t_s"]
+        for suffix in ("", "_per_s", "_per_s2"):
+            header += [f"{name}_{u}{suffix}"
+                       for name, u in zip(self.limits.joint_names, units, strict=True)]
         if self.dynamics is not None:
             tau = self.dynamics.torques(q, qd, qdd)
             for k, name in enumerate(self.limits.joint_names):
