@@ -30,14 +30,20 @@ from __future__ import annotations
 import math
 from collections.abc import Callable
 from dataclasses import dataclass, replace
+from typing import TYPE_CHECKING, Protocol
 
 import numpy as np
-from numpy.typing import NDArray
+from numpy.typing import ArrayLike, NDArray
 from scipy.interpolate import PPoly
 
 from scara_opt.collision.checker import CollisionChecker
 
+if TYPE_CHECKING:
+    from scara_opt.model.robot import Robot
+    from scara_opt.trajectory.trajectory import Trajectory
+
 Array = NDArray[np.float64]
+Index = NDArray[np.intp]
 
 __all__ = ["CollisionReport", "Contact", "Proof", "VelocityBound", "check_path", "check_trajectory",
            "collision_report", "deepest", "prove", "prove_segment"]
@@ -102,7 +108,7 @@ class Proof:
 
 def prove(s: Array, D: Array, config: Callable[[Array], Array],
           bound: Callable[[Array, Array], Array],
-          distances: Callable[[Array, Array | None], Array],
+          distances: Callable[[Array, Index | None], Array],
           names: tuple[tuple[str, str], ...], *, margin: float = 0.0, locate: bool = False,
           tol: float = 0.0, budget: int = MAX_EVALUATIONS,
           apart: Callable[..., Array] | None = None) -> Proof:
@@ -165,8 +171,8 @@ def prove(s: Array, D: Array, config: Callable[[Array], Array],
             rest &= (lo < contact.at) & ~((hi >= contact.at) & (hi - lo <= tol))
         if not rest.any():
             break
-        lo, hi, Dlo, Dhi, Qlo, Qhi, M, passed = (x[rest] for x in (
-            lo, hi, Dlo, Dhi, Qlo, Qhi, M, passed))
+        lo, hi, Dlo, Dhi, Qlo, Qhi, M = (x[rest] for x in (lo, hi, Dlo, Dhi, Qlo, Qhi, M))
+        passed = passed[rest]
         grazing = np.where(passed, 0.0, M).max(axis=1) < RESOLUTION
         if grazing.any() or evals + lo.size > budget:
             k = int(np.argmin(np.where(grazing, lo, np.inf))) if grazing.any() else 0
@@ -176,8 +182,8 @@ def prove(s: Array, D: Array, config: Callable[[Array], Array],
             if not locate or not grazing.any():
                 break
             keep = ~grazing & (lo < contact.at)
-            lo, hi, Dlo, Dhi, Qlo, Qhi, passed = (x[keep] for x in (
-                lo, hi, Dlo, Dhi, Qlo, Qhi, passed))
+            lo, hi, Dlo, Dhi, Qlo, Qhi = (x[keep] for x in (lo, hi, Dlo, Dhi, Qlo, Qhi))
+            passed = passed[keep]
             if not lo.size:
                 break
         mid = (lo + hi) / 2
@@ -201,36 +207,38 @@ def prove(s: Array, D: Array, config: Callable[[Array], Array],
     return Proof(True, None, shift + spare, evals)
 
 
-def prove_segment(checker: CollisionChecker, qa: object, qb: object, *, locate: bool = False
-                  ) -> Proof:
+def prove_segment(checker: CollisionChecker, qa: ArrayLike, qb: ArrayLike, *,
+                  locate: bool = False) -> Proof:
     """Prove the straight joint segment from ``qa`` to ``qb`` (nq,) clear of collision.
 
     ``Proof.contact.at`` is the fraction ``s`` in [0, 1] along the segment; with
     ``locate``, the first contact to within 1e-6.
     """
-    qa, qb = checker.robot.check_q(qa, "qa"), checker.robot.check_q(qb, "qb")
+    q0, q1 = checker.robot.check_q(qa, "qa"), checker.robot.check_q(qb, "qb")
     W = checker.weights
-    dq = qb - qa
+    dq = q1 - q0
     M = W @ np.abs(dq)
 
     def config(s: Array) -> Array:
-        return qa + s[:, None] * dq
+        return q0 + s[:, None] * dq
 
     def bound(lo: Array, hi: Array) -> Array:
         return np.outer(hi - lo, M)
 
-    D = checker.distances_many(np.array([qa, qb]))
+    D = checker.distances_many(np.array([q0, q1]))
     gaps = checker.gaps
-    apart = None
+    apart: Callable[..., Array] | None = None
     if gaps is not None:
         A, a, b = gaps
         shift = checker.margin + DISTANCE_TOL
-        ha, hb = A @ qa, A @ qb  # affine along the segment: the smaller end bounds it
+        ha, hb = A @ q0, A @ q1  # affine along the segment: the smaller end bounds it
 
-        def apart(lo: Array, hi: Array, Qlo: Array, Qhi: Array) -> Array:
+        def heights(lo: Array, hi: Array, Qlo: Array, Qhi: Array) -> Array:
             h0 = np.outer(1 - lo, ha) + np.outer(lo, hb)
             h1 = np.outer(1 - hi, ha) + np.outer(hi, hb)
             return np.maximum(np.minimum(h0, h1) + a, b - np.maximum(h0, h1)) - shift
+
+        apart = heights
 
     p = prove(np.array([0.0, 1.0]), D, config, bound, checker.pair_distances,
               checker.pair_names, margin=checker.margin, locate=locate, tol=1e-6, apart=apart)
@@ -238,6 +246,14 @@ def prove_segment(checker: CollisionChecker, qa: object, qb: object, *, locate: 
 
 
 # ---------------------------------------------------------------------------- trajectories
+class SpeedBounded(Protocol):
+    """What :class:`VelocityBound` reads: a trajectory, or a path (:class:`_PathBounds`)."""
+
+    def speed_bounds(self) -> list[tuple[Array, Array]]:
+        """Per joint: breakpoints (m + 1,) and a bound (m,) on the speed on each piece."""
+        ...
+
+
 class VelocityBound:
     """Bounds on ``|q̇_j|`` over any time interval of a trajectory, per joint.
 
@@ -247,8 +263,8 @@ class VelocityBound:
     (toppra's, a spline's) are looked up together.
     """
 
-    def __init__(self, traj: object) -> None:
-        bounds = traj.speed_bounds()  # type: ignore[attr-defined]
+    def __init__(self, traj: SpeedBounded) -> None:
+        bounds = traj.speed_bounds()
         self.nq = len(bounds)
         groups: list[tuple[Array, list[int]]] = []
         for j, (x, _) in enumerate(bounds):
@@ -284,7 +300,7 @@ class VelocityBound:
         return out
 
 
-def check_trajectory(checker: CollisionChecker, traj: object, *, locate: bool = True,
+def check_trajectory(checker: CollisionChecker, traj: Trajectory, *, locate: bool = True,
                      samples: int = 32) -> Proof:
     """Prove a timed trajectory clear of collision, or find its first contact.
 
@@ -398,7 +414,7 @@ def _trajectory_gaps(checker: CollisionChecker, vel: Callable[[Array, Array], Ar
     return apart
 
 
-def deepest(checker: CollisionChecker, traj: object, contact: Contact, dt: float = 1e-3
+def deepest(checker: CollisionChecker, traj: Trajectory, contact: Contact, dt: float = 1e-3
             ) -> float:
     """The largest overlap [m] of the contact's pair while it lasts, sampled every ``dt`` [s]."""
     k = checker.pair_names.index(contact.bodies)
@@ -458,23 +474,26 @@ class CollisionReport:
             return (f"CollisionReport(clear: clearance >= {self.clearance * 1e3:.3f} mm proven, "
                     f"{self.evaluations} checks)")
         what = f"{self.depth * 1e3:.3f} mm deep" if self.touching else "not proven clear"
-        return (f"CollisionReport(first contact at {self.time:.4f} s: {self.bodies[0]}-"
-                f"{self.bodies[1]}, {what}; {self.evaluations} checks)")
+        return (f"CollisionReport(first contact at {self.time or 0.0:.4f} s: "
+                f"{'-'.join(self.bodies or ())}, {what}; {self.evaluations} checks)")
 
 
-def collision_report(checker: CollisionChecker, traj: object) -> CollisionReport:
+def collision_report(checker: CollisionChecker, traj: Trajectory) -> CollisionReport:
     """:func:`check_trajectory` with the first contact located and its depth measured."""
     p = check_trajectory(checker, traj, locate=True)
     if p.clear:
         return CollisionReport(True, None, None, 0.0, False, p.clearance, checker.margin,
                                p.evaluations)
     c = p.contact
+    if c is None:  # pragma: no cover - prove() names the contact of every proof not clear
+        raise RuntimeError("a proof that is not clear names no contact")
     depth = deepest(checker, traj, c) if c.touching else 0.0
     return CollisionReport(False, c.at, c.bodies, depth, c.touching, -math.inf,
                            checker.margin, p.evaluations)
 
 
-def make_checker(cell: object, robot: object, margin: float, nq: int) -> CollisionChecker:
+def make_checker(cell: object, robot: Robot | None, margin: float, nq: int
+                 ) -> CollisionChecker:
     """A checker from a Cell and a robot, or the checker given (for a trajectory of ``nq``).
 
     Raises:
@@ -490,7 +509,7 @@ def make_checker(cell: object, robot: object, margin: float, nq: int) -> Collisi
         if robot is None:
             raise InputError("check_collisions(cell) needs the robot: pass robot= (or a "
                              "CollisionChecker(robot, cell))")
-        checker = CollisionChecker(robot, cell, margin=margin)  # type: ignore[arg-type]
+        checker = CollisionChecker(robot, cell, margin=margin)
     else:
         raise InputError(f"cell must be a scara_opt.Cell or a CollisionChecker; got "
                          f"{describe(cell)}")

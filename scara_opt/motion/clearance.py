@@ -91,8 +91,8 @@ def hugging(Q: Array, level: int = 0) -> Array:
             f += list(near)
         if k < len(Q) - 2:
             f += list(1 - near)
-        f = np.unique(np.array(f))
-        rows += [a + f[:, None] * (b - a), b[None, :]]
+        at = np.unique(np.array(f))
+        rows += [a + at[:, None] * (b - a), b[None, :]]
     return np.vstack(rows)
 
 
@@ -129,7 +129,8 @@ class CellPlanning:
         if isinstance(goal, Target) and branch.geometry(robot) is not None:
             for res in ik_all(robot, goal, q0=q_prev):
                 signs = branch.elbow_signs(robot, res.q)
-                if move.elbow is not None and signs[0] != branch.SIGN[move.elbow]:
+                if (move.elbow is not None and signs is not None
+                        and signs[0] != branch.SIGN[move.elbow]):
                     continue
                 if not self.checker.collides(res.q):
                     return res.q
@@ -137,12 +138,12 @@ class CellPlanning:
             check_clear(self.checker, q, "goal")
         except CollisionError as exc:
             other = " (and so is every other IK solution)" if isinstance(goal, Target) else ""
-            raise MoveCollisionError(index, f"PTP {exc}{other}", exc.bodies,
-                                     exc.depth) from None
+            a, b = exc.bodies
+            raise MoveCollisionError(index, f"PTP {exc}{other}", (a, b), exc.depth) from None
         return q  # pragma: no cover - collides() and check_clear agree
 
     def joints(self, index: int, move: Move, robot: Robot, q_prev: Array, step: float,
-               straight: object) -> Array:
+               straight: Callable[..., Array]) -> Array:
         """The move's joint path: a PTP planned around the cell, a LIN/CIRC as without one.
 
         ``straight``: :func:`~scara_opt.motion.plan.move_joints`, for LIN and CIRC.
@@ -152,14 +153,14 @@ class CellPlanning:
                 in time. MoveError: as without a cell.
         """
         if not isinstance(move, PTP):
-            return straight(index, move, robot, q_prev, step)  # type: ignore[operator]
+            return straight(index, move, robot, q_prev, step)
         q1 = self.goal(index, move, robot, q_prev)
         if np.abs(q1 - q_prev).max() <= 1e-9:
             raise MoveError(index, "PTP goal is where the robot already is: drop the move")
         result = plan_path(self.checker, q_prev, q1, time_limit=self.time_limit,
                            seed=self.seed + index)
         self.plans[index] = result
-        if not result.success:
+        if result.path is None:  # not solved
             raise NoPathFoundError(index, f"PTP: {result.message}", result.time_s,
                                    self.time_limit, result.tree_states, result.checks)
         return result.path
@@ -167,21 +168,24 @@ class CellPlanning:
     def planned(self, index: int) -> bool:
         """Whether move ``index`` is a PTP planned around obstacles (more than one edge)."""
         plan = self.plans.get(index)
-        return plan is not None and len(plan.path) > 2
+        return plan is not None and plan.path is not None and len(plan.path) > 2
 
-    def prove(self, traj: object) -> CollisionReport:
+    def prove(self, traj: Trajectory) -> CollisionReport:
         """The timed section proven clear, or its first contact."""
         return collision_report(self.checker, traj)
 
-    def refuse(self, index: int, kind: str, report: CollisionReport, t0: float) -> None:
+    def refuse(self, index: int, kind: str, report: CollisionReport, at: float,
+               bodies: tuple[str, str], t0: float) -> None:
         """Raise the MoveCollisionError of a section that hits the cell.
+
+        ``at`` and ``bodies``: the report's first contact (time in the section [s], pair).
 
         Raises:
             MoveCollisionError: always; the move, the time from the program's start, the
                 bodies, the depth.
         """
-        a, b = report.bodies
-        t = t0 + report.time
+        a, b = bodies
+        t = t0 + at
         how = (f"{report.depth * 1e3:.3f} mm deep" if report.touching else
                "not proven clear (they graze)")
         raise MoveCollisionError(
@@ -215,10 +219,11 @@ class CellPlanning:
         if not (len(run) == 1 and self.planned(index)):
             part, note, knots, profile = timed(Q, owner)
             report = self.prove(Trajectory(part, limits, method, Q, knots))
-            if not report.clear:
+            if report.time is not None and report.bodies is not None:  # not clear
                 k = int(np.clip(np.searchsorted(knots, report.time, side="right") - 1, 0,
                                 len(owner) - 1))
-                self.refuse(owner[k], "+".join(m.kind for _, m in run), report, t0)
+                self.refuse(owner[k], "+".join(m.kind for _, m in run), report, report.time,
+                            report.bodies, t0)
             return part, note + _proven(report.clearance, report.evaluations), knots, profile
         plan = self.plans[index]
         for level in range(-1, RETRIES + 2):

@@ -13,6 +13,7 @@ from __future__ import annotations
 
 import functools
 import math
+from typing import TYPE_CHECKING
 
 import numpy as np
 from numpy.typing import NDArray
@@ -30,6 +31,9 @@ from scara_opt.trajectory.dynamics import RobotDynamics
 from scara_opt.trajectory.limits import Limits
 from scara_opt.trajectory.toppra_backend import chord_parameter, solve_on_grid
 from scara_opt.trajectory.trajectory import Trajectory, stretch
+
+if TYPE_CHECKING:
+    from toppra import SplineInterpolator  # untyped: Any to mypy
 
 Array = NDArray[np.float64]
 
@@ -98,7 +102,7 @@ def _factor(robot: Robot, traj: Trajectory, tool: ToolProfile, knots: Array,
                math.sqrt(ratios["acceleration"]), torque)
 
 
-def section_spline(Q: Array, limits: Limits) -> object:
+def section_spline(Q: Array, limits: Limits) -> SplineInterpolator:
     """The joint path :func:`time_section` times: toppra's cubic spline through ``Q`` (n, nq).
 
     Parameterised by the chord parameter (:func:`~scara_opt.trajectory.toppra_backend.
@@ -112,7 +116,7 @@ def section_spline(Q: Array, limits: Limits) -> object:
 
 
 @functools.lru_cache(maxsize=8)
-def _spline(q: bytes, shape: tuple[int, ...], vmax: bytes) -> object:
+def _spline(q: bytes, shape: tuple[int, ...], vmax: bytes) -> SplineInterpolator:
     import toppra
 
     Q = np.frombuffer(q).reshape(shape)

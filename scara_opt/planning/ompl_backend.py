@@ -23,6 +23,8 @@ from collections import deque
 from collections.abc import Callable
 from dataclasses import dataclass
 from operator import itemgetter
+from types import ModuleType
+from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
@@ -31,6 +33,9 @@ from scara_opt.collision.checker import CollisionChecker
 from scara_opt.collision.continuous import DISTANCE_TOL, RESOLUTION
 
 Array = NDArray[np.float64]
+
+#: a SCARA's gaps (above, below) of each pair along its axis at one configuration [m]
+Heights = tuple[list[float], list[float]]
 
 __all__ = ["EdgeProver", "OmplRun", "box_space", "import_ompl", "rrt_connect", "start_and_goal"]
 
@@ -49,7 +54,7 @@ SMOOTHING_STEPS = 2
 OMPL_HINT = "pip install ompl (OMPL's Python wheel, 2.0 or later)"
 
 
-def import_ompl() -> tuple:
+def import_ompl() -> tuple[ModuleType, ModuleType, ModuleType]:
     """``(ompl.base, ompl.geometric, ompl.util)``, or ModuleNotFoundError naming the wheel."""
     try:
         from ompl import base as ob
@@ -81,9 +86,9 @@ class EdgeProver:
         self.W = checker.weights
         self.cache: dict[tuple[float, ...], list[float]] = {}
         gaps = checker.gaps
-        self.gaps: dict[tuple[float, ...], tuple[list[float], list[float]]] = {}
-        self._A = None if gaps is None else gaps[0]
-        self._ab = None if gaps is None else (gaps[1] - self.shift, gaps[2] - self.shift)
+        self.gaps: dict[tuple[float, ...], Heights] = {}
+        self._gaps = None if gaps is None else (gaps[0], gaps[1] - self.shift,
+                                                 gaps[2] - self.shift)
         self.states = 0
         self.midpoints = 0
         self.edges = 0
@@ -99,17 +104,18 @@ class EdgeProver:
             D = self.cache[key] = self._compute(np.array(key))
         return D
 
-    def heights(self, key: tuple[float, ...]) -> tuple[list[float], list[float]] | None:
+    def heights(self, key: tuple[float, ...]) -> Heights | None:
         """Gaps above and below each pair's obstacle along a SCARA's axis at ``key``.
 
         Less the margin and tolerance; ``None`` for other robots; cached.
         """
-        if self._A is None:
+        if self._gaps is None:
             return None
         G = self.gaps.get(key)
         if G is None:
-            h = self._A @ np.array(key)
-            G = self.gaps[key] = ((h + self._ab[0]).tolist(), (self._ab[1] - h).tolist())
+            A, a, b = self._gaps
+            h = A @ np.array(key)
+            G = self.gaps[key] = ((h + a).tolist(), (b - h).tolist())
         return G
 
     def _compute(self, q: Array) -> list[float]:
@@ -152,10 +158,9 @@ class EdgeProver:
         M = (self.W @ np.abs(dq)).tolist()
         pairs = [k for k, (m, d0, d1) in enumerate(zip(M, Da, Db, strict=True))
                  if not m < d0 + d1]
-        G = self.heights(a), self.heights(b)
-        if G[0] is None:
-            G = None
-        elif pairs:  # apart along the axis at both ends: all along the segment (affine)
+        ga, gb = self.heights(a), self.heights(b)
+        G = None if ga is None or gb is None else (ga, gb)
+        if G is not None and pairs:  # apart along the axis at both ends: all along (affine)
             pairs = [k for k in pairs if not _apart(G, k, 0.0, 1.0)]
         if pairs:
             data, gdata, _ = self._data
@@ -188,7 +193,7 @@ class EdgeProver:
         return all(self.edge(a, b) for a, b in zip(keys, keys[1:], strict=False))
 
 
-def _apart(G: tuple, k: int, s0: float, s1: float) -> bool:
+def _apart(G: tuple[Heights, Heights], k: int, s0: float, s1: float) -> bool:
     """Whether pair ``k`` stays apart along the axis on ``[s0, s1]`` of a segment.
 
     ``G``: the gaps (above, below) at the segment's two ends; they are affine along it.
@@ -251,7 +256,7 @@ def rrt_connect(prover: EdgeProver, start: Array, goal: Array, lower: Array, upp
             ou.setLogLevel(level)
 
 
-def box_space(ob: object, lower: Array, upper: Array) -> object:
+def box_space(ob: ModuleType, lower: Array, upper: Array) -> Any:
     """OMPL's ``RealVectorStateSpace`` of the joint box [lower, upper] (nq,) each."""
     nq = len(lower)
     space = ob.RealVectorStateSpace(nq)
@@ -263,7 +268,7 @@ def box_space(ob: object, lower: Array, upper: Array) -> object:
     return space
 
 
-def start_and_goal(ob: object, space: object, si: object, start: Array, goal: Array) -> object:
+def start_and_goal(ob: ModuleType, space: Any, si: Any, start: Array, goal: Array) -> Any:
     """OMPL's ``ProblemDefinition`` from ``start`` to ``goal`` (nq,) each."""
     a, b = space.allocState(), space.allocState()
     for k in range(len(start)):
@@ -273,16 +278,17 @@ def start_and_goal(ob: object, space: object, si: object, start: Array, goal: Ar
     return pdef
 
 
-def _solve(ob: object, og: object, ou: object, prover: EdgeProver,
+def _solve(ob: ModuleType, og: ModuleType, ou: ModuleType, prover: EdgeProver,
            get: Callable, start: Array, goal: Array, lower: Array, upper: Array,
            time_limit: float, seed: int, simplify: bool, range_: float | None) -> OmplRun:
     ou.RNG.setSeed(int(seed) + 1)
     space = box_space(ob, lower, upper)
     si = ob.SpaceInformation(space)
     valid, edge = prover.valid, prover.edge
+    validator: Any = ob.MotionValidator  # OMPL's class (the wheel has no types)
 
-    class Motion(ob.MotionValidator):
-        def checkMotion(self, s1: object, s2: object) -> bool:  # noqa: N802 (OMPL's name)
+    class Motion(validator):
+        def checkMotion(self, s1: Any, s2: Any) -> bool:  # noqa: N802 (OMPL's name)
             return edge(get(s1), get(s2))
 
     si.setStateValidityChecker(lambda s: valid(get(s)))
@@ -310,7 +316,7 @@ def _solve(ob: object, og: object, ou: object, prover: EdgeProver,
     return OmplRun(vertices, raw, states, plan_s, time.perf_counter() - begin)
 
 
-def simplify_path(og: object, si: object, path: object) -> None:
+def simplify_path(og: ModuleType, si: Any, path: Any) -> None:
     """Shorten and smooth ``path`` in place with OMPL's PathSimplifier (its checks are ours).
 
     Vertex reduction, up to :data:`SHORTCUT_ROUNDS` rounds of partial shortcuts (segments

@@ -16,7 +16,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING
 
 import numpy as np
-from numpy.typing import NDArray
+from numpy.typing import ArrayLike, NDArray
 from scipy.interpolate import PPoly
 
 from scara_opt.checks import check_memory, check_real, describe, float_array
@@ -51,7 +51,7 @@ def _to_bernstein(degree: int) -> Array:
                       for k in range(d + 1)] for j in range(d + 1)])
 
 
-def _may_leave(pp: PPoly, lo: float, hi: float) -> Array:
+def _may_leave(pp: PPoly, lo: float, hi: float) -> NDArray[np.intp]:
     """Pieces (indices) whose values may leave [lo, hi]: the others provably do not.
 
     A polynomial on a piece lies within the range of its Bernstein coefficients (convex
@@ -220,7 +220,7 @@ class Trajectory:
             self._derivs[key] = self.pieces[k].derivative(order) if order else self.pieces[k]
         return self._derivs[key]
 
-    def _times(self, t: object) -> Array:
+    def _times(self, t: ArrayLike) -> Array:
         try:
             ts = float_array(t, "t")
         except InputError:
@@ -235,7 +235,7 @@ class Trajectory:
                              f"in [{ts.min():.6g}, {ts.max():.6g}] s")
         return np.clip(ts, 0.0, T)
 
-    def evaluate(self, t: object, order: int = 0) -> Array:
+    def evaluate(self, t: ArrayLike, order: int = 0) -> Array:
         """``order``-th time derivative of ``q`` at ``t``: (nq,) for a scalar, (m, nq) for (m,).
 
         Raises:
@@ -251,7 +251,7 @@ class Trajectory:
         out = np.stack([self._derivative(k, order)(flat) for k in range(self.nq)], axis=-1)
         return out.reshape(ts.shape + (self.nq,))
 
-    def sample(self, t: object) -> tuple[Array, Array, Array]:
+    def sample(self, t: ArrayLike) -> tuple[Array, Array, Array]:
         """Positions, velocities and accelerations at ``t`` [s].
 
         Args:
