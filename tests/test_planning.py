@@ -365,3 +365,48 @@ def test_section_spline_and_toppra_constraints_are_kept_by_their_inputs():
     t_fast = time_section(ROBOT, Q, fast, profile)[2][-1]
     t_slow = time_section(ROBOT, Q, slow, profile)[2][-1]
     assert t_slow > 1.05 * t_fast
+
+
+def test_apart_spans_agree_with_the_gaps_at_both_ends():
+    """The span of a segment where a pair is apart along a SCARA's axis, worked out once per
+    edge, says what the gaps at an interval's two ends say (positive at both: apart all
+    along, the gaps being affine), on random gaps and intervals, ends included.
+
+    Mutation caught: a gap falling to zero at ``s*`` taken as positive beyond it (the span
+    ``(-inf, s*)`` written ``(s*, inf)``): intervals past ``s*`` are called apart.
+    Mutation caught: a gap of exactly zero at an end taken as positive (``ga >= 0``): an
+    interval starting where the bodies are level is called apart.
+    """
+    from scara_opt.planning.ompl_backend import _apart, _apart_spans
+
+    rng = np.random.default_rng(4)
+    for _ in range(400):
+        up = rng.normal(size=(2, 3)).round(1)  # rounded: gaps of exactly 0 occur too
+        down = rng.normal(size=(2, 3)).round(1)
+        G = ((up[0].tolist(), down[0].tolist()), (up[1].tolist(), down[1].tolist()))
+        for k in range(3):
+            u0, u1, v0, v1 = _apart_spans(G, k)
+            for lo, hi in (sorted(rng.uniform(0, 1, 2)), (0.0, 1.0), (0.0, 0.5), (0.5, 1.0)):
+                inside = u0 < lo and hi < u1 or v0 < lo and hi < v1
+                assert inside == _apart(G, k, lo, hi), (G, k, lo, hi)
+
+
+def test_edges_interpolate_as_numpy_only_on_linear_joints():
+    """An edge's configurations come from pinocchio's interpolation only for a model whose
+    joints are all revolute or prismatic about one axis, where it is ``qa + s (qb - qa)`` to
+    the bit; a continuous joint (cos/sin coordinates) keeps numpy's.
+
+    Mutation caught: ``_linear`` true for any model: the continuous joint's model passes.
+    """
+    import pinocchio as pin
+
+    from scara_opt.planning.ompl_backend import _linear
+
+    robot = so.load_robot("zavar2024")
+    assert _linear(robot.model)
+    qa, qb = np.array([0.1, 0.2, -0.05, 0.3]), np.array([1.0, -0.5, -0.02, 1.2])
+    for s in np.linspace(0.0, 1.0, 17):
+        assert np.array_equal(pin.interpolate(robot.model, qa, qb, s), qa + s * (qb - qa))
+    urdf = ("<robot name='c'><link name='a'/><link name='b'/><joint name='j' type='continuous'>"
+            "<parent link='a'/><child link='b'/><axis xyz='0 0 1'/></joint></robot>")
+    assert not _linear(pin.buildModelFromXML(urdf))

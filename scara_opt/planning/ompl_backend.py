@@ -96,6 +96,7 @@ class EdgeProver:
         self.known: set[tuple[tuple[float, ...], tuple[float, ...]]] = set()
         self._data = checker._data()
         self._model = checker.robot.model
+        self._linear = _linear(self._model)
 
     def distances(self, key: tuple[float, ...]) -> list[float]:
         """Signed distances minus margin and tolerance (npairs,) at ``key`` (cached)."""
@@ -143,10 +144,8 @@ class EdgeProver:
         taken middle first (a collision is found early): for an interval of length ``w`` (a
         fraction of the segment), the pairs with ``w M < D0 + D1`` are proven on it; for
         the others, their distances at its middle are computed (a contact there ends it)
-        and both halves are queued with them alone.
+        and both halves are queued with them alone (:meth:`_split`).
         """
-        import pinocchio as pin
-
         self.edges += 1
         if (a, b) in self.known:
             return True
@@ -162,35 +161,91 @@ class EdgeProver:
         G = None if ga is None or gb is None else (ga, gb)
         if G is not None and pairs:  # apart along the axis at both ends: all along (affine)
             pairs = [k for k in pairs if not _apart(G, k, 0.0, 1.0)]
-        if pairs:
-            data, gdata, _ = self._data
-            model, gmodel, shift = self._model, self.checker.model, self.shift
-            distance, place = pin.computeDistance, pin.updateGeometryPlacements
-            queue = deque([(0.5, 0.0, pairs, [Da[k] for k in pairs], [Db[k] for k in pairs])])
-            while queue:
-                h, s0, pairs, D0, D1 = queue.popleft()  # h: half the interval's length
-                if 2 * h * max(M[k] for k in pairs) < RESOLUTION:
-                    return False  # grazing: not proven
-                place(model, data, gmodel, gdata, qa + (s0 + h) * dq)
-                self.midpoints += 1
-                Dm = [distance(gmodel, gdata, k).min_distance - shift for k in pairs]
-                if min(Dm) <= 0:
-                    return False
-                for lo, d_lo, d_hi in ((s0, D0, Dm), (s0 + h, Dm, D1)):
-                    open_ = [i for i, k in enumerate(pairs) if not h * M[k] < d_lo[i] + d_hi[i]
-                             and not (G is not None and _apart(G, k, lo, lo + h))]
-                    if open_:
-                        queue.append((h / 2, lo, [pairs[i] for i in open_],
-                                      [d_lo[i] for i in open_], [d_hi[i] for i in open_]))
+        if pairs and not self._split(a, b, M, pairs, Da, Db, G):
+            return False
         self.proven += 1
         self.known.add((a, b))
         self.known.add((b, a))
+        return True
+
+    def _split(self, a: tuple[float, ...], b: tuple[float, ...], M: list[float],
+               pairs: list[int], Da: list[float], Db: list[float],
+               G: tuple[Heights, Heights] | None) -> bool:
+        """The intervals of :meth:`edge` not proven from the ends alone, split until they are.
+
+        ``pairs``: those not proven on the whole segment; ``M`` their bounds (all pairs'),
+        ``Da``, ``Db`` the distances at the ends (less margin and tolerance). Each pair's
+        stretches of the segment where it is apart along a SCARA's axis (``G``) are worked
+        out once (:func:`_apart_spans`).
+        """
+        import pinocchio as pin
+
+        data, gdata, _ = self._data
+        model, gmodel, shift = self._model, self.checker.model, self.shift
+        distance, place = pin.computeDistance, pin.updateGeometryPlacements
+        qa, qb = np.array(a), np.array(b)
+        if self._linear:  # pinocchio's interpolation: qa + s (qb - qa) in one call
+            interpolate, mdl = pin.interpolate, self._model
+
+            def config(s: float) -> Array:
+                return interpolate(mdl, qa, qb, s)
+        else:
+            dq = qb - qa
+
+            def config(s: float) -> Array:
+                return qa + s * dq
+        spans = None if G is None else {k: _apart_spans(G, k) for k in pairs}
+        wide = RESOLUTION / min(M[k] for k in pairs)  # wider intervals do not graze
+        queue = deque([(0.5, 0.0, pairs, [Da[k] for k in pairs], [Db[k] for k in pairs])])
+        while queue:
+            h, s0, pairs, D0, D1 = queue.popleft()  # h: half the interval's length
+            if 2 * h < wide and 2 * h * max(M[k] for k in pairs) < RESOLUTION:
+                return False  # grazing: not proven
+            place(model, data, gmodel, gdata, config(s0 + h))
+            self.midpoints += 1
+            Dm = [distance(gmodel, gdata, k).min_distance - shift for k in pairs]
+            if min(Dm) <= 0:
+                return False
+            for lo, d_lo, d_hi in ((s0, D0, Dm), (s0 + h, Dm, D1)):
+                hi = lo + h
+                if spans is None:
+                    open_ = [i for i, k in enumerate(pairs) if not h * M[k] < d_lo[i] + d_hi[i]]
+                else:
+                    open_ = [i for i, k in enumerate(pairs)
+                             if not h * M[k] < d_lo[i] + d_hi[i]
+                             and not ((sp := spans[k])[0] < lo and hi < sp[1]
+                                      or sp[2] < lo and hi < sp[3])]
+                if open_:
+                    queue.append((h / 2, lo, [pairs[i] for i in open_],
+                                  [d_lo[i] for i in open_], [d_hi[i] for i in open_]))
         return True
 
     def path(self, Q: Array) -> bool:
         """Whether every edge of the polyline ``Q`` (n, nq) is proven clear."""
         keys = [tuple(q) for q in Q.tolist()]
         return all(self.edge(a, b) for a, b in zip(keys, keys[1:], strict=False))
+
+
+def _apart_spans(G: tuple[Heights, Heights], k: int) -> tuple[float, float, float, float]:
+    """Where pair ``k`` is apart along the axis on a segment: ``(u0, u1, v0, v1)``.
+
+    Its gap above the obstacle is positive for ``u0 < s < u1``, below for ``v0 < s < v1``
+    (empty spans: ``(inf, -inf)``); the gaps are affine in ``s`` from their values ``G``
+    at the two ends. An interval ``[lo, hi]`` is apart when it lies inside either span.
+    """
+    (up_a, down_a), (up_b, down_b) = G
+    return (*_positive(up_a[k], up_b[k]), *_positive(down_a[k], down_b[k]))
+
+
+def _positive(ga: float, gb: float) -> tuple[float, float]:
+    """The open span of ``s`` where ``(1 - s) ga + s gb > 0`` (``(inf, -inf)``: none)."""
+    if ga > 0 and gb > 0:
+        return -math.inf, math.inf
+    if ga > 0:
+        return -math.inf, ga / (ga - gb)
+    if gb > 0:
+        return ga / (ga - gb), math.inf
+    return math.inf, -math.inf
 
 
 def _apart(G: tuple[Heights, Heights], k: int, s0: float, s1: float) -> bool:
@@ -204,6 +259,17 @@ def _apart(G: tuple[Heights, Heights], k: int, s0: float, s1: float) -> bool:
         return True
     da, db = down_a[k], down_b[k]
     return (1 - s0) * da + s0 * db > 0 and (1 - s1) * da + s1 * db > 0
+
+
+#: pinocchio's joints whose interpolation is ``qa + s (qb - qa)``, as numpy computes it
+LINEAR_JOINTS = frozenset(f"JointModel{k}" for k in (
+    "RX", "RY", "RZ", "RevoluteUnaligned", "PX", "PY", "PZ", "PrismaticUnaligned"))
+
+
+def _linear(model: Any) -> bool:
+    """Whether every joint of the pinocchio ``model`` interpolates linearly (see above)."""
+    joints = list(model.joints)[1:]  # the first is the universe
+    return all(j.shortname() in LINEAR_JOINTS for j in joints)
 
 
 @dataclass(frozen=True)
