@@ -40,7 +40,6 @@ from scara_opt.collision.checker import CollisionChecker
 
 if TYPE_CHECKING:
     from scara_opt.model.robot import Robot
-    from scara_opt.trajectory.trajectory import Trajectory
 
 Array = NDArray[np.float64]
 Index = NDArray[np.intp]
@@ -254,6 +253,24 @@ class SpeedBounded(Protocol):
         ...
 
 
+class Trajectory(SpeedBounded, Protocol):
+    """What the proofs read of a :class:`~scara_opt.Trajectory` (it imports this module)."""
+
+    @property
+    def waypoint_times(self) -> Array:
+        """When it passes its waypoints [s]."""
+        ...
+
+    @property
+    def duration(self) -> float:
+        """Its duration [s]."""
+        ...
+
+    def evaluate(self, t: ArrayLike, order: int = 0) -> Array:
+        """Its joint values (or a derivative) at times ``t`` [s]."""
+        ...
+
+
 class VelocityBound:
     """Bounds on ``|q̇_j|`` over any time interval of a trajectory, per joint.
 
@@ -324,11 +341,11 @@ class _PathBounds:
     """A joint path seen as :class:`VelocityBound` sees a trajectory.
 
     Per joint: the path's breakpoints and a bound on ``|q'(s)|`` on each piece (the
-    largest Bernstein coefficient, :func:`~scara_opt.trajectory.trajectory.piece_bounds`).
+    largest Bernstein coefficient, :func:`~scara_opt.trajectory.bernstein.piece_bounds`).
     """
 
     def __init__(self, path: PPoly) -> None:
-        from scara_opt.trajectory.trajectory import piece_bounds
+        from scara_opt.trajectory.bernstein import piece_bounds
 
         x = np.asarray(path.x, float)
         bounds = piece_bounds(path.derivative())  # (pieces, nq)

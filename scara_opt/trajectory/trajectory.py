@@ -9,7 +9,6 @@ or where the next derivative vanishes, and those points are all evaluated.
 
 from __future__ import annotations
 
-import functools
 import math
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -21,6 +20,8 @@ from scipy.interpolate import PPoly
 
 from scara_opt.checks import check_memory, check_real, describe, float_array
 from scara_opt.errors import InputError
+from scara_opt.trajectory.bernstein import piece_bounds
+from scara_opt.trajectory.bernstein import to_bernstein as _to_bernstein
 from scara_opt.trajectory.limits import Limits
 
 if TYPE_CHECKING:
@@ -41,14 +42,6 @@ def _end_values(pp: PPoly) -> Array:
     for row in pp.c[1:]:
         right = right * h + row
     return np.concatenate([pp.c[-1], right])
-
-
-@functools.cache
-def _to_bernstein(degree: int) -> Array:
-    """Matrix M (d+1, d+1): Bernstein coefficients ``M @ α`` of ``Σ α_k u^k`` on [0, 1]."""
-    d = degree
-    return np.array([[math.comb(j, k) / math.comb(d, k) if k <= j else 0.0
-                      for k in range(d + 1)] for j in range(d + 1)])
 
 
 def _may_leave(pp: PPoly, lo: float, hi: float) -> NDArray[np.intp]:
@@ -101,21 +94,6 @@ def cubic_range(pp: PPoly) -> tuple[Array, Array]:
     right = ((c[0] * h + c[1]) * h + c[2]) * h + c[3]
     values = np.concatenate([inner.reshape(-1, c.shape[2]), c[3], right])
     return np.nanmin(values, axis=0), np.nanmax(values, axis=0)
-
-
-def piece_bounds(pp: PPoly) -> Array:
-    """A bound on ``|f|`` over each piece of a piecewise polynomial.
-
-    (n_pieces,), or (n_pieces, nq) for values in (nq,). The largest Bernstein coefficient
-    in absolute value (convex hull property): never below the true largest ``|f|`` on the
-    piece.
-    """
-    c, x = pp.c, pp.x
-    d = c.shape[0] - 1
-    alpha = c[::-1] * (np.diff(x) ** np.arange(d + 1.0)[:, None]).reshape(
-        (d + 1, -1) + (1,) * (c.ndim - 2))  # α_k = a_k h^k, lowest power first
-    out = np.abs(_to_bernstein(d) @ alpha.reshape(d + 1, -1)).max(axis=0)
-    return out.reshape(c.shape[1:])
 
 
 def sup_abs_columns(c: Array, x: Array) -> Array:
