@@ -95,17 +95,22 @@ def test_proof_reports_clearance_and_counts():
     assert proof.evaluations < 20
 
 
-def test_velocity_bound_covers_the_trajectory_speed():
+@pytest.mark.parametrize("method, groups", [("toppra", 1), ("ruckig", 4)])
+def test_velocity_bound_covers_the_trajectory_speed(method, groups):
     """The interval bound on |q̇| is never below |q̇| sampled inside the interval (toppra's
-    degree-6 pieces, random intervals).
+    degree-6 pieces, whose joints share their breakpoints and are looked up together;
+    ruckig's, whose joints each have their own; random intervals).
 
     Mutation caught: the sparse table's query reading only the first piece of an interval
-    (``b = a``): intervals spanning a speed peak then get a bound below it.
+    (``b = a``): intervals spanning a speed peak then get a bound below it. Mutation
+    caught: joints grouped without comparing their breakpoints (all with the first
+    joint's): ruckig's other joints are then looked up in the wrong pieces.
     """
     robot = so.load_robot("zavar2024")
     traj = so.time_parameterize(np.array([[-1.0, 0.5, 0.0, 0.0], [0.2, -0.4, 0.03, 1.0],
-                                          [1.0, 0.9, 0.01, -0.5]]), robot)
+                                          [1.0, 0.9, 0.01, -0.5]]), robot, method=method)
     vb = VelocityBound(traj)
+    assert len(vb.groups) == groups
     rng = np.random.default_rng(1)
     t0 = rng.uniform(0, traj.duration, 400)
     t1 = np.minimum(t0 + rng.uniform(0, 0.4, 400), traj.duration)

@@ -230,10 +230,183 @@ def test_last_resort_stops_at_every_waypoint(monkeypatch):
     import importlib
 
     clearance = importlib.import_module("scara_opt.motion.clearance")
-    monkeypatch.setattr(clearance, "RETRIES", -1)  # straight to the last resort
+    monkeypatch.setattr(clearance, "RETRIES", -2)  # no spline tried: the last resort
     traj = so.plan(ROBOT, [so.PTP(QB)], start=QA, cell=POST, seed=3)
     assert "stopping at each waypoint" in traj.notes
     knots = traj.profiles[0][0]
     assert len(knots) > 2 and (np.diff(knots) > 0).all()
     assert np.abs(traj.evaluate(knots, 1)).max() < 1e-9
     assert dense_clear_trajectory(so.CollisionChecker(ROBOT, POST), traj)
+
+
+def test_edge_prover_remembers_proven_edges_only():
+    """An edge proven once is not proven again, in either direction (no configuration is
+    computed: the simplified path's final re-check costs nothing for the edges it kept); an
+    edge that was refused is checked again and refused again.
+
+    Mutation caught: the cache not consulted (``if (a, b) in self.known`` dropped): the
+    second pass computes midpoints again. Mutation caught: an edge remembered before it is
+    proven (``known.add`` at the top of ``edge``): the refused swing through the post
+    passes on the second ask.
+    """
+    from scara_opt.planning.ompl_backend import EdgeProver
+
+    checker = so.CollisionChecker(ROBOT, POST)
+    path = plan_path(checker, QA, QB, seed=3).path
+    prover = EdgeProver(checker)
+    assert prover.path(path) and prover.midpoints > 0
+    before = prover.configurations
+    assert prover.path(path) and prover.path(path[::-1].copy())
+    assert prover.configurations == before
+    a, b = tuple(QA.tolist()), tuple(QB.tolist())
+    assert not prover.edge(a, b)
+    assert not prover.edge(a, b) and not prover.edge(b, a)
+
+
+def test_a_spline_through_the_waypoints_that_hits_the_cell_is_not_timed():
+    """A proven polyline (5 waypoints, zavar2024 around a column) whose toppra spline through
+    the waypoints alone cuts 5.5 mm into the column: the section is timed through more
+    points, after their spline is proven, and the trajectory is clear (dense check here)
+    and within the joint limits.
+
+    Mutation caught: the spline's proof ignored (``_spline_clear`` returning the failed
+    proof): the first spline is timed and the dense check finds the column.
+    """
+    from scara_opt.collision.continuous import check_path
+    from scara_opt.motion.timing import section_spline
+    from scara_opt.planning.ompl_backend import EdgeProver
+    from scara_opt.trajectory.limits import resolve_limits
+
+    cell = so.Cell([so.Cylinder("column", 0.03, 0.4, xyz=(0.28, 0.12, 0.0))])
+    checker = so.CollisionChecker(ROBOT, cell)
+    Q = np.array([[1.84, 1.437, 0.037, -0.44], [0.398, 1.687, 0.041, -0.598],
+                  [-1.043, 1.936, 0.045, -0.757], [-0.226, 0.307, 0.041, 0.161],
+                  [0.592, -1.322, 0.036, 1.079]])
+    limits = resolve_limits(ROBOT, ROBOT.nq, None, None)
+    assert EdgeProver(checker).path(Q)
+    first = check_path(checker, section_spline(Q, limits).cspl)
+    assert not first.clear and first.contact.depth > 0.005
+
+    traj, note = time_planned(checker, Q, limits)
+    assert "(attempt 1)" not in note and "proven clear (the spline it follows" in note
+    assert dense_clear_trajectory(checker, traj)
+    lo, hi = traj.position_range()
+    assert (lo >= ROBOT.lower - 1e-9).all() and (hi <= ROBOT.upper + 1e-9).all()
+
+
+def time_planned(checker, Q, limits):
+    """CellPlanning.timed_clear of the planned polyline Q with toppra: (trajectory, note)."""
+    import importlib
+
+    from scara_opt.motion.timing import time_section
+    from scara_opt.motion.tool_limits import ToolLimits, ToolProfile
+    from scara_opt.planning.planner import PathPlan
+
+    clearance = importlib.import_module("scara_opt.motion.clearance")
+
+    def timed(rows, owner):
+        profile = ToolProfile.per_point([ToolLimits()] * len(rows))
+        return (*time_section(ROBOT, rows, limits, profile), profile)
+
+    cp = clearance.CellPlanning(checker, 1.0, 0)
+    cp.plans[0] = PathPlan(PlanStatus.SOLVED, Q, "", "RRTConnect", 0.0, 0, 0, 0, 0.0, 0)
+    part, note, knots, _ = cp.timed_clear([(0, so.PTP(Q[-1]))], Q, [0] * len(Q), timed,
+                                          limits, "toppra", 0.0)
+    return so.Trajectory(part, limits, "toppra", Q, knots), note
+
+
+def test_a_spline_through_the_waypoints_that_leaves_the_limits_is_not_timed():
+    """A planned polyline with a corner 4 mrad inside theta1's upper limit: the spline
+    through its waypoints alone overshoots the limit by 0.9 mrad (its exact range); the
+    section is timed through more points and stays within the limits.
+
+    Mutation caught: the spline's range not checked (``_spline_clear`` without the limit
+    test): the trajectory comes back beyond the limit.
+    """
+    from scara_opt.motion.timing import section_spline
+    from scara_opt.trajectory.limits import resolve_limits
+    from scara_opt.trajectory.trajectory import cubic_range
+
+    checker = so.CollisionChecker(ROBOT)  # its own links only
+    Q = np.array([[0.5, -1.5, 0.02, 0.0], [2.09, 0.0, 0.02, 0.0], [1.6, 1.0, 0.02, 0.0],
+                  [1.0, 1.2, 0.02, 0.0]])
+    limits = resolve_limits(ROBOT, ROBOT.nq, None, None)
+    assert cubic_range(section_spline(Q, limits).cspl)[1][0] > ROBOT.upper[0] + 5e-4
+    traj, note = time_planned(checker, Q, limits)
+    assert "(attempt 1)" not in note
+    lo, hi = traj.position_range()
+    assert (lo >= ROBOT.lower - 1e-9).all() and (hi <= ROBOT.upper + 1e-9).all()
+
+
+def test_section_spline_and_toppra_constraints_are_kept_by_their_inputs():
+    """The spline a section is proven along is the object toppra times (kept by waypoints
+    and velocity limits), and toppra's joint constraints are kept by both limits: other
+    limits give another spline and another timing.
+
+    Mutation caught: the spline kept by the waypoints alone (``vmax`` out of the key): the
+    chord parameter of other velocity limits is not recomputed. Mutation caught: the
+    constraints kept by the velocity limits alone: halving the acceleration limits does
+    not slow the section.
+    """
+    from scara_opt.motion.timing import section_spline, time_section
+    from scara_opt.motion.tool_limits import ToolLimits, ToolProfile
+    from scara_opt.trajectory.limits import resolve_limits
+    from scara_opt.trajectory.toppra_backend import chord_parameter
+
+    Q = np.array([QA, [0.2, 1.4, 0.01, 0.3], QB])
+    fast = resolve_limits(ROBOT, ROBOT.nq, None, None)
+    spline = section_spline(Q, fast)
+    assert section_spline(Q.copy(), fast) is spline
+    vmax = ROBOT.velocity_limit * np.array([1.0, 0.2, 1.0, 1.0])
+    other = resolve_limits(ROBOT, ROBOT.nq, vmax, None)
+    assert np.array_equal(section_spline(Q, other).ss_waypoints, chord_parameter(Q, vmax))
+    profile = ToolProfile.per_point([ToolLimits()] * len(Q))
+    slow = resolve_limits(ROBOT, ROBOT.nq, None, ROBOT.acceleration_limit / 2)
+    t_fast = time_section(ROBOT, Q, fast, profile)[2][-1]
+    t_slow = time_section(ROBOT, Q, slow, profile)[2][-1]
+    assert t_slow > 1.05 * t_fast
+
+
+def test_apart_spans_agree_with_the_gaps_at_both_ends():
+    """The span of a segment where a pair is apart along a SCARA's axis, worked out once per
+    edge, says what the gaps at an interval's two ends say (positive at both: apart all
+    along, the gaps being affine), on random gaps and intervals, ends included.
+
+    Mutation caught: a gap falling to zero at ``s*`` taken as positive beyond it (the span
+    ``(-inf, s*)`` written ``(s*, inf)``): intervals past ``s*`` are called apart.
+    Mutation caught: a gap of exactly zero at an end taken as positive (``ga >= 0``): an
+    interval starting where the bodies are level is called apart.
+    """
+    from scara_opt.planning.ompl_backend import _apart, _apart_spans
+
+    rng = np.random.default_rng(4)
+    for _ in range(400):
+        up = rng.normal(size=(2, 3)).round(1)  # rounded: gaps of exactly 0 occur too
+        down = rng.normal(size=(2, 3)).round(1)
+        G = ((up[0].tolist(), down[0].tolist()), (up[1].tolist(), down[1].tolist()))
+        for k in range(3):
+            u0, u1, v0, v1 = _apart_spans(G, k)
+            for lo, hi in (sorted(rng.uniform(0, 1, 2)), (0.0, 1.0), (0.0, 0.5), (0.5, 1.0)):
+                inside = u0 < lo and hi < u1 or v0 < lo and hi < v1
+                assert inside == _apart(G, k, lo, hi), (G, k, lo, hi)
+
+
+def test_edges_interpolate_as_numpy_only_on_linear_joints():
+    """An edge's configurations come from pinocchio's interpolation only for a model whose
+    joints are all revolute or prismatic about one axis, where it is ``qa + s (qb - qa)`` to
+    the bit; a continuous joint (cos/sin coordinates) keeps numpy's.
+
+    Mutation caught: ``_linear`` true for any model: the continuous joint's model passes.
+    """
+    import pinocchio as pin
+
+    from scara_opt.planning.ompl_backend import _linear
+
+    robot = so.load_robot("zavar2024")
+    assert _linear(robot.model)
+    qa, qb = np.array([0.1, 0.2, -0.05, 0.3]), np.array([1.0, -0.5, -0.02, 1.2])
+    for s in np.linspace(0.0, 1.0, 17):
+        assert np.array_equal(pin.interpolate(robot.model, qa, qb, s), qa + s * (qb - qa))
+    urdf = ("<robot name='c'><link name='a'/><link name='b'/><joint name='j' type='continuous'>"
+            "<parent link='a'/><child link='b'/><axis xyz='0 0 1'/></joint></robot>")
+    assert not _linear(pin.buildModelFromXML(urdf))

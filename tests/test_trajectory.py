@@ -704,3 +704,40 @@ def test_ik_path_type_checks_robot_seed_and_method(zavar, kwargs, match):
     args = dict(robot=zavar, targets=paths.zavar2024_circle(reachable=True)[:2], method="lm")
     with pytest.raises(InputError, match=match):
         ik_path(**{**args, **kwargs})
+
+
+@pytest.mark.parametrize("method", ["toppra", "quintic", "ruckig"])
+def test_peaks_of_all_joints_at_once_equal_each_joints_extrema(zavar, method):
+    """``peaks`` (all joints at once when they share breakpoints: toppra, quintic; each
+    joint alone for ruckig) equals the largest of ``|extrema|`` of each joint's derivative
+    PPoly, on random waypoints; ``sup_abs_columns`` equals every-root extrema on random
+    piecewise polynomials.
+
+    Mutations caught: the derivative's factor p (p-1)... taken as p alone (acceleration
+    peaks wrong); the pieces that may leave the ends' range not searched (``nonzero`` of
+    nothing): interior extrema missed; every root's value given to the first column
+    (``col`` of zeros): the other columns' interior extrema missed.
+    """
+    from scipy.interpolate import PPoly
+
+    from scara_opt.trajectory.trajectory import extrema, sup_abs_columns
+
+    rng = np.random.default_rng(3)
+    for _ in range(5):
+        mid, half = (zavar.lower + zavar.upper) / 2, (zavar.upper - zavar.lower) / 2
+        Q = rng.uniform(mid - 0.3 * half, mid + 0.3 * half, (int(rng.integers(2, 8)), zavar.nq))
+        traj = time_parameterize(Q, zavar, method=method)
+        peaks = traj.peaks()
+        for name, order in (("velocity", 1), ("acceleration", 2)):
+            ref = [max(abs(v) for v in extrema(p.derivative(order))) for p in traj.pieces]
+            np.testing.assert_allclose(peaks[name], ref, rtol=1e-12, atol=1e-12)
+    for degree in (2, 3, 5, 6):
+        for _ in range(100):
+            n = int(rng.integers(1, 30))
+            c = rng.normal(size=(degree + 1, n, 3)) * rng.choice([1e-6, 1.0, 1e3], size=(n, 1))
+            x = np.concatenate([[0.0], np.cumsum(rng.random(n) + 1e-3)])
+            ref = [np.abs(_extrema_by_every_root(PPoly(c[:, :, j], x,
+                                                       extrapolate=False))).max()
+                   for j in range(3)]
+            np.testing.assert_allclose(sup_abs_columns(c, x), ref, rtol=1e-12,
+                                       atol=1e-12 * max(ref))

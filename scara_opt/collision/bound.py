@@ -26,7 +26,7 @@ from __future__ import annotations
 
 import numpy as np
 import pinocchio as pin
-from numpy.typing import NDArray
+from numpy.typing import ArrayLike, NDArray
 
 from scara_opt.collision.geometry import Body, reference_configuration
 from scara_opt.model.robot import Robot
@@ -79,7 +79,7 @@ def body_weights(robot: Robot, body: Body, after: int = 0) -> Array:
     return w
 
 
-def pair_weights(robot: Robot, bodies: tuple[Body, ...] | list[Body], pairs: object) -> Array:
+def pair_weights(robot: Robot, bodies: tuple[Body, ...] | list[Body], pairs: ArrayLike) -> Array:
     """Bound (npairs, nq) on how fast each checked pair's distance can change per joint speed.
 
     Robot body against obstacle: the body's :func:`body_weights`; two robot bodies: only
@@ -129,7 +129,7 @@ def height_range(robot: Robot, body: Body, n: Array, fixed: bool = False
     return lo, hi
 
 
-def height_gaps(robot: Robot, bodies: list[Body], pairs: object,
+def height_gaps(robot: Robot, bodies: list[Body], pairs: ArrayLike,
                 obstacles: dict[int, tuple[float, float]]) -> tuple[Array, Array, Array] | None:
     r"""Each pair's separation along a SCARA's common axis, as affine functions of ``q``.
 

@@ -32,7 +32,7 @@ from pathlib import Path
 
 from scara_opt.checks import describe
 from scara_opt.collision.geometry import name_pairs
-from scara_opt.collision.obstacles import KINDS, Obstacle
+from scara_opt.collision.obstacles import Box, Capsule, Cylinder, Mesh, Obstacle, Sphere
 from scara_opt.errors import CellError, InputError
 from scara_opt.model.dh import ANGLE_UNITS, LENGTH_UNITS
 from scara_opt.model.dh_file import check_keys, read_toml
@@ -84,7 +84,7 @@ class Cell:
         except InputError as exc:
             raise CellError(str(exc)) from None
         self.obstacles: tuple[Obstacle, ...] = items
-        self.allowed: tuple[tuple[str, str], ...] = pairs  # type: ignore[assignment]
+        self.allowed: tuple[tuple[str, str], ...] = pairs
         self.name = name
         self.source = source
 
@@ -119,12 +119,15 @@ def _number(entry: dict, key: str, where: str) -> float:
     return float(value)
 
 
-def _list(entry: dict, key: str, where: str, default: list | None = None) -> list[float]:
+def _triple(entry: dict, key: str, where: str, unit: float,
+            default: list | None = None) -> tuple[float, float, float]:
+    """``entry[key]``: a list of 3 numbers, each times ``unit`` (to SI)."""
     value = entry.get(key, default)
     if (not isinstance(value, list) or len(value) != 3
             or not all(isinstance(v, (int, float)) and not isinstance(v, bool) for v in value)):
         raise CellError(f"{where}: {key} must be a list of 3 numbers; got {describe(value)}")
-    return [float(v) for v in value]
+    x, y, z = (float(v) * unit for v in value)
+    return x, y, z
 
 
 def _obstacle(entry: object, i: int, L: float, A: float, folder: Path, where: str) -> Obstacle:
@@ -144,21 +147,21 @@ def _obstacle(entry: object, i: int, L: float, A: float, folder: Path, where: st
     missing = [k for k in OBSTACLE_KEYS[kind] if k not in entry and k != "scale"]
     if missing:
         raise CellError(f"{at}: a {kind} needs {', '.join(missing)}")
-    pose = {"xyz": tuple(v * L for v in _list(entry, "xyz", at, [0, 0, 0])),
-            "rpy": tuple(v * A for v in _list(entry, "rpy", at, [0, 0, 0]))}
-    cls = KINDS[kind]
+    xyz = _triple(entry, "xyz", at, L, [0, 0, 0])
+    rpy = _triple(entry, "rpy", at, A, [0, 0, 0])
     if kind == "box":
-        return cls(name, tuple(v * L for v in _list(entry, "size", at)), **pose)
+        return Box(name, _triple(entry, "size", at, L), xyz=xyz, rpy=rpy)
     if kind in ("cylinder", "capsule"):
-        return cls(name, _number(entry, "radius", at) * L, _number(entry, "length", at) * L,
-                   **pose)
+        shape = Capsule if kind == "capsule" else Cylinder
+        return shape(name, _number(entry, "radius", at) * L, _number(entry, "length", at) * L,
+                     xyz=xyz, rpy=rpy)
     if kind == "sphere":
-        return cls(name, _number(entry, "radius", at) * L, **pose)
+        return Sphere(name, _number(entry, "radius", at) * L, xyz=xyz, rpy=rpy)
     file = entry["file"]
     if not isinstance(file, str):
         raise CellError(f"{at}: file must be a path (a string); got {describe(file)}")
-    scale = tuple(v * L for v in _list(entry, "scale", at, [1, 1, 1]))
-    return cls(name, folder / file, scale, **pose)
+    return Mesh(name, folder / file, _triple(entry, "scale", at, L, [1, 1, 1]), xyz=xyz,
+                rpy=rpy)
 
 
 def load_cell(path: str | Path) -> Cell:

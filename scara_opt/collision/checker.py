@@ -23,10 +23,12 @@ import math
 import threading
 from dataclasses import dataclass
 from functools import cached_property
+from pathlib import Path
+from typing import Any
 
 import numpy as np
 import pinocchio as pin
-from numpy.typing import NDArray
+from numpy.typing import ArrayLike, NDArray
 
 from scara_opt.checks import check_real, describe
 from scara_opt.collision.bound import height_gaps, height_range, pair_weights
@@ -123,7 +125,7 @@ class CollisionChecker:
     """
 
     def __init__(self, robot: Robot, cell: Cell | None = None, *, margin: float = 0.0,
-                 radius: object = None, srdf: object = None, allowed: object = (),
+                 radius: object = None, srdf: str | Path | None = None, allowed: object = (),
                  missing_mesh: str = "error", geometry: RobotGeometry | None = None) -> None:
         self.robot = check_robot(robot)
         if cell is None:
@@ -190,7 +192,7 @@ class CollisionChecker:
             local.pair = (self.robot.model.createData(), gdata, list(gdata.distanceResults))
             return local.pair
 
-    def _q(self, q: object) -> Array:
+    def _q(self, q: ArrayLike) -> Array:
         """``q`` checked: a float (nq,) array of finite values (the fast path costs ~0.5 µs)."""
         if (type(q) is np.ndarray and q.dtype is _F64 and q.shape == self._shape
                 and math.isfinite(sum(q.tolist()))):
@@ -228,7 +230,7 @@ class CollisionChecker:
         return len(self.pair_names)
 
     # ------------------------------------------------------------------ one configuration
-    def collides(self, q: object) -> bool:
+    def collides(self, q: ArrayLike) -> bool:
         """Whether any checked pair is in contact (closer than ``margin``) at ``q`` (nq,).
 
         Pinocchio's ``computeCollisions`` (FK, placements, coal) stopping at the first
@@ -248,14 +250,14 @@ class CollisionChecker:
             data, gdata, _ = self._data()
         return pin.computeCollisions(self._robot_model, data, self.model, gdata, q, True)
 
-    def distances(self, q: object) -> Array:
+    def distances(self, q: ArrayLike) -> Array:
         """Signed distance of every checked pair (npairs,) [m] at ``q`` (nq,)."""
         qa = self._q(q)
         data, gdata, results = self._data()
         pin.computeDistances(self._robot_model, data, self.model, gdata, qa)
         return np.array([r.min_distance for r in results])
 
-    def clearance(self, q: object) -> Clearance:
+    def clearance(self, q: ArrayLike) -> Clearance:
         """The closest pair at ``q`` (nq,) and its signed distance.
 
         Raises:
@@ -268,7 +270,7 @@ class CollisionChecker:
         k = int(np.argmin(d))
         return Clearance(float(d[k]), self.pair_names[k])
 
-    def contacts(self, q: object) -> list[Clearance]:
+    def contacts(self, q: ArrayLike) -> list[Clearance]:
         """Every checked pair closer than ``margin`` at ``q``, deepest first."""
         d = self.distances(q)
         hit = np.flatnonzero(d < self.margin) if self.margin else np.flatnonzero(d <= 0.0)
@@ -276,10 +278,10 @@ class CollisionChecker:
         return [Clearance(float(d[k]), self.pair_names[k]) for k in order]
 
     # ------------------------------------------------------------------ batches
-    def _batch(self, Q: object) -> Array:
+    def _batch(self, Q: ArrayLike) -> Array:
         return self.robot.check_q_batch(Q)
 
-    def _pool(self, threads: int) -> object:
+    def _pool(self, threads: int) -> Any:
         """A pool of ``threads`` copies of the model and data, kept per thread count.
 
         A broad-phase pool (coal's dynamic AABB tree) when there are many pairs per body
@@ -294,7 +296,7 @@ class CollisionChecker:
             pools[threads] = make(self.robot.model, self.model, threads)
         return pools[threads]
 
-    def collides_many(self, Q: object, threads: int = 1) -> NDArray[np.bool_]:
+    def collides_many(self, Q: ArrayLike, threads: int = 1) -> NDArray[np.bool_]:
         """:meth:`collides` of each row of ``Q`` (n, nq) in one call, (n,) bool.
 
         Pinocchio's ``computeCollisionsInParallel`` over a pool (:meth:`_pool`) in
@@ -310,7 +312,7 @@ class CollisionChecker:
                                               np.asfortranarray(Qa.T), True)
         return np.asarray(out, dtype=bool)
 
-    def distances_many(self, Q: object) -> Array:
+    def distances_many(self, Q: ArrayLike) -> Array:
         """Signed distances (n, npairs) [m] of every pair at each row of ``Q`` (n, nq)."""
         Qa = self._batch(Q)
         data, gdata, results = self._data()
@@ -321,7 +323,7 @@ class CollisionChecker:
             out[i] = [r.min_distance for r in results]
         return out
 
-    def pair_distances(self, Q: Array, pairs: Array | None = None) -> Array:
+    def pair_distances(self, Q: Array, pairs: NDArray[np.intp] | None = None) -> Array:
         """Signed distances (n, len(pairs)) of some pairs at each row of ``Q`` (n, nq) [m].
 
         No checks (the proofs' inner loop): ``Q`` a float array, ``pairs`` indices into
@@ -339,7 +341,7 @@ class CollisionChecker:
             out[i] = [distance(gmodel, gdata, k).min_distance for k in cols]
         return out
 
-    def clearance_many(self, Q: object) -> Array:
+    def clearance_many(self, Q: ArrayLike) -> Array:
         """Smallest signed distance (n,) [m] at each row of ``Q`` (n, nq)."""
         D = self.distances_many(Q)
         return D.min(axis=1) if D.shape[1] else np.full(len(D), np.inf)

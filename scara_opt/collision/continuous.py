@@ -30,15 +30,21 @@ from __future__ import annotations
 import math
 from collections.abc import Callable
 from dataclasses import dataclass, replace
+from typing import TYPE_CHECKING, Protocol
 
 import numpy as np
-from numpy.typing import NDArray
+from numpy.typing import ArrayLike, NDArray
+from scipy.interpolate import PPoly
 
 from scara_opt.collision.checker import CollisionChecker
 
-Array = NDArray[np.float64]
+if TYPE_CHECKING:
+    from scara_opt.model.robot import Robot
 
-__all__ = ["CollisionReport", "Contact", "Proof", "VelocityBound", "check_trajectory",
+Array = NDArray[np.float64]
+Index = NDArray[np.intp]
+
+__all__ = ["CollisionReport", "Contact", "Proof", "VelocityBound", "check_path", "check_trajectory",
            "collision_report", "deepest", "prove", "prove_segment"]
 
 #: an interval whose motion bound is below this [m] and still not proven is not clear
@@ -101,7 +107,7 @@ class Proof:
 
 def prove(s: Array, D: Array, config: Callable[[Array], Array],
           bound: Callable[[Array, Array], Array],
-          distances: Callable[[Array, Array | None], Array],
+          distances: Callable[[Array, Index | None], Array],
           names: tuple[tuple[str, str], ...], *, margin: float = 0.0, locate: bool = False,
           tol: float = 0.0, budget: int = MAX_EVALUATIONS,
           apart: Callable[..., Array] | None = None) -> Proof:
@@ -164,8 +170,8 @@ def prove(s: Array, D: Array, config: Callable[[Array], Array],
             rest &= (lo < contact.at) & ~((hi >= contact.at) & (hi - lo <= tol))
         if not rest.any():
             break
-        lo, hi, Dlo, Dhi, Qlo, Qhi, M, passed = (x[rest] for x in (
-            lo, hi, Dlo, Dhi, Qlo, Qhi, M, passed))
+        lo, hi, Dlo, Dhi, Qlo, Qhi, M = (x[rest] for x in (lo, hi, Dlo, Dhi, Qlo, Qhi, M))
+        passed = passed[rest]
         grazing = np.where(passed, 0.0, M).max(axis=1) < RESOLUTION
         if grazing.any() or evals + lo.size > budget:
             k = int(np.argmin(np.where(grazing, lo, np.inf))) if grazing.any() else 0
@@ -175,8 +181,8 @@ def prove(s: Array, D: Array, config: Callable[[Array], Array],
             if not locate or not grazing.any():
                 break
             keep = ~grazing & (lo < contact.at)
-            lo, hi, Dlo, Dhi, Qlo, Qhi, passed = (x[keep] for x in (
-                lo, hi, Dlo, Dhi, Qlo, Qhi, passed))
+            lo, hi, Dlo, Dhi, Qlo, Qhi = (x[keep] for x in (lo, hi, Dlo, Dhi, Qlo, Qhi))
+            passed = passed[keep]
             if not lo.size:
                 break
         mid = (lo + hi) / 2
@@ -200,36 +206,38 @@ def prove(s: Array, D: Array, config: Callable[[Array], Array],
     return Proof(True, None, shift + spare, evals)
 
 
-def prove_segment(checker: CollisionChecker, qa: object, qb: object, *, locate: bool = False
-                  ) -> Proof:
+def prove_segment(checker: CollisionChecker, qa: ArrayLike, qb: ArrayLike, *,
+                  locate: bool = False) -> Proof:
     """Prove the straight joint segment from ``qa`` to ``qb`` (nq,) clear of collision.
 
     ``Proof.contact.at`` is the fraction ``s`` in [0, 1] along the segment; with
     ``locate``, the first contact to within 1e-6.
     """
-    qa, qb = checker.robot.check_q(qa, "qa"), checker.robot.check_q(qb, "qb")
+    q0, q1 = checker.robot.check_q(qa, "qa"), checker.robot.check_q(qb, "qb")
     W = checker.weights
-    dq = qb - qa
+    dq = q1 - q0
     M = W @ np.abs(dq)
 
     def config(s: Array) -> Array:
-        return qa + s[:, None] * dq
+        return q0 + s[:, None] * dq
 
     def bound(lo: Array, hi: Array) -> Array:
         return np.outer(hi - lo, M)
 
-    D = checker.distances_many(np.array([qa, qb]))
+    D = checker.distances_many(np.array([q0, q1]))
     gaps = checker.gaps
-    apart = None
+    apart: Callable[..., Array] | None = None
     if gaps is not None:
         A, a, b = gaps
         shift = checker.margin + DISTANCE_TOL
-        ha, hb = A @ qa, A @ qb  # affine along the segment: the smaller end bounds it
+        ha, hb = A @ q0, A @ q1  # affine along the segment: the smaller end bounds it
 
-        def apart(lo: Array, hi: Array, Qlo: Array, Qhi: Array) -> Array:
+        def heights(lo: Array, hi: Array, Qlo: Array, Qhi: Array) -> Array:
             h0 = np.outer(1 - lo, ha) + np.outer(lo, hb)
             h1 = np.outer(1 - hi, ha) + np.outer(hi, hb)
             return np.maximum(np.minimum(h0, h1) + a, b - np.maximum(h0, h1)) - shift
+
+        apart = heights
 
     p = prove(np.array([0.0, 1.0]), D, config, bound, checker.pair_distances,
               checker.pair_names, margin=checker.margin, locate=locate, tol=1e-6, apart=apart)
@@ -237,41 +245,79 @@ def prove_segment(checker: CollisionChecker, qa: object, qb: object, *, locate: 
 
 
 # ---------------------------------------------------------------------------- trajectories
+class SpeedBounded(Protocol):
+    """What :class:`VelocityBound` reads: a trajectory, or a path (:class:`_PathBounds`)."""
+
+    def speed_bounds(self) -> list[tuple[Array, Array]]:
+        """Per joint: breakpoints (m + 1,) and a bound (m,) on the speed on each piece."""
+        ...
+
+
+class Trajectory(SpeedBounded, Protocol):
+    """What the proofs read of a :class:`~scara_opt.Trajectory` (it imports this module)."""
+
+    @property
+    def waypoint_times(self) -> Array:
+        """When it passes its waypoints [s]."""
+        ...
+
+    @property
+    def duration(self) -> float:
+        """Its duration [s]."""
+        ...
+
+    def evaluate(self, t: ArrayLike, order: int = 0) -> Array:
+        """Its joint values (or a derivative) at times ``t`` [s]."""
+        ...
+
+
 class VelocityBound:
     """Bounds on ``|q̇_j|`` over any time interval of a trajectory, per joint.
 
     From the trajectory's :meth:`~scara_opt.Trajectory.speed_bounds` (a Bernstein bound per
     polynomial piece); an interval takes the largest over the pieces it covers (a sparse
-    table answers each query in two lookups).
+    table answers each query in two lookups). Joints whose pieces share their breakpoints
+    (toppra's, a spline's) are looked up together.
     """
 
-    def __init__(self, traj: object) -> None:
-        self.breaks: list[Array] = []
-        self.tables: list[Array] = []  # (levels, pieces): row L the largest over 2**L pieces
-        for x, b in traj.speed_bounds():  # type: ignore[attr-defined]
+    def __init__(self, traj: SpeedBounded) -> None:
+        bounds = traj.speed_bounds()
+        self.nq = len(bounds)
+        groups: list[tuple[Array, list[int]]] = []
+        for j, (x, _) in enumerate(bounds):
+            for breaks, cols in groups:
+                if breaks is x or np.array_equal(breaks, x):
+                    cols.append(j)
+                    break
+            else:
+                groups.append((x, [j]))
+        # per group: breakpoints, joints, table (levels, pieces, joints): row L the largest
+        # over 2**L pieces
+        self.groups: list[tuple[Array, list[int], Array]] = []
+        for x, cols in groups:
+            b = np.column_stack([bounds[j][1] for j in cols])
             rows, step = [b], 1
             while 2 * step <= len(b):
                 rows.append(np.maximum(rows[-1][:-step], rows[-1][step:]))
                 step *= 2
-            table = np.zeros((len(rows), len(b)))
+            table = np.zeros((len(rows),) + b.shape)
             for level, row in enumerate(rows):
                 table[level, :len(row)] = row
-            self.breaks.append(x)
-            self.tables.append(table)
+            self.groups.append((np.asarray(x, float), cols, table))
 
     def __call__(self, t0: Array, t1: Array) -> Array:
         """Bounds (k, nq) on ``|q̇|`` over each interval ``[t0[i], t1[i]]`` [rad/s or m/s]."""
-        out = np.empty((len(t0), len(self.tables)))
-        for j, (x, table) in enumerate(zip(self.breaks, self.tables, strict=True)):
+        out = np.empty((len(t0), self.nq))
+        for x, cols, table in self.groups:
             n = table.shape[1]
             a = np.minimum(np.maximum(np.searchsorted(x, t0, side="right") - 1, 0), n - 1)
             b = np.minimum(np.maximum(np.searchsorted(x, t1, side="left") - 1, a), n - 1)
             k = np.minimum(np.log2(b - a + 1).astype(int), table.shape[0] - 1)
-            out[:, j] = np.maximum(table[k, a], table[k, b - (1 << k) + 1])
+            out[:, cols] = np.maximum(table[k, a], table[k, b - (1 << k) + 1])
         return out
 
 
-def check_trajectory(checker: CollisionChecker, traj: object, *, locate: bool = True,
+def check_trajectory(checker: CollisionChecker, traj: Trajectory, *, locate: bool = True,
                      samples: int = 32) -> Proof:
     """Prove a timed trajectory clear of collision, or find its first contact.
 
@@ -288,9 +334,60 @@ def check_trajectory(checker: CollisionChecker, traj: object, *, locate: bool = 
     T = traj.duration
     t = np.unique(np.concatenate([np.linspace(0.0, T, samples + 1),
                                   np.clip(traj.waypoint_times, 0.0, T)]))
-    Q = traj.evaluate(t)
-    D = checker.distances_many(Q)
-    vel = VelocityBound(traj)
+    return _prove_curve(checker, t, traj.evaluate, VelocityBound(traj), locate, TIME_TOL)
+
+
+class _PathBounds:
+    """A joint path seen as :class:`VelocityBound` sees a trajectory.
+
+    Per joint: the path's breakpoints and a bound on ``|q'(s)|`` on each piece (the
+    largest Bernstein coefficient, :func:`~scara_opt.trajectory.bernstein.piece_bounds`).
+    """
+
+    def __init__(self, path: PPoly) -> None:
+        from scara_opt.trajectory.bernstein import piece_bounds
+
+        x = np.asarray(path.x, float)
+        bounds = piece_bounds(path.derivative())  # (pieces, nq)
+        self._bounds = [(x, bounds[:, j]) for j in range(bounds.shape[1])]
+
+    def speed_bounds(self) -> list[tuple[Array, Array]]:
+        """Per joint: breakpoints (m + 1,) and a bound (m,) on ``|q'(s)|`` on each piece."""
+        return self._bounds
+
+
+def check_path(checker: CollisionChecker, path: PPoly, *, locate: bool = False) -> Proof:
+    r"""Prove a joint path :math:`q(s)` clear of collision over its whole domain.
+
+    The rule of the module docstring with the path parameter in place of time: on
+    :math:`[s_0, s_1]` the relative motion of a pair is at most
+    :math:`(s_1 - s_0)\, w \cdot \bar v` with :math:`\bar v_j` a bound on
+    :math:`|q_j'(s)|` there (each piece's Bernstein coefficients). A trajectory that runs
+    along the path, :math:`q(s(t))` with :math:`s(t)` nondecreasing over the domain (as
+    every timing of :func:`~scara_opt.motion.timing.time_section` does), visits only its
+    configurations: the path proven clear, so is the trajectory.
+
+    Args:
+        checker: the robot in its cell.
+        path: a :class:`~scara_opt.Trajectory`-free joint path: a ``PPoly`` whose values
+            are (nq,) (toppra's ``SplineInterpolator.cspl``), its breakpoints the waypoints.
+        locate: find the first contact to within 1e-6 of the parameter.
+
+    Returns:
+        A :class:`Proof`; ``contact.at`` is the path parameter.
+    """
+    x = np.asarray(path.x, float)
+
+    def evaluate(u: Array) -> Array:
+        return path(np.clip(u, x[0], x[-1]))
+
+    return _prove_curve(checker, x, evaluate, VelocityBound(_PathBounds(path)), locate, 1e-6)
+
+
+def _prove_curve(checker: CollisionChecker, t: Array, evaluate: Callable[[Array], Array],
+                 vel: VelocityBound, locate: bool, tol: float) -> Proof:
+    """:func:`prove` over a curve from the samples ``t``, its speed bounded by ``vel``."""
+    D = checker.distances_many(evaluate(t))
     W = checker.weights
     seen: list = [None, None]
 
@@ -302,8 +399,8 @@ def check_trajectory(checker: CollisionChecker, traj: object, *, locate: bool = 
     def bound(lo: Array, hi: Array) -> Array:
         return (hi - lo)[:, None] * (speeds(lo, hi) @ W.T)
 
-    p = prove(t, D, traj.evaluate, bound, checker.pair_distances, checker.pair_names,
-              margin=checker.margin, locate=locate, tol=TIME_TOL,
+    p = prove(t, D, evaluate, bound, checker.pair_distances, checker.pair_names,
+              margin=checker.margin, locate=locate, tol=tol,
               apart=_trajectory_gaps(checker, speeds))
     return replace(p, evaluations=p.evaluations + len(t))
 
@@ -334,7 +431,7 @@ def _trajectory_gaps(checker: CollisionChecker, vel: Callable[[Array, Array], Ar
     return apart
 
 
-def deepest(checker: CollisionChecker, traj: object, contact: Contact, dt: float = 1e-3
+def deepest(checker: CollisionChecker, traj: Trajectory, contact: Contact, dt: float = 1e-3
             ) -> float:
     """The largest overlap [m] of the contact's pair while it lasts, sampled every ``dt`` [s]."""
     k = checker.pair_names.index(contact.bodies)
@@ -394,23 +491,26 @@ class CollisionReport:
             return (f"CollisionReport(clear: clearance >= {self.clearance * 1e3:.3f} mm proven, "
                     f"{self.evaluations} checks)")
         what = f"{self.depth * 1e3:.3f} mm deep" if self.touching else "not proven clear"
-        return (f"CollisionReport(first contact at {self.time:.4f} s: {self.bodies[0]}-"
-                f"{self.bodies[1]}, {what}; {self.evaluations} checks)")
+        return (f"CollisionReport(first contact at {self.time or 0.0:.4f} s: "
+                f"{'-'.join(self.bodies or ())}, {what}; {self.evaluations} checks)")
 
 
-def collision_report(checker: CollisionChecker, traj: object) -> CollisionReport:
+def collision_report(checker: CollisionChecker, traj: Trajectory) -> CollisionReport:
     """:func:`check_trajectory` with the first contact located and its depth measured."""
     p = check_trajectory(checker, traj, locate=True)
     if p.clear:
         return CollisionReport(True, None, None, 0.0, False, p.clearance, checker.margin,
                                p.evaluations)
     c = p.contact
+    if c is None:  # pragma: no cover - prove() names the contact of every proof not clear
+        raise RuntimeError("a proof that is not clear names no contact")
     depth = deepest(checker, traj, c) if c.touching else 0.0
     return CollisionReport(False, c.at, c.bodies, depth, c.touching, -math.inf,
                            checker.margin, p.evaluations)
 
 
-def make_checker(cell: object, robot: object, margin: float, nq: int) -> CollisionChecker:
+def make_checker(cell: object, robot: Robot | None, margin: float, nq: int
+                 ) -> CollisionChecker:
     """A checker from a Cell and a robot, or the checker given (for a trajectory of ``nq``).
 
     Raises:
@@ -426,7 +526,7 @@ def make_checker(cell: object, robot: object, margin: float, nq: int) -> Collisi
         if robot is None:
             raise InputError("check_collisions(cell) needs the robot: pass robot= (or a "
                              "CollisionChecker(robot, cell))")
-        checker = CollisionChecker(robot, cell, margin=margin)  # type: ignore[arg-type]
+        checker = CollisionChecker(robot, cell, margin=margin)
     else:
         raise InputError(f"cell must be a scara_opt.Cell or a CollisionChecker; got "
                          f"{describe(cell)}")

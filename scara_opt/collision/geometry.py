@@ -28,6 +28,7 @@ from __future__ import annotations
 
 import logging
 import xml.etree.ElementTree as ET
+from collections.abc import Iterable
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -240,10 +241,10 @@ def _urdf_bodies(robot: Robot, radius: object, missing_mesh: str) -> list[pin.Ge
                     "links get capsules instead (missing_mesh='capsule')", robot.name,
                     sorted(lost), fname)
         root = ET.fromstring(urdf_text)
-        for link in root.iter("link"):
-            if link.get("name") in lost:
-                for col in link.findall("collision"):
-                    link.remove(col)
+        for node in root.iter("link"):
+            if node.get("name") in lost:
+                for col in node.findall("collision"):
+                    node.remove(col)
         urdf_text = ET.tostring(root, encoding="unicode")
     dirs = [mesh_dir] if mesh_dir else []
     geom = pin.buildGeomFromUrdfString(robot.model, urdf_text, pin.GeometryType.COLLISION,
@@ -284,21 +285,23 @@ def name_pairs(pairs: object, where: str) -> list[tuple[str, str]]:
     Raises:
         InputError: not a sequence of pairs of names.
     """
-    if isinstance(pairs, (str, bytes, dict)):
-        items = None
-    else:
+    items: list[tuple[object, ...]] | None = None
+    if isinstance(pairs, Iterable) and not isinstance(pairs, (str, bytes, dict)):
         try:
-            items = [tuple(p) for p in pairs]  # type: ignore[attr-defined]
+            items = [tuple(p) for p in pairs]
         except TypeError:
             items = None
     if items is None:
         raise InputError(f"{where} must be a list of (body, body) pairs; got "
                          f"{describe(pairs)}")
+    out: list[tuple[str, str]] = []
     for p in items:
-        if len(p) != 2 or not all(isinstance(n, str) for n in p):
+        a, b = p if len(p) == 2 else (None, None)
+        if not (isinstance(a, str) and isinstance(b, str)):
             raise InputError(f"{where}: each entry must be a pair of body names (str, str); "
                              f"got {p!r}")
-    return items  # type: ignore[return-value]
+        out.append((a, b))
+    return out
 
 
 def check_pair_names(pairs: object, known: dict[str, set[int]], where: str

@@ -11,7 +11,9 @@ uniformly (speed / f, acceleration / f²) and said in the notes: nothing is exce
 
 from __future__ import annotations
 
+import functools
 import math
+from typing import TYPE_CHECKING
 
 import numpy as np
 from numpy.typing import NDArray
@@ -30,6 +32,9 @@ from scara_opt.trajectory.limits import Limits
 from scara_opt.trajectory.toppra_backend import chord_parameter, solve_on_grid
 from scara_opt.trajectory.trajectory import Trajectory, stretch
 
+if TYPE_CHECKING:
+    from toppra import SplineInterpolator  # untyped: Any to mypy
+
 Array = NDArray[np.float64]
 
 #: what to do when toppra fails on a section, or stalls on a grid interval
@@ -45,7 +50,7 @@ MARGIN = 0.005
 #: largest time stretch applied silently to remove discretisation overshoot (else an error)
 MAX_STRETCH = 1.05
 
-#: grid doublings tried while a ratio (sampled) exceeds 1 by more than MARGIN
+#: grid doublings tried while a ratio (joints exact, tool at 1 kHz) exceeds 1 by more than MARGIN
 REFINE = 2
 
 #: at least this many grid intervals per section
@@ -75,30 +80,58 @@ def tool_ratios(robot: Robot, traj: Trajectory, tool: ToolProfile, knots: Array,
     return out
 
 
-def _joint_peaks(traj: Trajectory, exact: bool) -> tuple[float, float]:
-    """Largest joint velocity and acceleration ratios: exact (polynomial extrema) or at 1 kHz."""
-    if exact:
-        joint = traj.check_limits()
-        return float(joint["velocity"].max()), float(joint["acceleration"].max())
-    t = traj.times(min(CHECK_DT, traj.duration / 4))
-    return (float((np.abs(traj.evaluate(t, 1)) / traj.limits.vmax).max()),
-            float((np.abs(traj.evaluate(t, 2)) / traj.limits.amax).max()))
+def _joint_peaks(traj: Trajectory) -> tuple[float, float]:
+    """Largest joint velocity and acceleration ratios, exact (polynomial extrema)."""
+    peaks = traj.peaks()
+    return (float((peaks["velocity"] / traj.limits.vmax).max()),
+            float((peaks["acceleration"] / traj.limits.amax).max()))
 
 
 def _factor(robot: Robot, traj: Trajectory, tool: ToolProfile, knots: Array,
-            exact: bool = True, joint: tuple[float, float] | None = None,
+            joint: tuple[float, float] | None = None,
             dynamics: RobotDynamics | None = None) -> float:
     """Smallest time stretch (>= 1) bringing every joint, tool and torque ratio to <= 1.
 
-    ``exact``: joint peaks exact (piecewise-polynomial extrema), else sampled at 1 kHz
-    (cheaper; to decide whether to refine the grid). ``joint``: the joint peaks if known.
+    Joint peaks exact (piecewise-polynomial extrema); ``joint``: those peaks if known.
     ``dynamics``: torques sampled at 1 kHz (gravity does not scale with the stretch).
     """
-    jv, ja = _joint_peaks(traj, exact) if joint is None else joint
+    jv, ja = _joint_peaks(traj) if joint is None else joint
     ratios = tool_ratios(robot, traj, tool, knots)
     torque = 1.0 if dynamics is None else dynamics.stretch_factor(traj)
     return max(1.0, jv, ratios["speed"], ratios["yaw_rate"], math.sqrt(ja),
                math.sqrt(ratios["acceleration"]), torque)
+
+
+def section_spline(Q: Array, limits: Limits) -> SplineInterpolator:
+    """The joint path :func:`time_section` times: toppra's cubic spline through ``Q`` (n, nq).
+
+    Parameterised by the chord parameter (:func:`~scara_opt.trajectory.toppra_backend.
+    chord_parameter`) in [0, 1]; its ``cspl`` is the path as a scipy ``CubicSpline``. The
+    last few are kept: a section proven clear along its spline is then timed along the
+    very same object.
+    """
+    Q = np.ascontiguousarray(Q, dtype=float)
+    vmax = np.ascontiguousarray(limits.vmax, dtype=float)
+    return _spline(Q.tobytes(), Q.shape, vmax.tobytes())
+
+
+@functools.lru_cache(maxsize=8)
+def _spline(q: bytes, shape: tuple[int, ...], vmax: bytes) -> SplineInterpolator:
+    import toppra
+
+    Q = np.frombuffer(q).reshape(shape)
+    return toppra.SplineInterpolator(chord_parameter(Q, np.frombuffer(vmax)), Q)
+
+
+@functools.lru_cache(maxsize=8)
+def _joint_constraints(vmax: bytes, amax: bytes) -> tuple:
+    """toppra's joint velocity and acceleration constraints (interpolation), kept by limits."""
+    import toppra.constraint as constraint
+
+    return (constraint.JointVelocityConstraint(np.frombuffer(vmax)),
+            constraint.JointAccelerationConstraint(
+                np.frombuffer(amax),
+                discretization_scheme=constraint.DiscretizationType.Interpolation))
 
 
 def time_section(robot: Robot, Q: Array, limits: Limits, tool: ToolProfile,
@@ -117,16 +150,11 @@ def time_section(robot: Robot, Q: Array, limits: Limits, tool: ToolProfile,
             limit by more than :data:`MAX_STRETCH` between grid points.
         DynamicsError: gravity alone exceeds a torque limit on the path.
     """
-    import toppra
-    import toppra.constraint as constraint
-
-    s = chord_parameter(Q, limits.vmax)
-    path = toppra.SplineInterpolator(s, Q)
+    path = section_spline(Q, limits)
+    s = path.ss_waypoints
     scale = 1.0 - MARGIN
-    cons = [constraint.JointVelocityConstraint(limits.vmax * scale),
-            constraint.JointAccelerationConstraint(
-                limits.amax * scale,
-                discretization_scheme=constraint.DiscretizationType.Interpolation)]
+    cons = list(_joint_constraints((limits.vmax * scale).tobytes(),
+                                   (limits.amax * scale).tobytes()))
     scaled = tool.scaled(scale)
     if tool.limited("speed") or tool.limited("yaw_rate"):
         cons.append(speed_constraint(robot, scaled, s))
@@ -139,12 +167,11 @@ def time_section(robot: Robot, Q: Array, limits: Limits, tool: ToolProfile,
     for attempt in range(REFINE + 1):
         pieces, grid, knots = solve_on_grid(path, s, per, cons, FAILED, STALLED)
         traj = Trajectory(pieces, limits, "toppra", Q, np.array([0.0, pieces[0].x[-1]]))
-        if attempt == REFINE or _factor(robot, traj, tool, knots, exact=False,
-                                        dynamics=dynamics) <= 1 + MARGIN:
+        jv, ja = _joint_peaks(traj)
+        factor = _factor(robot, traj, tool, knots, joint=(jv, ja), dynamics=dynamics)
+        if attempt == REFINE or factor <= 1 + MARGIN:
             break
         per *= 2
-    jv, ja = _joint_peaks(traj, exact=True)
-    factor = _factor(robot, traj, tool, knots, joint=(jv, ja), dynamics=dynamics)
     note = f"{len(grid) - 1} grid intervals"
     if factor > MAX_STRETCH:
         raise TrajectoryError(

@@ -23,6 +23,8 @@ from collections import deque
 from collections.abc import Callable
 from dataclasses import dataclass
 from operator import itemgetter
+from types import ModuleType
+from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
@@ -31,6 +33,9 @@ from scara_opt.collision.checker import CollisionChecker
 from scara_opt.collision.continuous import DISTANCE_TOL, RESOLUTION
 
 Array = NDArray[np.float64]
+
+#: a SCARA's gaps (above, below) of each pair along its axis at one configuration [m]
+Heights = tuple[list[float], list[float]]
 
 __all__ = ["EdgeProver", "OmplRun", "box_space", "import_ompl", "rrt_connect", "start_and_goal"]
 
@@ -49,7 +54,7 @@ SMOOTHING_STEPS = 2
 OMPL_HINT = "pip install ompl (OMPL's Python wheel, 2.0 or later)"
 
 
-def import_ompl() -> tuple:
+def import_ompl() -> tuple[ModuleType, ModuleType, ModuleType]:
     """``(ompl.base, ompl.geometric, ompl.util)``, or ModuleNotFoundError naming the wheel."""
     try:
         from ompl import base as ob
@@ -71,6 +76,8 @@ class EdgeProver:
         states: configurations whose distances were all computed (states asked about).
         midpoints: configurations inside edges where some pairs' distances were computed.
         edges: edges asked about; ``proven``: those proven clear.
+        known: the edges proven so far, both directions (an edge asked again, as the
+            simplified path's are at the end, is not proven again).
     """
 
     def __init__(self, checker: CollisionChecker) -> None:
@@ -79,15 +86,17 @@ class EdgeProver:
         self.W = checker.weights
         self.cache: dict[tuple[float, ...], list[float]] = {}
         gaps = checker.gaps
-        self.gaps: dict[tuple[float, ...], tuple[list[float], list[float]]] = {}
-        self._A = None if gaps is None else gaps[0]
-        self._ab = None if gaps is None else (gaps[1] - self.shift, gaps[2] - self.shift)
+        self.gaps: dict[tuple[float, ...], Heights] = {}
+        self._gaps = None if gaps is None else (gaps[0], gaps[1] - self.shift,
+                                                 gaps[2] - self.shift)
         self.states = 0
         self.midpoints = 0
         self.edges = 0
         self.proven = 0
+        self.known: set[tuple[tuple[float, ...], tuple[float, ...]]] = set()
         self._data = checker._data()
         self._model = checker.robot.model
+        self._linear = _linear(self._model)
 
     def distances(self, key: tuple[float, ...]) -> list[float]:
         """Signed distances minus margin and tolerance (npairs,) at ``key`` (cached)."""
@@ -96,17 +105,18 @@ class EdgeProver:
             D = self.cache[key] = self._compute(np.array(key))
         return D
 
-    def heights(self, key: tuple[float, ...]) -> tuple[list[float], list[float]] | None:
+    def heights(self, key: tuple[float, ...]) -> Heights | None:
         """Gaps above and below each pair's obstacle along a SCARA's axis at ``key``.
 
         Less the margin and tolerance; ``None`` for other robots; cached.
         """
-        if self._A is None:
+        if self._gaps is None:
             return None
         G = self.gaps.get(key)
         if G is None:
-            h = self._A @ np.array(key)
-            G = self.gaps[key] = ((h + self._ab[0]).tolist(), (self._ab[1] - h).tolist())
+            A, a, b = self._gaps
+            h = A @ np.array(key)
+            G = self.gaps[key] = ((h + a).tolist(), (b - h).tolist())
         return G
 
     def _compute(self, q: Array) -> list[float]:
@@ -134,11 +144,11 @@ class EdgeProver:
         taken middle first (a collision is found early): for an interval of length ``w`` (a
         fraction of the segment), the pairs with ``w M < D0 + D1`` are proven on it; for
         the others, their distances at its middle are computed (a contact there ends it)
-        and both halves are queued with them alone.
+        and both halves are queued with them alone (:meth:`_split`).
         """
-        import pinocchio as pin
-
         self.edges += 1
+        if (a, b) in self.known:
+            return True
         Da, Db = self.distances(a), self.distances(b)
         if min(Da, default=1.0) <= 0 or min(Db, default=1.0) <= 0:
             return False
@@ -147,32 +157,67 @@ class EdgeProver:
         M = (self.W @ np.abs(dq)).tolist()
         pairs = [k for k, (m, d0, d1) in enumerate(zip(M, Da, Db, strict=True))
                  if not m < d0 + d1]
-        G = self.heights(a), self.heights(b)
-        if G[0] is None:
-            G = None
-        elif pairs:  # apart along the axis at both ends: all along the segment (affine)
+        ga, gb = self.heights(a), self.heights(b)
+        G = None if ga is None or gb is None else (ga, gb)
+        if G is not None and pairs:  # apart along the axis at both ends: all along (affine)
             pairs = [k for k in pairs if not _apart(G, k, 0.0, 1.0)]
-        if pairs:
-            data, gdata, _ = self._data
-            model, gmodel, shift = self._model, self.checker.model, self.shift
-            distance, place = pin.computeDistance, pin.updateGeometryPlacements
-            queue = deque([(0.5, 0.0, pairs, [Da[k] for k in pairs], [Db[k] for k in pairs])])
-            while queue:
-                h, s0, pairs, D0, D1 = queue.popleft()  # h: half the interval's length
-                if 2 * h * max(M[k] for k in pairs) < RESOLUTION:
-                    return False  # grazing: not proven
-                place(model, data, gmodel, gdata, qa + (s0 + h) * dq)
-                self.midpoints += 1
-                Dm = [distance(gmodel, gdata, k).min_distance - shift for k in pairs]
-                if min(Dm) <= 0:
-                    return False
-                for lo, d_lo, d_hi in ((s0, D0, Dm), (s0 + h, Dm, D1)):
-                    open_ = [i for i, k in enumerate(pairs) if not h * M[k] < d_lo[i] + d_hi[i]
-                             and not (G is not None and _apart(G, k, lo, lo + h))]
-                    if open_:
-                        queue.append((h / 2, lo, [pairs[i] for i in open_],
-                                      [d_lo[i] for i in open_], [d_hi[i] for i in open_]))
+        if pairs and not self._split(a, b, M, pairs, Da, Db, G):
+            return False
         self.proven += 1
+        self.known.add((a, b))
+        self.known.add((b, a))
+        return True
+
+    def _split(self, a: tuple[float, ...], b: tuple[float, ...], M: list[float],
+               pairs: list[int], Da: list[float], Db: list[float],
+               G: tuple[Heights, Heights] | None) -> bool:
+        """The intervals of :meth:`edge` not proven from the ends alone, split until they are.
+
+        ``pairs``: those not proven on the whole segment; ``M`` their bounds (all pairs'),
+        ``Da``, ``Db`` the distances at the ends (less margin and tolerance). Each pair's
+        stretches of the segment where it is apart along a SCARA's axis (``G``) are worked
+        out once (:func:`_apart_spans`).
+        """
+        import pinocchio as pin
+
+        data, gdata, _ = self._data
+        model, gmodel, shift = self._model, self.checker.model, self.shift
+        distance, place = pin.computeDistance, pin.updateGeometryPlacements
+        qa, qb = np.array(a), np.array(b)
+        if self._linear:  # pinocchio's interpolation: qa + s (qb - qa) in one call
+            interpolate, mdl = pin.interpolate, self._model
+
+            def config(s: float) -> Array:
+                return interpolate(mdl, qa, qb, s)
+        else:
+            dq = qb - qa
+
+            def config(s: float) -> Array:
+                return qa + s * dq
+        spans = None if G is None else {k: _apart_spans(G, k) for k in pairs}
+        wide = RESOLUTION / min(M[k] for k in pairs)  # wider intervals do not graze
+        queue = deque([(0.5, 0.0, pairs, [Da[k] for k in pairs], [Db[k] for k in pairs])])
+        while queue:
+            h, s0, pairs, D0, D1 = queue.popleft()  # h: half the interval's length
+            if 2 * h < wide and 2 * h * max(M[k] for k in pairs) < RESOLUTION:
+                return False  # grazing: not proven
+            place(model, data, gmodel, gdata, config(s0 + h))
+            self.midpoints += 1
+            Dm = [distance(gmodel, gdata, k).min_distance - shift for k in pairs]
+            if min(Dm) <= 0:
+                return False
+            for lo, d_lo, d_hi in ((s0, D0, Dm), (s0 + h, Dm, D1)):
+                hi = lo + h
+                if spans is None:
+                    open_ = [i for i, k in enumerate(pairs) if not h * M[k] < d_lo[i] + d_hi[i]]
+                else:
+                    open_ = [i for i, k in enumerate(pairs)
+                             if not h * M[k] < d_lo[i] + d_hi[i]
+                             and not ((sp := spans[k])[0] < lo and hi < sp[1]
+                                      or sp[2] < lo and hi < sp[3])]
+                if open_:
+                    queue.append((h / 2, lo, [pairs[i] for i in open_],
+                                  [d_lo[i] for i in open_], [d_hi[i] for i in open_]))
         return True
 
     def path(self, Q: Array) -> bool:
@@ -181,7 +226,29 @@ class EdgeProver:
         return all(self.edge(a, b) for a, b in zip(keys, keys[1:], strict=False))
 
 
-def _apart(G: tuple, k: int, s0: float, s1: float) -> bool:
+def _apart_spans(G: tuple[Heights, Heights], k: int) -> tuple[float, float, float, float]:
+    """Where pair ``k`` is apart along the axis on a segment: ``(u0, u1, v0, v1)``.
+
+    Its gap above the obstacle is positive for ``u0 < s < u1``, below for ``v0 < s < v1``
+    (empty spans: ``(inf, -inf)``); the gaps are affine in ``s`` from their values ``G``
+    at the two ends. An interval ``[lo, hi]`` is apart when it lies inside either span.
+    """
+    (up_a, down_a), (up_b, down_b) = G
+    return (*_positive(up_a[k], up_b[k]), *_positive(down_a[k], down_b[k]))
+
+
+def _positive(ga: float, gb: float) -> tuple[float, float]:
+    """The open span of ``s`` where ``(1 - s) ga + s gb > 0`` (``(inf, -inf)``: none)."""
+    if ga > 0 and gb > 0:
+        return -math.inf, math.inf
+    if ga > 0:
+        return -math.inf, ga / (ga - gb)
+    if gb > 0:
+        return ga / (ga - gb), math.inf
+    return math.inf, -math.inf
+
+
+def _apart(G: tuple[Heights, Heights], k: int, s0: float, s1: float) -> bool:
     """Whether pair ``k`` stays apart along the axis on ``[s0, s1]`` of a segment.
 
     ``G``: the gaps (above, below) at the segment's two ends; they are affine along it.
@@ -192,6 +259,17 @@ def _apart(G: tuple, k: int, s0: float, s1: float) -> bool:
         return True
     da, db = down_a[k], down_b[k]
     return (1 - s0) * da + s0 * db > 0 and (1 - s1) * da + s1 * db > 0
+
+
+#: pinocchio's joints whose interpolation is ``qa + s (qb - qa)``, as numpy computes it
+LINEAR_JOINTS = frozenset(f"JointModel{k}" for k in (
+    "RX", "RY", "RZ", "RevoluteUnaligned", "PX", "PY", "PZ", "PrismaticUnaligned"))
+
+
+def _linear(model: Any) -> bool:
+    """Whether every joint of the pinocchio ``model`` interpolates linearly (see above)."""
+    joints = list(model.joints)[1:]  # the first is the universe
+    return all(j.shortname() in LINEAR_JOINTS for j in joints)
 
 
 @dataclass(frozen=True)
@@ -244,7 +322,7 @@ def rrt_connect(prover: EdgeProver, start: Array, goal: Array, lower: Array, upp
             ou.setLogLevel(level)
 
 
-def box_space(ob: object, lower: Array, upper: Array) -> object:
+def box_space(ob: ModuleType, lower: Array, upper: Array) -> Any:
     """OMPL's ``RealVectorStateSpace`` of the joint box [lower, upper] (nq,) each."""
     nq = len(lower)
     space = ob.RealVectorStateSpace(nq)
@@ -256,7 +334,7 @@ def box_space(ob: object, lower: Array, upper: Array) -> object:
     return space
 
 
-def start_and_goal(ob: object, space: object, si: object, start: Array, goal: Array) -> object:
+def start_and_goal(ob: ModuleType, space: Any, si: Any, start: Array, goal: Array) -> Any:
     """OMPL's ``ProblemDefinition`` from ``start`` to ``goal`` (nq,) each."""
     a, b = space.allocState(), space.allocState()
     for k in range(len(start)):
@@ -266,16 +344,17 @@ def start_and_goal(ob: object, space: object, si: object, start: Array, goal: Ar
     return pdef
 
 
-def _solve(ob: object, og: object, ou: object, prover: EdgeProver,
+def _solve(ob: ModuleType, og: ModuleType, ou: ModuleType, prover: EdgeProver,
            get: Callable, start: Array, goal: Array, lower: Array, upper: Array,
            time_limit: float, seed: int, simplify: bool, range_: float | None) -> OmplRun:
     ou.RNG.setSeed(int(seed) + 1)
     space = box_space(ob, lower, upper)
     si = ob.SpaceInformation(space)
     valid, edge = prover.valid, prover.edge
+    validator: Any = ob.MotionValidator  # OMPL's class (the wheel has no types)
 
-    class Motion(ob.MotionValidator):
-        def checkMotion(self, s1: object, s2: object) -> bool:  # noqa: N802 (OMPL's name)
+    class Motion(validator):
+        def checkMotion(self, s1: Any, s2: Any) -> bool:  # noqa: N802 (OMPL's name)
             return edge(get(s1), get(s2))
 
     si.setStateValidityChecker(lambda s: valid(get(s)))
@@ -303,7 +382,7 @@ def _solve(ob: object, og: object, ou: object, prover: EdgeProver,
     return OmplRun(vertices, raw, states, plan_s, time.perf_counter() - begin)
 
 
-def simplify_path(og: object, si: object, path: object) -> None:
+def simplify_path(og: ModuleType, si: Any, path: Any) -> None:
     """Shorten and smooth ``path`` in place with OMPL's PathSimplifier (its checks are ours).
 
     Vertex reduction, up to :data:`SHORTCUT_ROUNDS` rounds of partial shortcuts (segments

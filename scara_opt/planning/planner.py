@@ -24,7 +24,7 @@ import time
 from dataclasses import dataclass
 
 import numpy as np
-from numpy.typing import NDArray
+from numpy.typing import ArrayLike, NDArray
 
 from scara_opt.checks import check_flag, check_int, check_real, describe
 from scara_opt.collision.checker import CollisionChecker
@@ -90,8 +90,8 @@ class PathPlan:
         return self.status is PlanStatus.SOLVED
 
     def __repr__(self) -> str:
-        what = (f"{len(self.path)} waypoints, length {self.length:.4g}" if self.success
-                else self.message)
+        what = (f"{len(self.path)} waypoints, length {self.length:.4g}"
+                if self.path is not None else self.message)
         return (f"PathPlan({self.status.value}: {what}; {self.planner}, "
                 f"{self.time_s * 1e3:.1f} ms, {self.states} states, {self.checks} edges)")
 
@@ -117,7 +117,7 @@ def check_clear(checker: CollisionChecker, q: Array, what: str) -> None:
                              f"{how}; move the {what} clear of the cell", c.bodies, c.depth)
 
 
-def plan_path(checker: CollisionChecker, start: object, goal: object, *,
+def plan_path(checker: CollisionChecker, start: ArrayLike, goal: ArrayLike, *,
               time_limit: float = TIME_LIMIT, seed: int = 0, simplify: bool = True
               ) -> PathPlan:
     """A joint path from ``start`` to ``goal`` clear of the checker's cell (see the module).
@@ -176,9 +176,9 @@ def plan_path(checker: CollisionChecker, start: object, goal: object, *,
                         run.planner_states, math.nan, seed)
     Q = run.path
     if not prover.path(Q):  # the simplifier's output proven once more, edge by edge
-        Q = run.raw
-        if not prover.path(Q):  # pragma: no cover - every planner edge was proven
+        if run.raw is None or not prover.path(run.raw):  # pragma: no cover - all proven
             raise RuntimeError("an edge of the planner's path is not proven clear")
+        Q = run.raw
     Q[0], Q[-1] = qa, qb
     return PathPlan(PlanStatus.SOLVED, Q, f"RRTConnect ({run.plan_s * 1e3:.1f} ms) and "
                     f"PathSimplifier ({run.simplify_s * 1e3:.1f} ms), every edge proven",

@@ -4,9 +4,10 @@ The geometric path is toppra's cubic :class:`~toppra.SplineInterpolator` through
 waypoints, parameterised by the normalised chord length :math:`s_i = \sum \|Δq / v_{max}\|`
 (so the spline bends where the joints move, not where they rest). TOPP-RA (toppra's
 ``TOPPRA`` with the ``seidel`` solver, interpolation discretisation of the acceleration
-constraint) computes the fastest rest-to-rest path velocity :math:`\dot s` on a grid that
-contains every waypoint and ``grid_per_segment`` points per segment (at least ``min_grid``
-intervals in all). Between grid points the path acceleration is constant, as in toppra's
+constraint; its two passes run by :mod:`~scara_opt.trajectory.toppra_passes`) computes
+the fastest rest-to-rest path velocity :math:`\dot s` on a grid that contains every
+waypoint and ``grid_per_segment`` points per segment (at least ``min_grid`` intervals in
+all). Between grid points the path acceleration is constant, as in toppra's
 ``ParametrizeConstAccel``; :func:`timed_pieces` writes that result exactly as degree-6
 polynomials in time (toppra's other output, a cubic spline re-fitted through the timed grid,
 overshoots the acceleration limit by several percent at every switch of the bang-bang profile).
@@ -44,6 +45,7 @@ from scara_opt.errors import TrajectoryError
 from scara_opt.trajectory.dynamics import RobotDynamics
 from scara_opt.trajectory.limits import Limits
 from scara_opt.trajectory.methods import TimingMethod, check_option
+from scara_opt.trajectory.toppra_passes import reachability_passes
 from scara_opt.trajectory.trajectory import Trajectory, cubic_range, stretch
 
 log = logging.getLogger(__name__)
@@ -221,17 +223,12 @@ def solve_on_grid(path: Any, s: Array, per_segment: int, cons: list, failed: str
     Raises:
         TrajectoryError: either failure, with toppra's return code or the interval.
     """
-    import toppra.algorithm as algo
-
     frac = np.arange(per_segment) / per_segment
     grid = np.append((s[:-1, None] + np.diff(s)[:, None] * frac).ravel(), s[-1])
-    instance = algo.TOPPRA(cons, path, gridpoints=grid, solver_wrapper="seidel")
-    instance.compute_parameterization(0.0, 0.0)
-    data = instance.problem_data
-    if data.return_code != algo.ParameterizationReturnCode.Ok or data.sd_vec is None:
-        raise TrajectoryError(f"toppra could not parameterise the path ({data.return_code}); "
-                              + failed)
-    sd = np.maximum(np.asarray(data.sd_vec, dtype=float), 0.0)
+    sd, code = reachability_passes(cons, path, grid)  # toppra's TOPPRA, seidel solver
+    if sd is None:
+        raise TrajectoryError(f"toppra could not parameterise the path ({code}); " + failed)
+    sd = np.maximum(sd, 0.0)
     stall = np.flatnonzero(sd[:-1] + sd[1:] <= 0.0)
     if stall.size:
         raise TrajectoryError(

@@ -9,18 +9,19 @@ or where the next derivative vanishes, and those points are all evaluated.
 
 from __future__ import annotations
 
-import functools
 import math
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import TYPE_CHECKING
 
 import numpy as np
-from numpy.typing import NDArray
+from numpy.typing import ArrayLike, NDArray
 from scipy.interpolate import PPoly
 
 from scara_opt.checks import check_memory, check_real, describe, float_array
 from scara_opt.errors import InputError
+from scara_opt.trajectory.bernstein import piece_bounds
+from scara_opt.trajectory.bernstein import to_bernstein as _to_bernstein
 from scara_opt.trajectory.limits import Limits
 
 if TYPE_CHECKING:
@@ -43,15 +44,7 @@ def _end_values(pp: PPoly) -> Array:
     return np.concatenate([pp.c[-1], right])
 
 
-@functools.cache
-def _to_bernstein(degree: int) -> Array:
-    """Matrix M (d+1, d+1): Bernstein coefficients ``M @ α`` of ``Σ α_k u^k`` on [0, 1]."""
-    d = degree
-    return np.array([[math.comb(j, k) / math.comb(d, k) if k <= j else 0.0
-                      for k in range(d + 1)] for j in range(d + 1)])
-
-
-def _may_leave(pp: PPoly, lo: float, hi: float) -> Array:
+def _may_leave(pp: PPoly, lo: float, hi: float) -> NDArray[np.intp]:
     """Pieces (indices) whose values may leave [lo, hi]: the others provably do not.
 
     A polynomial on a piece lies within the range of its Bernstein coefficients (convex
@@ -103,15 +96,37 @@ def cubic_range(pp: PPoly) -> tuple[Array, Array]:
     return np.nanmin(values, axis=0), np.nanmax(values, axis=0)
 
 
-def piece_bounds(pp: PPoly) -> Array:
-    """A bound on ``|f|`` over each piece of a 1-D piecewise polynomial, (n_pieces,).
+def sup_abs_columns(c: Array, x: Array) -> Array:
+    """Largest ``|f|`` (n,) of n piecewise polynomials sharing their breakpoints, exact.
 
-    The largest Bernstein coefficient in absolute value (convex hull property): never
-    below the true largest ``|f|`` on the piece.
+    ``c`` (d + 1, m, n): coefficients in PPoly's layout (highest power first), ``x`` (m + 1,)
+    the breakpoints. As :func:`extrema`, all columns at once: the pieces' ends, then the
+    real roots of ``f'`` inside the pieces whose Bernstein coefficients leave the ends'
+    range (the only ones that can reach beyond it).
     """
-    d = pp.c.shape[0] - 1
-    alpha = pp.c[::-1] * np.diff(pp.x) ** np.arange(d + 1.0)[:, None]
-    return np.abs(_to_bernstein(d) @ alpha).max(axis=0)
+    d = c.shape[0] - 1
+    h = np.diff(x)
+    right = c[0].copy()
+    for row in c[1:]:
+        right = right * h[:, None] + row
+    ends = np.concatenate([c[-1], right])
+    lo, hi = ends.min(axis=0), ends.max(axis=0)
+    best = np.maximum(np.abs(lo), np.abs(hi))
+    if d < 2:
+        return best
+    alpha = c[::-1] * (h ** np.arange(d + 1.0)[:, None])[:, :, None]  # a_k h^k, lowest first
+    b = (_to_bernstein(d) @ alpha.reshape(d + 1, -1)).reshape(alpha.shape)
+    i, j = np.nonzero((b.max(axis=0) > hi) | (b.min(axis=0) < lo))
+    if i.size:  # those pieces laid end to end (as in extrema): one root search for all
+        x_sub = np.concatenate([[0.0], np.cumsum(h[i])])
+        sub = PPoly(c[:, i, j], x_sub, extrapolate=False)
+        roots = sub.derivative().roots(discontinuity=False, extrapolate=False)
+        roots = roots[np.isfinite(roots)]
+        if roots.size:
+            values = np.abs(sub(roots))
+            col = j[np.clip(np.searchsorted(x_sub, roots, side="right") - 1, 0, i.size - 1)]
+            np.maximum.at(best, col, values)
+    return best
 
 
 def sup_abs(pp: PPoly) -> float:
@@ -183,7 +198,7 @@ class Trajectory:
             self._derivs[key] = self.pieces[k].derivative(order) if order else self.pieces[k]
         return self._derivs[key]
 
-    def _times(self, t: object) -> Array:
+    def _times(self, t: ArrayLike) -> Array:
         try:
             ts = float_array(t, "t")
         except InputError:
@@ -198,7 +213,7 @@ class Trajectory:
                              f"in [{ts.min():.6g}, {ts.max():.6g}] s")
         return np.clip(ts, 0.0, T)
 
-    def evaluate(self, t: object, order: int = 0) -> Array:
+    def evaluate(self, t: ArrayLike, order: int = 0) -> Array:
         """``order``-th time derivative of ``q`` at ``t``: (nq,) for a scalar, (m, nq) for (m,).
 
         Raises:
@@ -214,7 +229,7 @@ class Trajectory:
         out = np.stack([self._derivative(k, order)(flat) for k in range(self.nq)], axis=-1)
         return out.reshape(ts.shape + (self.nq,))
 
-    def sample(self, t: object) -> tuple[Array, Array, Array]:
+    def sample(self, t: ArrayLike) -> tuple[Array, Array, Array]:
         """Positions, velocities and accelerations at ``t`` [s].
 
         Args:
@@ -257,6 +272,16 @@ class Trajectory:
         orders = {"velocity": 1, "acceleration": 2}
         if self.limits.jmax is not None:
             orders["jerk"] = 3
+        x = self.pieces[0].x
+        if all(p.x is x or np.array_equal(p.x, x) for p in self.pieces):  # all at once
+            c = np.stack([p.c for p in self.pieces], axis=-1)  # (d + 1, m, nq)
+            out = {}
+            power = np.arange(c.shape[0] - 1, -1, -1.0)  # of each coefficient's τ
+            for name, order in orders.items():  # d^r/dτ^r τ^p = p (p-1) ... (p-r+1) τ^(p-r)
+                factor = np.prod(power[None, :] - np.arange(order)[:, None], axis=0)
+                keep = len(power) - order
+                out[name] = sup_abs_columns(c[:keep] * factor[:keep, None, None], x)
+            return out
         return {name: np.array([sup_abs(self._derivative(k, order)) for k in range(self.nq)])
                 for name, order in orders.items()}
 
