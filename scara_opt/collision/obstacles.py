@@ -38,10 +38,10 @@ def _vector(owner: str, name: str, value: object, n: int = 3) -> tuple[float, ..
 
 
 def _size(owner: str, name: str, value: object, unit: str = "m") -> float:
-    if not (is_real(value) and math.isfinite(float(value)) and float(value) > 0):  # type: ignore[arg-type]
+    if not (is_real(value) and math.isfinite(float(value)) and float(value) > 0):
         raise CellError(f"obstacle {owner!r}: {name} must be a finite number > 0 [{unit}]; got "
                         f"{describe(value)}; give its real size (a flat plate is a thin box)")
-    return float(value)  # type: ignore[arg-type]
+    return float(value)
 
 
 @dataclass(frozen=True)
