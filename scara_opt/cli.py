@@ -541,8 +541,11 @@ def _show_warning(message: Warning | str, category: type[Warning], filename: str
 
 
 def main(argv: Sequence[str] | None = None) -> int:
-    """Run the command line; returns the exit code (0, 2 bad input, 130 interrupted, 141 the
-    reader of its output left)."""
+    """Run the command line; returns the exit code.
+
+    0 done, 1 an IK that did not solve, 2 bad input, 130 interrupted, 141 the reader of its
+    output left.
+    """
     try:
         with interrupt.quiet_casadi_warning(), interrupt.watch() as sigint, \
                 warnings.catch_warnings():  # one line below
