@@ -25,8 +25,7 @@ from typing import Any, NoReturn
 import numpy as np
 
 from scara_opt import cli_motion, cli_plan, interrupt
-from scara_opt.checks import count_text
-from scara_opt.cli_args import add_limit_options, degrees, joint_limits
+from scara_opt.cli_args import add_limit_options, degrees, int_at_least, joint_limits
 from scara_opt.cli_args import joint_scale as _joint_scale
 from scara_opt.cli_args import joint_units as _units
 from scara_opt.errors import InputError, ScaraOptError, ScaraOptWarning
@@ -152,22 +151,6 @@ def cmd_ik(args: argparse.Namespace) -> int:
         if not row["success"]:
             print(f"  {row['message']}")
     return code
-
-
-def _int_at_least(low: int, high: int | None = None) -> Any:
-    """An argparse type: an integer >= ``low`` (and <= ``high``)."""
-    def parse(text: str) -> int:
-        try:
-            value = int(text)
-        except ValueError:
-            raise argparse.ArgumentTypeError(f"expected an integer, got {text!r}") from None
-        if value < low:
-            raise argparse.ArgumentTypeError(f"expected an integer >= {low}, got {value}")
-        if high is not None and value > high:
-            raise argparse.ArgumentTypeError(
-                f"expected an integer <= {high}, got {count_text(value)}")
-        return value
-    return parse
 
 
 #: most worker processes --workers starts (this machine's cores, a few times over)
@@ -441,7 +424,7 @@ def build_parser() -> argparse.ArgumentParser:
     from scara_opt.cli_pose import add_orientation_arguments
     add_orientation_arguments(p)  # --yaw | --rpy | --quat, and --rpy-unit
     p.add_argument("--method", help="IK method (see `scara-opt solvers`; default auto)")
-    p.add_argument("--seed", type=_int_at_least(0), help="random seed (default 0)")
+    p.add_argument("--seed", type=int_at_least(0), help="random seed (default 0)")
     p.add_argument("--tol", type=float, default=1e-9, help="residual counted as solved [m]")
     p.add_argument("--all", action="store_true",
                    help="every closed-form branch (SCARA only; no --method or --seed)")
@@ -456,15 +439,15 @@ def build_parser() -> argparse.ArgumentParser:
                    help="comma-separated names, or all")
     p.add_argument("--populations", type=_int_list, default=[20, 40, 60, 80, 100],
                    help="comma-separated population sizes (default 20,40,60,80,100)")
-    p.add_argument("--iterations", type=_int_at_least(1), default=200,
+    p.add_argument("--iterations", type=int_at_least(1), default=200,
                    help="iterations (default 200)")
-    p.add_argument("--seeds", type=_int_at_least(1), default=10,
+    p.add_argument("--seeds", type=int_at_least(1), default=10,
                    help="number of seeds 0..N-1 (default 10)")
     p.add_argument("--tol", type=float, default=1e-9, help="residual counted as solved [m]")
     p.add_argument("--out", required=True, help="output folder")
     p.add_argument("--force", action="store_true", help=FORCE_HELP)
     group = p.add_mutually_exclusive_group()
-    group.add_argument("--workers", type=_int_at_least(1, MAX_WORKERS), default=1,
+    group.add_argument("--workers", type=int_at_least(1, MAX_WORKERS), default=1,
                        help=f"local worker processes (at most {MAX_WORKERS})")
     group.add_argument("--dask", metavar="ADDRESS", help="dask scheduler address")
     p.set_defaults(func=cmd_compare)
@@ -490,7 +473,7 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--allow-jumps", action="store_true",
                    help="time the path even if the joints jump (elbow flip, wrist turn)")
     add_limit_options(p, jerk="--time ruckig only (default 10/s x amax)")
-    p.add_argument("--seed", type=_int_at_least(0), default=0, help="random seed (default 0)")
+    p.add_argument("--seed", type=int_at_least(0), default=0, help="random seed (default 0)")
     p.add_argument("--tol", type=float, default=1e-9, help="residual counted as solved [m]")
     p.add_argument("--out", required=True, help="output folder")
     p.add_argument("--html", metavar="FILE", help="also write a 3-D animation FILE (.html, in "
@@ -504,7 +487,7 @@ def build_parser() -> argparse.ArgumentParser:
     p = sub.add_parser("workspace", help="Monte Carlo workspace with figures")
     p.add_argument("robot", metavar="ROBOT", help="bundled robot name or path to .urdf/.toml")
     p.add_argument("-n", type=int, default=60_000, help="samples (default 60000)")
-    p.add_argument("--seed", type=_int_at_least(0), default=0, help="random seed (default 0)")
+    p.add_argument("--seed", type=int_at_least(0), default=0, help="random seed (default 0)")
     p.add_argument("--no-footprint", action="store_true", help="ignore the base exclusion zone")
     p.add_argument("--out", required=True, help="output folder")
     p.add_argument("--force", action="store_true", help=FORCE_HELP)
@@ -516,7 +499,7 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--out", required=True, help="output folder (summary.md, CSV, PNG)")
     p.add_argument("--force", action="store_true", help=FORCE_HELP)
     p.add_argument("--quick", action="store_true", help="reduced sweeps for a first look")
-    p.add_argument("--jobs", type=_int_at_least(1, MAX_WORKERS),
+    p.add_argument("--jobs", type=int_at_least(1, MAX_WORKERS),
                    default=min(2, os.cpu_count() or 1), metavar="N",
                    help="papers run in N processes at once (default: 2, or 1 on a single "
                         "core; the files are those of a serial run)")

@@ -18,6 +18,7 @@ from typing import Any
 
 import numpy as np
 
+from scara_opt.checks import count_text
 from scara_opt.errors import InputError, TrajectoryError
 
 #: unit of each option, for the help and the messages
@@ -50,6 +51,22 @@ def _number(text: str) -> float:
         return float(text)
     except ValueError:
         raise argparse.ArgumentTypeError(f"expected a number, got {text!r}") from None
+
+
+def int_at_least(low: int, high: int | None = None) -> Any:
+    """An argparse type: an integer >= ``low`` (and <= ``high``)."""
+    def parse(text: str) -> int:
+        try:
+            value = int(text)
+        except ValueError:
+            raise argparse.ArgumentTypeError(f"expected an integer, got {text!r}") from None
+        if value < low:
+            raise argparse.ArgumentTypeError(f"expected an integer >= {low}, got {value}")
+        if high is not None and value > high:
+            raise argparse.ArgumentTypeError(
+                f"expected an integer <= {high}, got {count_text(value)}")
+        return value
+    return parse
 
 
 def positive(text: str) -> float:

@@ -15,7 +15,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 from numpy.typing import NDArray
 
-from scara_opt.cli_args import nonnegative, positive
+from scara_opt.cli_args import int_at_least, nonnegative, positive
 from scara_opt.outputs import FORCE_HELP
 
 if TYPE_CHECKING:
@@ -28,16 +28,6 @@ FILES = {"csv": "plan.csv", "html": "plan.html"}
 EXIT_NO_PATH = 1
 
 
-def _seed(text: str) -> int:
-    try:
-        value = int(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"expected an integer, got {text!r}") from None
-    if value < 0:
-        raise argparse.ArgumentTypeError(f"expected an integer >= 0, got {value}")
-    return value
-
-
 def add_cell_arguments(p: argparse.ArgumentParser, required: bool = False) -> None:
     """``--cell FILE``, ``--margin MM``, ``--time-limit S`` and ``--seed N``."""
     p.add_argument("--cell", metavar="FILE", required=required,
@@ -47,7 +37,7 @@ def add_cell_arguments(p: argparse.ArgumentParser, required: bool = False) -> No
                    help="clearance to keep from the cell [mm] (0)")
     p.add_argument("--time-limit", type=positive, default=1.0, metavar="S",
                    help="planning limit of each PTP around obstacles [s] (1)")
-    p.add_argument("--seed", type=_seed, default=0, help="the planner's seed (0)")
+    p.add_argument("--seed", type=int_at_least(0), default=0, help="the planner's seed (0)")
 
 
 def cell_keywords(args: argparse.Namespace) -> dict:

@@ -323,7 +323,7 @@ def test_workers_bounded(tmp_path, capsys):
     """--workers beyond MAX_WORKERS is a usage error (found by the property test: a huge
     count ended in ProcessPoolExecutor's OverflowError).
 
-    Mutation: the ``high`` check in _int_at_least removed: OverflowError, test failed.
+    Mutation: the ``high`` check in cli_args.int_at_least removed: OverflowError, test failed.
     """
     code, _, err = cli(capsys, "compare", "zavar2024", "--target", "0.3", "0", "-0.07",
                        "--workers", "99999999999999999999999", "--out", str(tmp_path))
