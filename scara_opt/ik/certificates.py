@@ -211,8 +211,9 @@ def _residual_bound(planar: Callable[[float], float], dz: float, tol: float) -> 
     def holds(beta: float) -> bool:
         return math.hypot(max(planar(beta), 0.0), dz) > beta
 
-    if holds(math.pi):
-        return max(math.pi, math.hypot(max(planar(math.pi), 0.0), dz))
+    at_pi = math.hypot(max(planar(math.pi), 0.0), dz)
+    if at_pi > math.pi:  # holds(π)
+        return at_pi
     lo, hi = math.log(tol), math.log(math.pi)
     for _ in range(8):
         mid = 0.5 * (lo + hi)

@@ -87,7 +87,7 @@ class Box:
         return self.lower[k] - self.slack, self.upper[k] + self.slack
 
 
-def _turns(values: Array | float, lo: float, hi: float) -> list[float]:
+def turns(values: Array | float, lo: float, hi: float) -> list[float]:
     """Every ``v + 2πk`` within [lo, hi]."""
     out: list[float] = []
     for v in np.atleast_1d(values):
@@ -181,8 +181,8 @@ def _planar(geom: ScaraGeometry, uv: Array, box: Box) -> list[tuple[float, float
                                                    geom.l1 + geom.l2 * math.cos(gamma))
         t1 = geom.s[sh] * (a1 - geom.phi1)
         t2 = geom.s[el] * (gamma - (geom.phi2 - geom.phi1))
-        out += [(v1, v2) for v1 in _turns(t1, *box.outer(sh))
-                for v2 in _turns(t2, *box.outer(el))]
+        out += [(v1, v2) for v1 in turns(t1, *box.outer(sh))
+                for v2 in turns(t2, *box.outer(el))]
     return out
 
 
@@ -209,7 +209,7 @@ class _Task:
             ok = abs(math.remainder(need, 2 * math.pi)) <= self.box.angle_slack
             return wrists, [0.0] if ok else []
         lo, hi = range_of_sum(geom.s[wrists], *self.box.outer(wrists))
-        return wrists, _turns(need, lo, hi)
+        return wrists, turns(need, lo, hi)
 
     def complete(self, q: Array) -> list[Array]:
         """Every solution from ``q`` (rail, shoulder, elbow set): heights and wrists."""

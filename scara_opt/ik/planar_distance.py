@@ -39,6 +39,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from scara_opt.ik.closed_form import turns
 from scara_opt.ik.geometry import ScaraGeometry
 from scara_opt.model.robot import Array
 
@@ -159,18 +160,11 @@ def reaches(geom: ScaraGeometry, dom: Domain, x: Array) -> bool:
     base = math.atan2(x[1], x[0])
     for g in {math.acos(c), -math.acos(c)}:
         a = base - math.atan2(l2 * math.sin(g), l1 + l2 * math.cos(g))
-        for gk in _turns(g, dom.g_lo, dom.g_hi):
-            for ak in _turns(a, dom.a_lo, dom.a_hi):
+        for gk in turns(g, dom.g_lo - ANGLE_SLACK, dom.g_hi + ANGLE_SLACK):
+            for ak in turns(a, dom.a_lo - ANGLE_SLACK, dom.a_hi + ANGLE_SLACK):
                 if dom.contains(ak, gk):
                     return True
     return False
-
-
-def _turns(v: float, lo: float, hi: float) -> list[float]:
-    """Every ``v + 2πk`` within [lo, hi] widened by the slack."""
-    k0 = math.ceil((lo - ANGLE_SLACK - v) / _TWO_PI)
-    k1 = math.floor((hi + ANGLE_SLACK - v) / _TWO_PI)
-    return [v + _TWO_PI * k for k in range(k0, k1 + 1)]
 
 
 def point_arc_distance(x: Array, arc: Arc) -> float:

@@ -24,7 +24,7 @@ _F64 = np.dtype(np.float64)
 _BIG = sys.float_info.max
 
 #: a joint value this far outside its limits is round-off, accepted by
-#: :func:`check_within_limits` [rad or m] (as the timing's waypoint check)
+#: :func:`check_within_limits` and by the timing's waypoint check [rad or m]
 LIMIT_SLACK = 1e-9
 
 

@@ -12,6 +12,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from scara_opt.checks import describe, float_array
 from scara_opt.errors import InputError, JointLimitError, TrajectoryError
+from scara_opt.model.joint_checks import LIMIT_SLACK  # round-off off the limits [rad or m]
 from scara_opt.model.robot import Robot
 
 if TYPE_CHECKING:
@@ -26,8 +27,6 @@ Waypoints: TypeAlias = "JointPath | ArrayLike | Sequence[ArrayLike]"
 
 #: consecutive waypoints closer than this in every joint are duplicates [rad or m]
 DUPLICATE_TOL = 1e-9
-#: waypoints may leave the joint limits by this much through round-off [rad or m]
-LIMIT_SLACK = 1e-9
 #: most values (n × nq) that the fast path of :func:`prepare_waypoints` checks in a Python
 #: loop; beyond, numpy's checks of the whole array are faster
 FAST_SIZE = 64
