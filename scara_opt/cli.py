@@ -176,7 +176,7 @@ def _int_list(text: str) -> list[int]:
     except ValueError:
         raise argparse.ArgumentTypeError(
             f"expected comma-separated integers, got {text!r}") from None
-    if not values or any(v <= 0 for v in values):
+    if any(v <= 0 for v in values):  # _entries refused an empty one
         raise argparse.ArgumentTypeError(f"expected positive integers, got {text!r}")
     return values
 
@@ -193,7 +193,6 @@ def _ignore_sigint() -> None:
     line.
     """
     import signal
-    import warnings
 
     signal.signal(signal.SIGINT, signal.SIG_IGN)
     warnings.showwarning = _show_warning
@@ -239,12 +238,11 @@ def cmd_compare(args: argparse.Namespace) -> int:
 
     robot = so.load_robot(args.robot)
     L = 1000.0 if args.mm else 1.0
-    # "all" goes to the library as is: it leaves out methods that do not apply to the robot
-    methods = "all" if args.methods == "all" else args.methods
     out = OutputDir(args.out, COMPARE_FILES, args.force, last=["summary.csv"])
     with out:
         with _executor(args) as executor:
-            table = compare(robot, [np.asarray(args.target, float) / L], methods=methods,
+            # "all" goes to the library as is: it leaves out methods the robot cannot use
+            table = compare(robot, [np.asarray(args.target, float) / L], methods=args.methods,
                             populations=args.populations, iterations=args.iterations,
                             seeds=range(args.seeds), executor=executor, progress=True,
                             tol=args.tol)

@@ -18,7 +18,7 @@ from typing import Any
 
 import numpy as np
 import pinocchio as pin
-from numpy.typing import ArrayLike
+from numpy.typing import ArrayLike, NDArray
 
 from scara_opt.checks import describe
 from scara_opt.errors import InputError, ScaraOptError
@@ -247,7 +247,7 @@ def held_values(robot: Robot, geom: ScaraGeometry, q_ref: Array,
 
 
 def solve_batch(robot: Robot, positions: ArrayLike, yaws: ArrayLike | None = None,
-                fixed: dict[str, float] | None = None) -> tuple[Array, Array]:
+                fixed: dict[str, float] | None = None) -> tuple[Array, NDArray[np.bool_]]:
     """Closed-form IK of many targets at once, vectorised with numpy.
 
     Redundant joints are held (at ``fixed``, else the default start), not searched: for

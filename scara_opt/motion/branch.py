@@ -118,7 +118,7 @@ def first_unreachable(robot: Robot, P: Array, yaws: Array | None, q_prev: Array)
     if b is None:
         return None
     _, valid = solve_batch(robot, P, yaws)
-    bad = np.flatnonzero(np.logical_not(valid[:, b]))
+    bad = np.flatnonzero(~valid[:, b])
     return int(bad[0]) if bad.size else None
 
 

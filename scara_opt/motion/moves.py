@@ -14,7 +14,6 @@ raises :class:`~scara_opt.errors.MoveError` naming the index and what to change.
 from __future__ import annotations
 
 import math
-import numbers
 from collections.abc import Iterable
 from dataclasses import dataclass
 from typing import Any, Literal, overload
@@ -80,7 +79,7 @@ class CIRC(Move):
 def _positive(index: int, move: Move, name: str, value: object, unit: str) -> None:
     if value is None:
         return
-    number = float(value) if isinstance(value, numbers.Real) and is_real(value) else math.nan
+    number = float(value) if is_real(value) else math.nan
     if not (math.isfinite(number) and number > 0):
         raise MoveError(index, f"{move.kind} {name}={describe(value)}: a tool {name} must be a "
                                f"finite number > 0 [{unit}]; pass a positive {name}= or None "

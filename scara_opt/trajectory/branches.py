@@ -198,8 +198,7 @@ def candidates_closed_form(robot: Robot, targets: Sequence[Target],
     yaws = np.array([t.yaw for t in targets]) if kinds == {"yaw"} else None
     if yaws is not None and g.wrist < 0:
         return None
-    Q, valid_rows = solve_batch(robot, P, yaws)
-    valid = np.asarray(valid_rows, dtype=bool)  # bool already: solve_batch's annotation says float
+    Q, valid = solve_batch(robot, P, yaws)
     if yaws is None and g.wrist >= 0:
         Q[:, :, g.wrist] = q_ref[g.wrist]
     solved = {g.shoulder, g.elbow} | ({g.wrist} if yaws is not None else set())
