@@ -3,6 +3,8 @@
 from __future__ import annotations
 
 import signal
+import subprocess
+import sys
 from pathlib import Path
 
 import numpy as np
@@ -87,3 +89,9 @@ def panda_arm() -> so.Robot:
 def random_q(robot: so.Robot, n: int, seed: int = 0) -> np.ndarray:
     """``n`` configurations drawn uniformly within the joint limits, (n, nq)."""
     return np.random.default_rng(seed).uniform(robot.lower, robot.upper, (n, robot.nq))
+
+
+def run_cli(*args: str, timeout: float = 300) -> subprocess.CompletedProcess:
+    """``python -m scara_opt.cli ARGS`` in a new process, as a user's shell runs it."""
+    return subprocess.run([sys.executable, "-m", "scara_opt.cli", *args],
+                          capture_output=True, text=True, timeout=timeout)

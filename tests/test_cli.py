@@ -3,17 +3,11 @@
 from __future__ import annotations
 
 import json
-import subprocess
-import sys
 
 import pytest
 
 from tests.conftest import BUNDLED
-
-
-def run(*args: str, timeout: float = 300) -> subprocess.CompletedProcess:
-    return subprocess.run([sys.executable, "-m", "scara_opt.cli", *args],
-                          capture_output=True, text=True, timeout=timeout)
+from tests.conftest import run_cli as run
 
 
 def test_robots_lists_every_bundled_robot_with_limits_and_source():

@@ -14,7 +14,7 @@ import scara_opt as so
 from scara_opt.collision.bound import body_weights
 from scara_opt.collision.geometry import robot_geometry
 
-from .conftest import DATA
+from .conftest import DATA, random_q
 
 ARM2R = DATA / "arm2r_collision.urdf"
 
@@ -83,9 +83,7 @@ def test_self_pairs_leave_out_adjacent_and_built_in_contacts():
     checked = {(geom.bodies[i].name, geom.bodies[j].name) for i, j in geom.pairs}
     assert ("link1", "link3_shaft") in checked
     checker = so.CollisionChecker(so.load_robot("zavar2024"))
-    rng = np.random.default_rng(0)
-    robot = checker.robot
-    Q = rng.uniform(robot.lower, robot.upper, (200, 4))
+    Q = random_q(checker.robot, 200, 0)
     assert not checker.collides_many(Q).any()  # the elbow limits keep the arms apart
 
 
@@ -221,7 +219,7 @@ def test_mesh_obstacle_and_missing_mesh(tmp_path):
     box = so.Cell([so.Box("block", (0.1, 0.1, 0.1), xyz=(0.3, 0, -0.08))])
     robot = so.load_robot("zavar2024")
     a, b = so.CollisionChecker(robot, cell), so.CollisionChecker(robot, box)
-    Q = np.random.default_rng(1).uniform(robot.lower, robot.upper, (300, 4))
+    Q = random_q(robot, 300, 1)
     assert (a.collides_many(Q) == b.collides_many(Q)).all() and a.collides_many(Q).any()
     (tmp_path / "block.stl").unlink()
     with pytest.raises(so.MeshNotFoundError, match="block.stl"):
@@ -253,7 +251,7 @@ def test_batch_agrees_with_the_loop_and_the_distances():
     cell = so.Cell([so.Cylinder("post", 0.03, 0.4, xyz=(0.25, 0.15, 0.0)),
                     so.Box("rack", (0.1, 0.3, 0.05), xyz=(0.0, 0.3, -0.1))])
     checker = so.CollisionChecker(robot, cell)
-    Q = np.random.default_rng(2).uniform(robot.lower, robot.upper, (500, 4))
+    Q = random_q(robot, 500, 2)
     loop = np.array([checker.collides(q) for q in Q])
     assert (checker.collides_many(Q) == loop).all()
     assert 0.05 < loop.mean() < 0.95
@@ -322,8 +320,7 @@ def test_pairs_out_of_reach_along_the_scara_axis_are_not_checked():
     checker = so.CollisionChecker(robot, cell)
     pruned = [k for k, why in checker.skipped.items() if why.startswith("never")]
     assert ("link4", "table") in pruned and ("link2", "shelf") in pruned
-    rng = np.random.default_rng(4)
-    Q = rng.uniform(robot.lower, robot.upper, (300, 4))
+    Q = random_q(robot, 300, 4)
     model = checker.model  # every body is in it, checked or not
     data, gdata = robot.model.createData(), pin.GeometryData(model)
     names = [o.name for o in model.geometryObjects]

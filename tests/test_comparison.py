@@ -2,8 +2,6 @@
 
 from __future__ import annotations
 
-import subprocess
-import sys
 from concurrent.futures import ProcessPoolExecutor, ThreadPoolExecutor
 
 import numpy as np
@@ -12,6 +10,7 @@ import pytest
 
 import scara_opt as so
 from scara_opt.comparison import COLUMNS, compare, convergence, rank_methods, summarize
+from tests.conftest import run_cli
 
 TARGETS = [[-0.23, 0.20, -0.07], [-0.23, 0.20, -0.20], [0.30, 0.10, -0.06]]
 SAME = [c for c in COLUMNS if c not in ("time_s", "setup_s", "history")]
@@ -84,13 +83,11 @@ def test_the_cli_finishes_on_a_real_dask_cluster_with_the_serial_numbers(cluster
 
     Mutation caught: ``shutdown(cancel_futures=True)`` on the dask executor again -> exit 1.
     """
-    base = [sys.executable, "-m", "scara_opt.cli", "compare", "zavar2024", "--target", "0.3",
-            "0.1", "-0.07", "--methods", "pso", "--populations", "8", "--iterations", "10",
-            "--seeds", "6"]
+    base = ["compare", "zavar2024", "--target", "0.3", "0.1", "-0.07", "--methods", "pso",
+            "--populations", "8", "--iterations", "10", "--seeds", "6"]
     runs = {}
     for name, extra in (("dask", ["--dask", cluster.scheduler_address]), ("serial", [])):
-        out = subprocess.run([*base, *extra, "--out", str(tmp_path / name)],
-                             capture_output=True, text=True, timeout=600)
+        out = run_cli(*base, *extra, "--out", str(tmp_path / name), timeout=600)
         assert out.returncode == 0, out.stderr
         assert "Traceback" not in out.stderr
         runs[name] = pd.read_csv(tmp_path / name / "runs.csv")

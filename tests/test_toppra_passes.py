@@ -9,6 +9,7 @@ import scara_opt as so
 from scara_opt.trajectory.dynamics import RobotDynamics
 from scara_opt.trajectory.toppra_backend import chord_parameter
 from scara_opt.trajectory.toppra_passes import reachability_passes
+from tests.conftest import random_q
 
 ROBOT = so.load_robot("zavar2024")
 
@@ -29,8 +30,7 @@ def problem(n: int, seed: int, per: int, torque: float | None = None):
     import toppra
     import toppra.constraint as constraint
 
-    rng = np.random.default_rng(seed)
-    Q = rng.uniform(ROBOT.lower, ROBOT.upper, (n, ROBOT.nq))
+    Q = random_q(ROBOT, n, seed)
     s = chord_parameter(Q, ROBOT.velocity_limit)
     path = toppra.SplineInterpolator(s, Q)
     cons = [constraint.JointVelocityConstraint(ROBOT.velocity_limit),
