@@ -87,7 +87,7 @@ def cells() -> dict[str, tuple[so.Robot, so.Cell, dict]]:
             "shelf": (arm, shelf, {"radius": 0.045})}
 
 
-def dense_polyline(checker: so.CollisionChecker, Q: np.ndarray) -> np.ndarray:
+def dense_polyline(Q: np.ndarray) -> np.ndarray:
     """Configurations every DENSE of joint motion along the polyline Q (its vertices too)."""
     rows = [Q[:1]]
     for a, b in zip(Q[:-1], Q[1:], strict=True):
@@ -124,7 +124,7 @@ def make_pairs(robot: so.Robot, checker: so.CollisionChecker, n: int, seed: int)
         Q = rng.uniform(lo, hi, (64, robot.nq))
         Q = Q[~checker.collides_many(Q)]
         for a, b in zip(Q[0::2], Q[1::2], strict=False):
-            if len(pairs) < n and deepest(checker, dense_polyline(checker, np.array([a, b]))):
+            if len(pairs) < n and deepest(checker, dense_polyline(np.array([a, b]))):
                 pairs.append((a, b))
     return pairs
 
@@ -203,7 +203,7 @@ def ompl_baseline(robot: so.Robot, checker: so.CollisionChecker, a: np.ndarray,
     Q = np.array([[path.getState(i)[k] for k in idx] for i in range(path.getStateCount())])
     return {"solved": True, "time": t_plan + t_simp, "plan": t_plan, "simplify": t_simp,
             "per_check": (t_plan + t_simp) / calls[0],
-            "depth": deepest(checker, dense_polyline(checker, Q)),
+            "depth": deepest(checker, dense_polyline(Q)),
             "length": path_length(Q)}
 
 
@@ -226,7 +226,7 @@ def pyroboplan_peer(robot: so.Robot, checker: so.CollisionChecker, a: np.ndarray
     t_simp = time.perf_counter() - t
     Q = np.array(path)
     return {"solved": True, "time": t_plan + t_simp, "plan": t_plan, "simplify": t_simp,
-            "depth": deepest(checker, dense_polyline(checker, Q)), "length": path_length(Q)}
+            "depth": deepest(checker, dense_polyline(Q)), "length": path_length(Q)}
 
 
 # ---------------------------------------------------------------------------- side numbers
@@ -294,8 +294,9 @@ def main() -> None:
           "simplifier), rest = toppra and the proof of the timed trajectory")
     print(f"{'cell':<7}{'planner':<12}{'solved':>9}{'colliding':>11}{'deepest':>10}"
           f"{'total':>8}{'plan':>8}{'rest':>8}{'length':>8}{'per check':>11}")
+    built = cells()
     for name in args.cells.split(","):
-        robot, cell, kw = cells()[name]
+        robot, cell, kw = built[name]
         checker = so.CollisionChecker(robot, cell, **kw)
         pairs = make_pairs(robot, checker, n, seed=7)
         raw, one, speedup = check_costs(robot, checker)

@@ -99,7 +99,8 @@ def main() -> None:
     drop = [s.q for s in low if not checker.collides(s.q)][0]
     over = so.plan(robot, [so.PTP(drop)], start=start, cell=cell, seed=SEED)
     t_over = over.times(0.005)
-    z_over = robot.positions(over.evaluate(t_over))[:, 2]
+    Po = robot.positions(over.evaluate(t_over))
+    z_over = Po[:, 2]
     print(f"\nPTP pick -> beyond the rack, tool at {PICK[2] * 1e3:g} mm at both ends: "
           f"{over.duration:.3f} s, the tool lifted to {z_over.max() * 1e3:.1f} mm on the way "
           f"({over.check_collisions()})")
@@ -124,9 +125,8 @@ def main() -> None:
     ax.plot(0, 0, "k+", ms=12)
     ax.set(xlabel="x [m]", ylabel="y [m]", title=f"{robot.name} in {cell.name}: top view")
     ax.set_aspect("equal")
-    ax.legend(fontsize=8)
-    Po = robot.positions(over.evaluate(t_over))
     ax.plot(Po[:, 0], Po[:, 1], "g-", label="PTP over the rack")
+    ax.legend(fontsize=8)
     az.plot(t_over, z_over * 1e3, "g-")
     rack = cell["rack"]
     az.axhline((rack.xyz[2] + rack.size[2] / 2) * 1e3, color="0.5", ls=":",
