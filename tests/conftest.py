@@ -95,3 +95,11 @@ def run_cli(*args: str, timeout: float = 300) -> subprocess.CompletedProcess:
     """``python -m scara_opt.cli ARGS`` in a new process, as a user's shell runs it."""
     return subprocess.run([sys.executable, "-m", "scara_opt.cli", *args],
                           capture_output=True, text=True, timeout=timeout)
+
+
+def c_compiler():
+    """The package's C compiler (:class:`scara_opt.model.compiled.Toolchain`), or ``None``."""
+    from scara_opt.model import compiled
+
+    found = compiled.toolchain()
+    return found if isinstance(found, compiled.Toolchain) else None

@@ -21,6 +21,7 @@ import pytest
 
 from scara_opt.errors import CompilingWarning, FallbackWarning
 from scara_opt.model import compiled
+from tests.conftest import c_compiler
 
 #: a new process's run over every kind of cached library: the casadi Functions (batch FK,
 #: the fast IK's three phases, the footprint test) and the C kernels (lm_driver, fa_sweep,
@@ -78,7 +79,7 @@ def _public_dir() -> Path:
 @pytest.fixture(scope="module")
 def pristine(tmp_path_factory: pytest.TempPathFactory) -> tuple[Path, str]:
     """A cache built by one process, and the hash of that process's numbers."""
-    if compiled._compiler() is None:
+    if c_compiler() is None:
         pytest.skip("no C compiler: nothing is cached")
     cache = tmp_path_factory.mktemp("pristine") / "cache"
     run = _solve(cache)
@@ -213,7 +214,7 @@ def test_three_processes_on_an_empty_cache_build_each_library_once(pristine, tmp
                        "exec \"$@\"\n")
     wrapper.chmod(0o755)
     cache = tmp_path / "cache"
-    env = _env(cache, CC=f"{wrapper} {compiled._compiler().command[0]}")
+    env = _env(cache, CC=f"{wrapper} {c_compiler().command[0]}")
     procs = [subprocess.Popen([sys.executable, "-c", SOLVE], env=env, stdout=subprocess.PIPE,
                               stderr=subprocess.PIPE, text=True) for _ in range(3)]
     outs = [p.communicate(timeout=600) for p in procs]
@@ -229,14 +230,14 @@ def test_threads_of_one_process_build_a_library_once(tmp_path, monkeypatch):
 
     Mutation caught: ``_build_lock`` a no-op -> several compiles; fails.
     """
-    if compiled._compiler() is None:
+    if c_compiler() is None:
         pytest.skip("no C compiler")
     log = tmp_path / "builds.log"
     wrapper = tmp_path / "wrap"
     wrapper.write_text(f"#!/bin/sh\ncase \" $* \" in *' -o '*) echo x >> {log};; esac\n"
                        "sleep 0.3\nexec \"$@\"\n")
     wrapper.chmod(0o755)
-    monkeypatch.setenv("CC", f"{wrapper} {compiled._compiler().command[0]}")
+    monkeypatch.setenv("CC", f"{wrapper} {c_compiler().command[0]}")
     monkeypatch.setenv(compiled.CACHE_ENV, str(tmp_path / "cache"))
     src = tmp_path / "thrice.c"
     src.write_text("double thrice(double x) { return 3.0 * x; }\n")
@@ -282,7 +283,7 @@ def test_cc_is_split_like_a_shell(monkeypatch):
     assert compiled.toolchain() == ("CC=\"'my cc' -m64\" names 'my cc', which is not an "
                                     "executable on the PATH; install it, or fix or unset CC")
     monkeypatch.setenv("CC", "")
-    cc = compiled._compiler()
+    cc = c_compiler()
     if cc is None:
         pytest.skip("no C compiler")
     monkeypatch.setenv("CC", f"{cc.command[0]} -m64")
@@ -295,7 +296,7 @@ def test_a_slow_build_is_said_once_as_a_compiling_warning(tmp_path, monkeypatch)
 
     Mutation caught: the notice said on every build -> two warnings; fails.
     """
-    if compiled._compiler() is None:
+    if c_compiler() is None:
         pytest.skip("no C compiler")
     monkeypatch.setattr(compiled, "SLOW_BUILD_S", 0.0)
     monkeypatch.setattr(compiled, "_SAID", set())

@@ -11,6 +11,7 @@ from scara_opt.errors import InputError, SolverOptionError, UnknownSolverError
 from scara_opt.ik.certificates import certify
 from scara_opt.metaheuristics import GeneticSolver, PopulationSolver, method_label
 from scara_opt.metaheuristics.fa import sweep_all, sweep_nearest
+from tests.conftest import c_compiler
 
 METHODS = ["aco", "ca", "fa", "ga", "gha", "gwo", "pso", "sfla"]
 EASY = (-0.23, 0.20, -0.07)        # zavar2024's target with z moved into reach
@@ -251,7 +252,7 @@ def test_c_library_compiles_once_and_is_off_on_request(tmp_path, monkeypatch):
 
     from scara_opt.model import compiled
 
-    if compiled._compiler() is None:
+    if c_compiler() is None:
         pytest.skip("no C compiler")
     src = tmp_path / "twice.c"
     src.write_text("double twice(double x) { return 2.0 * x; }\n")

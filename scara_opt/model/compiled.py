@@ -212,12 +212,6 @@ def _toolchain(cc: str, search: str) -> Toolchain | str:
     return Toolchain(command, version, origin)
 
 
-def _compiler() -> Toolchain | None:
-    """The C compiler, or ``None`` where none is found."""
-    found = toolchain()
-    return found if isinstance(found, Toolchain) else None
-
-
 def _library(stem: str, key: str, chain: Toolchain) -> Path:
     """The library's path in the cache folder for ``key`` on this platform and compiler."""
     text = repr((key, _CASADI, FLAGS, platform_id(), chain.identity))
@@ -324,14 +318,9 @@ def _obtain(name: str, library: Path, chain: Toolchain,
             return loaded
     try:
         with _build_lock(library):
-            if check_library(library):  # built meanwhile by another process or thread
-                try:
-                    loaded = load(library)
-                except (OSError, RuntimeError):
-                    pass
-                else:
-                    _note(Native(name, "loaded", library))
-                    return loaded
+            # built meanwhile by another process or thread
+            if (meanwhile := _load_checked(name, library, load)) is not None:
+                return meanwhile
             seconds = _build(chain, library, source)
     except _BuildFailed as exc:
         reason = f"it could not be compiled: {exc}; fix or unset CC"
@@ -404,7 +393,10 @@ def compiled(name: str, key: str, build: Callable[[], ca.Function]) -> ca.Functi
 
 
 def _load_checked(name: str, library: Path, load: Callable[[Path], T]) -> T | None:
-    """A checked library loaded without building (compiling is off), or ``None``."""
+    """A checked library loaded without building, or ``None``.
+
+    Used where compiling is off, and under the lock (another process may have built it).
+    """
     if not check_library(library):
         return None
     try:
