@@ -528,18 +528,14 @@ def main(argv: Sequence[str] | None = None) -> int:
     output left.
     """
     try:
-        with interrupt.quiet_casadi_warning(), interrupt.watch() as sigint, \
-                warnings.catch_warnings():  # one line below
-            warnings.showwarning = _show_warning
+        with interrupt.quiet_casadi_warning(), interrupt.watch(), \
+                warnings.catch_warnings():  # one line below; watch(): an error after a SIGINT
+            warnings.showwarning = _show_warning  # is the interrupt
             try:
                 args = build_parser().parse_args(argv)
                 return int(args.func(args))
             except SystemExit as exc:  # --help (0)
                 return exc.code if isinstance(exc.code, int) else 0
-            except Exception:
-                if sigint.received:  # a library turned the interrupt into another error
-                    raise KeyboardInterrupt from None
-                raise
     except KeyboardInterrupt:
         print("scara-opt: interrupted", file=sys.stderr)
         return 130

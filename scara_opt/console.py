@@ -25,13 +25,8 @@ def main() -> NoReturn:
     """
     code = 130
     try:
-        with interrupt.watch() as sigint:
-            try:
-                from scara_opt.cli import main as run
-            except Exception:
-                if sigint.received:  # an import that turned the interrupt into another error
-                    raise KeyboardInterrupt from None
-                raise
+        with interrupt.watch():  # an import that turns the interrupt into another error
+            from scara_opt.cli import main as run
         code = run()
     except KeyboardInterrupt:
         code = 130

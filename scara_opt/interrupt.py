@@ -203,9 +203,10 @@ def watch() -> Iterator[_Watch]:
     """Note every SIGINT of a whole command (then raise ``KeyboardInterrupt`` as Python does).
 
     Some libraries catch the ``KeyboardInterrupt`` and go on, or fail with another error
-    (trimesh's import guards turn it into a ``TypeError``); the command line asks
-    :func:`raise_if_received` before it commits its files and reports such an error as
-    the interrupt it was. Only in the main thread with Python's default handler.
+    (trimesh's import guards turn it into a ``TypeError``): an error that leaves the block
+    after a SIGINT is raised as the ``KeyboardInterrupt`` it was, and the command line asks
+    :func:`raise_if_received` before it commits its files. Notes only in the main thread
+    with Python's default handler.
     """
     _WATCH.received = False
     main = threading.current_thread() is threading.main_thread()
@@ -215,6 +216,10 @@ def watch() -> Iterator[_Watch]:
         signal.signal(signal.SIGINT, _note_sigint)
     try:
         yield _WATCH
+    except Exception:
+        if _WATCH.received:  # a library turned the interrupt into another error
+            raise KeyboardInterrupt from None
+        raise
     finally:
         if install:
             signal.signal(signal.SIGINT, prior)

@@ -410,8 +410,8 @@ def test_an_interrupt_turned_into_another_error_is_reported_as_interrupt(capsys,
     import guards catch it) ended in a TypeError traceback, exit 1 (1 of 10 runs): now any
     error after a SIGINT is reported as the interrupt: one line, exit 130.
 
-    Mutation: main()'s ``if sigint.received: raise KeyboardInterrupt`` removed: the
-    TypeError escaped main() and the test failed.
+    Mutation: interrupt.watch()'s ``if _WATCH.received: raise KeyboardInterrupt`` removed:
+    the TypeError escaped main() and the test failed.
     """
     monkeypatch.setattr("scara_opt.cli.cmd_solvers", _interrupt_swallowed_as(TypeError))
     assert cli(capsys, "solvers") == (130, "", "scara-opt: interrupted\n")
