@@ -528,9 +528,10 @@ def main(argv: Sequence[str] | None = None) -> int:
     output left.
     """
     try:
+        # watch(): an error that follows a SIGINT leaves as the KeyboardInterrupt it was
         with interrupt.quiet_casadi_warning(), interrupt.watch(), \
-                warnings.catch_warnings():  # one line below; watch(): an error after a SIGINT
-            warnings.showwarning = _show_warning  # is the interrupt
+                warnings.catch_warnings():  # one line below
+            warnings.showwarning = _show_warning
             try:
                 args = build_parser().parse_args(argv)
                 return int(args.func(args))
