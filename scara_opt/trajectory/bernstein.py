@@ -16,7 +16,7 @@ from scipy.interpolate import PPoly
 
 Array = NDArray[np.float64]
 
-__all__ = ["piece_bounds", "to_bernstein"]
+__all__ = ["coefficients", "piece_bounds", "to_bernstein"]
 
 
 @functools.cache
@@ -27,6 +27,19 @@ def to_bernstein(degree: int) -> Array:
                       for k in range(d + 1)] for j in range(d + 1)])
 
 
+def coefficients(c: Array, x: Array) -> Array:
+    """Bernstein coefficients of every piece, shaped as ``c``.
+
+    ``c`` (d + 1, m, ...): coefficients in PPoly's layout (highest power first), ``x``
+    (m + 1,) the breakpoints. Each piece's values lie within the range of its coefficients
+    (convex hull property).
+    """
+    d = c.shape[0] - 1
+    alpha = c[::-1] * (np.diff(x) ** np.arange(d + 1.0)[:, None]).reshape(
+        (d + 1, -1) + (1,) * (c.ndim - 2))  # α_k = a_k h^k, lowest power first
+    return (to_bernstein(d) @ alpha.reshape(d + 1, -1)).reshape(c.shape)
+
+
 def piece_bounds(pp: PPoly) -> Array:
     """A bound on ``|f|`` over each piece of a piecewise polynomial.
 
@@ -34,9 +47,4 @@ def piece_bounds(pp: PPoly) -> Array:
     in absolute value (convex hull property): never below the true largest ``|f|`` on the
     piece.
     """
-    c, x = pp.c, pp.x
-    d = c.shape[0] - 1
-    alpha = c[::-1] * (np.diff(x) ** np.arange(d + 1.0)[:, None]).reshape(
-        (d + 1, -1) + (1,) * (c.ndim - 2))  # α_k = a_k h^k, lowest power first
-    out = np.abs(to_bernstein(d) @ alpha.reshape(d + 1, -1)).max(axis=0)
-    return out.reshape(c.shape[1:])
+    return np.abs(coefficients(pp.c, pp.x)).max(axis=0)

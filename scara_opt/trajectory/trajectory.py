@@ -20,8 +20,7 @@ from scipy.interpolate import PPoly
 
 from scara_opt.checks import check_memory, check_real, describe, float_array
 from scara_opt.errors import InputError
-from scara_opt.trajectory.bernstein import piece_bounds
-from scara_opt.trajectory.bernstein import to_bernstein as _to_bernstein
+from scara_opt.trajectory.bernstein import coefficients, piece_bounds
 from scara_opt.trajectory.limits import Limits
 
 if TYPE_CHECKING:
@@ -35,13 +34,16 @@ Array = NDArray[np.float64]
 _T_SLACK = 1e-9
 
 
-def _end_values(pp: PPoly) -> Array:
-    """Values of every piece at both of its ends, (2 m,): left limits included."""
-    h = np.diff(pp.x)
-    right = pp.c[0].copy()
-    for row in pp.c[1:]:
+def _end_values(c: Array, x: Array) -> Array:
+    """Values of every piece at both of its ends, (2 m, ...): left limits included.
+
+    ``c`` (d + 1, m, ...) in PPoly's layout, ``x`` (m + 1,) the breakpoints.
+    """
+    h = np.diff(x).reshape((-1,) + (1,) * (c.ndim - 2))
+    right = c[0].copy()
+    for row in c[1:]:
         right = right * h + row
-    return np.concatenate([pp.c[-1], right])
+    return np.concatenate([c[-1], right])
 
 
 def _may_leave(pp: PPoly, lo: float, hi: float) -> NDArray[np.intp]:
@@ -50,10 +52,7 @@ def _may_leave(pp: PPoly, lo: float, hi: float) -> NDArray[np.intp]:
     A polynomial on a piece lies within the range of its Bernstein coefficients (convex
     hull property), so a piece whose coefficients all lie in [lo, hi] stays inside.
     """
-    d = pp.c.shape[0] - 1
-    h = np.diff(pp.x)
-    alpha = pp.c[::-1] * h ** np.arange(d + 1.0)[:, None]  # α_k = a_k h^k, lowest first
-    b = _to_bernstein(d) @ alpha
+    b = coefficients(pp.c, pp.x)
     return np.flatnonzero((b.max(axis=0) > hi) | (b.min(axis=0) < lo))
 
 
@@ -63,7 +62,7 @@ def extrema(pp: PPoly) -> tuple[float, float]:
     Candidates are the ends of every piece and the real roots of ``f'`` inside the pieces
     that may reach beyond the ends' range (:func:`_may_leave`); the other pieces cannot.
     """
-    vals = _end_values(pp)
+    vals = _end_values(pp.c, pp.x)
     if pp.c.shape[0] > 2:
         idx = _may_leave(pp, float(vals.min()), float(vals.max()))
         if idx.size:  # those pieces laid end to end: same local polynomials, same values
@@ -104,21 +103,15 @@ def sup_abs_columns(c: Array, x: Array) -> Array:
     real roots of ``f'`` inside the pieces whose Bernstein coefficients leave the ends'
     range (the only ones that can reach beyond it).
     """
-    d = c.shape[0] - 1
-    h = np.diff(x)
-    right = c[0].copy()
-    for row in c[1:]:
-        right = right * h[:, None] + row
-    ends = np.concatenate([c[-1], right])
+    ends = _end_values(c, x)
     lo, hi = ends.min(axis=0), ends.max(axis=0)
     best = np.maximum(np.abs(lo), np.abs(hi))
-    if d < 2:
+    if c.shape[0] < 3:
         return best
-    alpha = c[::-1] * (h ** np.arange(d + 1.0)[:, None])[:, :, None]  # a_k h^k, lowest first
-    b = (_to_bernstein(d) @ alpha.reshape(d + 1, -1)).reshape(alpha.shape)
+    b = coefficients(c, x)
     i, j = np.nonzero((b.max(axis=0) > hi) | (b.min(axis=0) < lo))
     if i.size:  # those pieces laid end to end (as in extrema): one root search for all
-        x_sub = np.concatenate([[0.0], np.cumsum(h[i])])
+        x_sub = np.concatenate([[0.0], np.cumsum(np.diff(x)[i])])
         sub = PPoly(c[:, i, j], x_sub, extrapolate=False)
         roots = sub.derivative().roots(discontinuity=False, extrapolate=False)
         roots = roots[np.isfinite(roots)]
