@@ -165,6 +165,18 @@ def range_of_sum(signs: Array, lo: Array, hi: Array) -> tuple[float, float]:
 
 
 # ---------------------------------------------------------------------- one rail value
+def link_angles(geom: ScaraGeometry, uv: Array, c: float) -> list[tuple[float, float]]:
+    """(α, γ) [rad] of the elbow branches placing the tip at ``uv`` (2,).
+
+    ``uv`` [m] relative to the shoulder axis; ``c`` = cos γ, |c| <= 1. Two branches, one
+    where the arm is stretched or folded.
+    """
+    g = math.acos(c)
+    return [(math.atan2(uv[1], uv[0]) - math.atan2(geom.l2 * math.sin(gamma),
+                                                   geom.l1 + geom.l2 * math.cos(gamma)), gamma)
+            for gamma in {g, -g}]
+
+
 def _planar(geom: ScaraGeometry, uv: Array, box: Box) -> list[tuple[float, float]]:
     """(shoulder, elbow) values [rad] placing the tip at ``uv``: every branch and turn.
 
@@ -174,11 +186,8 @@ def _planar(geom: ScaraGeometry, uv: Array, box: Box) -> list[tuple[float, float
     c = (float(uv @ uv) - geom.l1**2 - geom.l2**2) / (2 * geom.l1 * geom.l2)
     if abs(c) > 1 + box.cos_slack:
         return []
-    g = math.acos(max(-1.0, min(1.0, c)))
     out = []
-    for gamma in {g, -g}:
-        a1 = math.atan2(uv[1], uv[0]) - math.atan2(geom.l2 * math.sin(gamma),
-                                                   geom.l1 + geom.l2 * math.cos(gamma))
+    for a1, gamma in link_angles(geom, uv, max(-1.0, min(1.0, c))):
         t1 = geom.s[sh] * (a1 - geom.phi1)
         t2 = geom.s[el] * (gamma - (geom.phi2 - geom.phi1))
         out += [(v1, v2) for v1 in turns(t1, *box.outer(sh))

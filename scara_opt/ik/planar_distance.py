@@ -39,7 +39,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from scara_opt.ik.closed_form import turns
+from scara_opt.ik.closed_form import link_angles, turns
 from scara_opt.ik.geometry import ScaraGeometry
 from scara_opt.model.robot import Array
 
@@ -157,9 +157,7 @@ def reaches(geom: ScaraGeometry, dom: Domain, x: Array) -> bool:
     c = (float(x @ x) - l1 * l1 - l2 * l2) / (2.0 * l1 * l2)
     if abs(c) > 1.0:
         return False
-    base = math.atan2(x[1], x[0])
-    for g in {math.acos(c), -math.acos(c)}:
-        a = base - math.atan2(l2 * math.sin(g), l1 + l2 * math.cos(g))
+    for a, g in link_angles(geom, x, c):
         for gk in turns(g, dom.g_lo - ANGLE_SLACK, dom.g_hi + ANGLE_SLACK):
             for ak in turns(a, dom.a_lo - ANGLE_SLACK, dom.a_hi + ANGLE_SLACK):
                 if dom.contains(ak, gk):
