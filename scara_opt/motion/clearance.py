@@ -260,19 +260,20 @@ class CellPlanning:
         cubic_range`), the cell by :func:`~scara_opt.collision.continuous.check_path`.
         """
         spline = section_spline(rows, limits).cspl
-        robot = self.checker.robot
-        lo, hi = cubic_range(spline)
-        if (lo < robot.lower - LIMIT_SLACK).any() or (hi > robot.upper + LIMIT_SLACK).any():
+        if not _within_limits(self.checker.robot, *cubic_range(spline)):
             return None
         proof = check_path(self.checker, spline)
         return proof if proof.clear else None
 
     def _inside(self, traj: Trajectory) -> bool:
         """Whether the trajectory stays within the joint limits (exact extrema)."""
-        robot = self.checker.robot
-        lo, hi = traj.position_range()
-        return bool((lo >= robot.lower - LIMIT_SLACK).all()
-                    and (hi <= robot.upper + LIMIT_SLACK).all())
+        return _within_limits(self.checker.robot, *traj.position_range())
+
+
+def _within_limits(robot: Robot, lo: Array, hi: Array) -> bool:
+    """Whether the range [lo, hi] (nq,) each of a motion lies within the joint limits."""
+    return bool((lo >= robot.lower - LIMIT_SLACK).all()
+                and (hi <= robot.upper + LIMIT_SLACK).all())
 
 
 def _proven(clearance: float, checks: int, what: str = "") -> str:
