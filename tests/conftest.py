@@ -103,3 +103,13 @@ def c_compiler():
 
     found = compiled.toolchain()
     return found if isinstance(found, compiled.Toolchain) else None
+
+
+def dense_first_contact(checker, qa, qb, step=1e-3):
+    """First fraction along qa->qb in collision by sampling every ``step`` of joint motion
+    (rad or m): the independent check the collision proofs are tested against; None if clear.
+    """
+    n = int(np.ceil(np.abs(qb - qa).max() / step)) + 1
+    s = np.linspace(0.0, 1.0, n)
+    hit = checker.collides_many(qa + s[:, None] * (qb - qa))
+    return float(s[np.argmax(hit)]) if hit.any() else None

@@ -11,17 +11,10 @@ import pytest
 
 import scara_opt as so
 from scara_opt.collision.continuous import VelocityBound, prove_segment
+from tests.conftest import dense_first_contact
 
 THIN = so.Cell([so.Box("plate", (0.004, 0.5, 0.4), xyz=(0.28, 0.05, -0.05), rpy=(0, 0, 0.3)),
                 so.Cylinder("post", 0.01, 0.4, xyz=(0.15, -0.25, 0.0))])
-
-
-def dense_first_contact(checker, qa, qb, step=1e-3):
-    """First fraction along qa->qb in collision by sampling every ``step`` of joint motion."""
-    n = int(np.ceil(np.abs(qb - qa).max() / step)) + 1
-    s = np.linspace(0.0, 1.0, n)
-    hit = checker.collides_many(qa + s[:, None] * (qb - qa))
-    return float(s[np.argmax(hit)]) if hit.any() else None
 
 
 def random_segments(robot, checker, n, seed):

@@ -237,16 +237,12 @@ def test_docstring_math_keeps_its_parentheses_and_is_typeset():
     through the cross-reference path again (``MATH.sub(...)`` dropped) -> inline code,
     stripped, fails.
     """
-    import importlib.util
-
     import yaml  # mkdocs' own dependency
 
     from tests.conftest import ROOT
+    from tests.test_docs import _roles
 
-    spec = importlib.util.spec_from_file_location(
-        "roles", ROOT / "docs_ext" / "griffe_sphinx_roles.py")
-    roles = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(roles)
+    roles = _roles()
     assert roles.convert(r"with :math:`r \sim U(0, 1)` per leap") == (
         r"with \(r \sim U(0, 1)\) per leap")
     assert roles.convert(":math:`a = a_0 (1 - (t + 1)/T)`") == r"\(a = a_0 (1 - (t + 1)/T)\)"

@@ -9,6 +9,7 @@ import pytest
 
 import scara_opt as so
 from scara_opt.planning import PlanStatus, plan_path
+from tests.conftest import dense_first_contact
 
 ROBOT = so.load_robot("zavar2024")
 POST = so.Cell([so.Cylinder("post", 0.03, 0.4, xyz=(0.3, 0.15, 0.0))])
@@ -17,12 +18,8 @@ QA, QB = np.array([-0.5, 0.5, 0.0, 0.0]), np.array([1.2, 0.5, 0.0, 0.0])
 
 def dense_clear(checker, Q, step=1e-3):
     """Every configuration every ``step`` (rad or m) along the polyline Q is free."""
-    for a, b in zip(Q[:-1], Q[1:], strict=True):
-        n = int(np.ceil(np.abs(b - a).max() / step)) + 1
-        s = np.linspace(0.0, 1.0, n)[:, None]
-        if checker.collides_many(a + s * (b - a)).any():
-            return False
-    return True
+    return all(dense_first_contact(checker, a, b, step) is None
+               for a, b in zip(Q[:-1], Q[1:], strict=True))
 
 
 def dense_clear_trajectory(checker, traj, step=1e-3):
