@@ -33,7 +33,9 @@ ROLES = (("scara_opt_fk_", "batch forward kinematics"),
          ("lm_driver", "fast IK: start loop (C)"),
          ("fa_sweep", "FA: all-pairs sweep (C)"),
          ("ga_breed", "GA: crossover and mutation (C)"),
-         ("aco_ants", "ACO: ant sampling (C)"))
+         ("aco_ants", "ACO: ant sampling (C)"),
+         ("scara_opt_bodies_", "collision: robot body placements"),
+         ("edge_kernel", "collision: edge proofs (C++, coal)"))
 
 
 def versions() -> list[str]:
@@ -108,6 +110,8 @@ def exercise(robot_name: str = ROBOT) -> None:
     for kernel in (fa._kernel, ga_breed._kernel, aco._kernel):
         kernel()
     so.workspace(robot, n=1000, seed=0)  # the footprint's test compiled with the FK
+    checker = so.CollisionChecker(robot, so.Cell([so.Sphere("ball", 0.05, xyz=(0.3, 0, 0))]))
+    checker.distances_many(Q)  # the edge proofs' kernel and the bodies' placements
 
 
 def _role(name: str) -> str:

@@ -33,6 +33,7 @@ from numpy.typing import ArrayLike, NDArray
 from scara_opt.checks import check_real, describe
 from scara_opt.collision.bound import height_gaps, height_range, pair_weights
 from scara_opt.collision.cell import Cell
+from scara_opt.collision.edge_kernel import EdgeKernel, edge_kernel
 from scara_opt.collision.geometry import (
     Body,
     RobotGeometry,
@@ -192,6 +193,21 @@ class CollisionChecker:
             local.pair = (self.robot.model.createData(), gdata, list(gdata.distanceResults))
             return local.pair
 
+    def _kernel(self) -> EdgeKernel | None:
+        """This thread's compiled distance kernel, or ``None`` (the Pinocchio calls run).
+
+        See :mod:`~scara_opt.collision.edge_kernel`; its distances less ``margin`` and
+        :data:`~scara_opt.collision.continuous.DISTANCE_TOL` for the proofs.
+        """
+        local = self._local
+        try:
+            return local.kernel
+        except AttributeError:
+            from scara_opt.collision.continuous import DISTANCE_TOL  # it imports this module
+
+            local.kernel = edge_kernel(self, self.margin + DISTANCE_TOL)
+            return local.kernel
+
     def _q(self, q: ArrayLike) -> Array:
         """``q`` checked: a float (nq,) array of finite values (the fast path costs ~0.5 µs)."""
         if (type(q) is np.ndarray and q.dtype is _F64 and q.shape == self._shape
@@ -315,6 +331,9 @@ class CollisionChecker:
     def distances_many(self, Q: ArrayLike) -> Array:
         """Signed distances (n, npairs) [m] of every pair at each row of ``Q`` (n, nq)."""
         Qa = self._batch(Q)
+        kernel = self._kernel()
+        if kernel is not None:
+            return kernel.batch(Qa)
         data, gdata, results = self._data()
         out = np.empty((len(Qa), self.npairs))
         model, gmodel = self._robot_model, self.model
@@ -329,6 +348,9 @@ class CollisionChecker:
         No checks (the proofs' inner loop): ``Q`` a float array, ``pairs`` indices into
         :attr:`pair_names` (``None``: all, as :meth:`distances_many`).
         """
+        kernel = self._kernel()
+        if kernel is not None:
+            return kernel.batch(Q, None if pairs is None else [int(k) for k in pairs])
         if pairs is None:
             return self.distances_many(Q)
         data, gdata, _ = self._data()

@@ -435,15 +435,18 @@ def library_path(name: str) -> Path | None:
     return _PATHS.get(name)
 
 
-def c_library(source: str | Path) -> ctypes.CDLL | None:
+def c_library(source: str | Path, extra: tuple[str, ...] = ()) -> ctypes.CDLL | None:
     """The C file ``source`` compiled into a shared library in the cache folder, loaded.
 
-    Compiled once per machine (keyed by the source's contents, the flags, the platform and
-    the compiler), checked and loaded once per process. ``None`` where compiling is off
-    (``SCARA_OPT_NO_COMPILE=1``) or falls back (said once per process): the caller runs
-    its numpy form.
+    Compiled once per machine (keyed by the source's contents, ``extra``, the flags, the
+    platform and the compiler), checked and loaded once per process. ``None`` where
+    compiling is off (``SCARA_OPT_NO_COMPILE=1``) or falls back (said once per process):
+    the caller runs its numpy form. A ``.cpp`` file is compiled as C++ (the compiler
+    driver knows it by its suffix) and linked with the C++ library; ``extra``: more
+    arguments after the file (include and library folders, libraries).
     """
     source = Path(source)
+    libs = ("-lm", *(("-lstdc++",) if source.suffix == ".cpp" else ()), *extra)
     if os.environ.get(NO_COMPILE_ENV) == "1":
         _note(Native(source.name, "off", None, f"{NO_COMPILE_ENV}=1"))
         return None
@@ -451,11 +454,11 @@ def c_library(source: str | Path) -> ctypes.CDLL | None:
     if not isinstance(chain, Toolchain):
         _fall_back(source.name, chain)
         return None
-    library = _library(source.stem, source_hash(source), chain)
+    library = _library(source.stem, f"{source_hash(source)} {libs}", chain)
     with _LOCK:
         if str(library) in _LIBRARIES:
             return _LIBRARIES[str(library)]
-    lib = _obtain(source.name, library, chain, lambda _tmp: (str(source), ("-lm",)),
+    lib = _obtain(source.name, library, chain, lambda _tmp: (str(source), libs),
                   lambda p: ctypes.CDLL(str(p)))
     with _LOCK:
         return _LIBRARIES.setdefault(str(library), lib)

@@ -27,11 +27,14 @@ def _rotation(axis: np.ndarray, angle: ca.SX) -> ca.SX:
 
 
 def chain_walk(chain: Sequence[ChainJoint], tip_placement: np.ndarray,
-               q: ca.SX) -> tuple[list[ca.SX], ca.SX, ca.SX]:
+               q: ca.SX, frames: list[tuple[ca.SX, ca.SX]] | None = None
+               ) -> tuple[list[ca.SX], ca.SX, ca.SX]:
     """Walk the chain symbolically: every joint frame's origin, then the tip's p and R.
 
     A mimic joint of the chain moves by ``scaling * q[index] + offset``; every other joint
-    by ``q[index]`` (continuous joints included: ``q`` holds their angle).
+    by ``q[index]`` (continuous joints included: ``q`` holds their angle). ``frames``, when
+    given, receives each joint's world frame ``(R, p)`` after its motion, in chain order
+    (Pinocchio's ``oMi``).
 
     Returns:
         ``(origins, p, R)``: the world origin (3,) of each joint frame, in chain order; the
@@ -50,6 +53,8 @@ def chain_walk(chain: Sequence[ChainJoint], tip_placement: np.ndarray,
             p = p + (R @ ca.DM(j.axis)) * value
         else:
             R = R @ _rotation(j.axis, value)
+        if frames is not None:
+            frames.append((R, p))
     return origins, p + R @ ca.DM(tip_placement[:3, 3]), R @ ca.DM(tip_placement[:3, :3])
 
 

@@ -80,7 +80,7 @@ class EdgeProver:
             simplified path's are at the end, is not proven again).
     """
 
-    def __init__(self, checker: CollisionChecker) -> None:
+    def __init__(self, checker: CollisionChecker, native: bool = True) -> None:
         self.checker = checker
         self.shift = checker.margin + DISTANCE_TOL
         self.W = checker.weights
@@ -97,6 +97,7 @@ class EdgeProver:
         self._data = checker._data()
         self._model = checker.robot.model
         self._linear = _linear(self._model)
+        self._kernel = checker._kernel() if native else None
 
     def distances(self, key: tuple[float, ...]) -> list[float]:
         """Signed distances minus margin and tolerance (npairs,) at ``key`` (cached)."""
@@ -122,6 +123,9 @@ class EdgeProver:
     def _compute(self, q: Array) -> list[float]:
         import pinocchio as pin
 
+        if self._kernel is not None:
+            self.states += 1
+            return self._kernel.distances(q)
         data, gdata, results = self._data
         pin.computeDistances(self._model, data, self.checker.model, gdata, q)
         self.states += 1
@@ -180,6 +184,16 @@ class EdgeProver:
         """
         import pinocchio as pin
 
+        spans = None if G is None else {k: _apart_spans(G, k) for k in pairs}
+        if self._kernel is not None:  # the same loop, compiled
+            kernel = self._kernel
+            before = kernel.midpoints
+            ok = kernel.split(a, b, pairs, [M[k] for k in pairs],
+                              [Da[k] for k in pairs], [Db[k] for k in pairs],
+                              None if spans is None else [x for k in pairs for x in spans[k]],
+                              RESOLUTION)
+            self.midpoints += kernel.midpoints - before
+            return ok
         data, gdata, _ = self._data
         model, gmodel, shift = self._model, self.checker.model, self.shift
         distance, place = pin.computeDistance, pin.updateGeometryPlacements
@@ -194,7 +208,6 @@ class EdgeProver:
 
             def config(s: float) -> Array:
                 return qa + s * dq
-        spans = None if G is None else {k: _apart_spans(G, k) for k in pairs}
         wide = RESOLUTION / min(M[k] for k in pairs)  # wider intervals do not graze
         queue = deque([(0.5, 0.0, pairs, [Da[k] for k in pairs], [Db[k] for k in pairs])])
         while queue:

@@ -1,0 +1,254 @@
+"""The edge proof's inner loop compiled: coal's distances with no Python between two states.
+
+:class:`~scara_opt.planning.ompl_backend.EdgeProver` spends most of a planning query
+splitting edges: at each midpoint it places the bodies (Pinocchio) and asks coal for the
+distance of each open pair, ~2 µs of Python call per pair around ~0.5 µs of coal's work.
+``edge_kernel.cpp`` runs the same loop (same rule, same intervals in the same order, same
+counts) in C++ against coal's own library, the one the ``pin`` wheel installs, with the
+robot's bodies placed by a compiled casadi Function of their world placements
+(:func:`~scara_opt.model.symbolic.chain_walk`'s frames times each body's placement in its
+joint frame, Pinocchio's ``oMg``).
+
+It is built once per machine like every native kernel (:mod:`scara_opt.model.compiled`:
+the cache, the checks, ``SCARA_OPT_NO_COMPILE``), with coal's headers and library from the
+``pin`` wheel's prefix and Eigen's headers from casadi's wheel. Where any piece is missing
+(no compiler, no headers, a body that is not a sphere, box, capsule or cylinder: a mesh),
+:func:`edge_kernel` returns ``None`` and the Python form runs: the same verdicts, slower.
+"""
+
+from __future__ import annotations
+
+import ctypes
+import functools
+import hashlib
+from pathlib import Path
+from typing import TYPE_CHECKING, Any
+
+import casadi as ca
+import numpy as np
+from numpy.typing import NDArray
+
+from scara_opt.model import symbolic
+from scara_opt.model.batch_fk import kinematic_key
+from scara_opt.model.compiled import c_library, compiled, library_path, source_hash
+
+if TYPE_CHECKING:
+    from scara_opt.collision.checker import CollisionChecker
+
+Array = NDArray[np.float64]
+
+__all__ = ["EdgeKernel", "edge_kernel", "shape_code"]
+
+SOURCE = Path(__file__).with_name("edge_kernel.cpp")
+
+_P, _I, _D = ctypes.c_void_p, ctypes.c_int, ctypes.c_double
+_IP, _DP = ctypes.POINTER(ctypes.c_int), ctypes.POINTER(ctypes.c_double)
+
+
+def shape_code(shape: Any) -> tuple[int, tuple[float, float, float]] | None:
+    """The kernel's code and parameters of a coal shape, or ``None`` (not supported).
+
+    0 sphere (radius), 1 box (full sides), 2 capsule and 3 cylinder (radius, full length)
+    [m]: the arguments coal's constructors take.
+    """
+    import coal
+
+    if isinstance(shape, coal.Sphere):
+        return 0, (float(shape.radius), 0.0, 0.0)
+    if isinstance(shape, coal.Box):
+        x, y, z = (2.0 * np.asarray(shape.halfSide, float)).tolist()
+        return 1, (x, y, z)
+    if isinstance(shape, coal.Capsule):
+        return 2, (float(shape.radius), 2.0 * float(shape.halfLength), 0.0)
+    if isinstance(shape, coal.Cylinder):
+        return 3, (float(shape.radius), 2.0 * float(shape.halfLength), 0.0)
+    return None
+
+
+@functools.lru_cache(maxsize=1)
+def build_arguments() -> tuple[str, ...] | str:
+    """The compiler's arguments for coal and Eigen (folders, libraries), or why none.
+
+    coal's headers and ``libcoal.so`` sit in the prefix the ``pin`` wheel installs (the
+    folder above coal's Python package holding ``include/coal``); Eigen's headers in that
+    prefix or in casadi's wheel (``casadi/include/eigen3``).
+    """
+    import coal
+
+    prefix = next((p for p in Path(coal.__file__).resolve().parents
+                   if (p / "include" / "coal" / "distance.h").is_file()
+                   and any((p / "lib").glob("libcoal.so*"))), None)
+    if prefix is None:
+        return f"coal's headers and library were not found above {coal.__file__}"
+    eigen = [p for p in (prefix / "include" / "eigen3",
+                         Path(ca.__file__).parent / "include" / "eigen3")
+             if (p / "Eigen" / "Core").is_file()]
+    if not eigen:
+        return "Eigen's headers were not found (in coal's prefix or casadi's wheel)"
+    lib = prefix / "lib"
+    return (f"-I{prefix / 'include'}", f"-I{eigen[0]}", "-DCOAL_HAS_OCTOMAP", f"-L{lib}",
+            "-lcoal", f"-Wl,-rpath,{lib}")
+
+
+@functools.lru_cache(maxsize=1)
+def _library() -> ctypes.CDLL | None:
+    """The compiled kernel, its functions' signatures set, or ``None`` (the Python form)."""
+    extra = build_arguments()
+    if isinstance(extra, str):
+        return None
+    lib = c_library(SOURCE, extra)
+    if lib is None:
+        return None
+    if lib.edge_kernel_casadi_int_size() != ctypes.sizeof(ctypes.c_longlong):
+        return None  # pragma: no cover - casadi's default integer
+    lib.edge_kernel_new.argtypes = [_I, _P, _I, _I, _I, _I, _IP, _DP, _DP, _IP, _I, _IP, _D]
+    lib.edge_kernel_new.restype = _P
+    lib.edge_kernel_free.argtypes = [_P]
+    lib.edge_kernel_distances.argtypes = [_P, _P, _P]
+    lib.edge_kernel_split.argtypes = [_P, _P, _P, _I, _P, _P, _P, _P, _P, _D, _P]
+    lib.edge_kernel_split.restype = _I
+    lib.edge_kernel_batch.argtypes = [_P, _P, _I, _P, _I, _P]
+    return lib
+
+
+def _rows(placement: Any) -> list[float]:
+    """A pinocchio SE3 as the kernel's 12 numbers: rotation row by row, then translation."""
+    return [*np.asarray(placement.rotation, float).ravel().tolist(),
+            *np.asarray(placement.translation, float).tolist()]
+
+
+def _placements(checker: CollisionChecker, moving: list[int]) -> ca.Function | None:
+    """The compiled Function ``q -> 12 numbers per moving body`` (world R row-major, p)."""
+    robot, objects = checker.robot, checker.model.geometryObjects
+    spec = hashlib.sha256(repr([(objects[g].parentJoint, _rows(objects[g].placement))
+                                for g in moving]).encode()).hexdigest()
+    name = f"scara_opt_bodies_{spec[:8]}_{kinematic_key(robot)[:8]}"
+
+    def build() -> ca.Function:
+        q = ca.SX.sym("q", robot.nq)
+        frames: list[tuple[ca.SX, ca.SX]] = []
+        symbolic.chain_walk(robot.chain, robot.tip_placement, q, frames)
+        rows = []
+        for g in moving:
+            R, p = frames[objects[g].parentJoint - 1]
+            M = objects[g].placement
+            Rg = R @ ca.DM(np.asarray(M.rotation, float))
+            rows += [ca.reshape(Rg.T, 9, 1), p + R @ ca.DM(np.asarray(M.translation, float))]
+        return ca.Function(name, [q], [ca.cse(ca.vertcat(*rows))], ["q"], ["rows"])
+
+    code = source_hash(symbolic.__file__, __file__)  # a change to either builds anew
+    f = compiled(name, f"{spec} {kinematic_key(robot)} {code}", build)
+    return f if library_path(name) is not None else None
+
+
+class EdgeKernel:
+    """A checker's compiled kernel (one per thread: it holds the placed bodies).
+
+    Attributes:
+        midpoints: configurations computed inside edges by :meth:`split`.
+    """
+
+    def __init__(self, lib: ctypes.CDLL, checker: CollisionChecker, f: ca.Function,
+                 entry: Any, moving: list[int], shift: float) -> None:
+        objects = checker.model.geometryObjects
+        codes = [shape_code(o.geometry) for o in objects]
+        slot = {g: k for k, g in enumerate(moving)}
+        types = np.array([c[0] for c in codes if c is not None], np.intc)
+        params = np.array([c[1] for c in codes if c is not None], float)
+        fixed = np.array([_rows(o.placement) for o in objects], float)
+        slots = np.array([slot.get(g, -1) for g in range(len(objects))], np.intc)
+        pairs = np.ascontiguousarray(checker.pairs, np.intc)
+        self._lib = lib
+        self._handle = lib.edge_kernel_new(
+            checker.robot.nq, entry[0], f.sz_iw(), f.sz_w(), len(moving), len(objects),
+            _ip(types), _dp(params), _dp(fixed), _ip(slots), len(pairs), _ip(pairs), shift)
+        nq, npairs = checker.robot.nq, len(pairs)
+        # buffers the calls fill, and their addresses (ctypes' conversions cost ~6 µs each)
+        self._q, self._out = np.zeros((2, nq)), np.zeros(npairs)
+        self._open, self._values = np.zeros(npairs, np.intc), np.zeros((3, npairs))
+        self._spans = np.zeros(4 * npairs)
+        self._count = ctypes.c_longlong(0)
+        self._at = (self._q.ctypes.data, self._q[1].ctypes.data, self._out.ctypes.data,
+                    self._open.ctypes.data, *(v.ctypes.data for v in self._values),
+                    self._spans.ctypes.data, ctypes.addressof(self._count))
+        self._distances, self._split = lib.edge_kernel_distances, lib.edge_kernel_split
+        self._batch = lib.edge_kernel_batch
+        self.midpoints = 0
+
+    def __del__(self) -> None:
+        handle = getattr(self, "_handle", None)
+        if handle:
+            self._lib.edge_kernel_free(handle)
+
+    def distances(self, q: Array) -> list[float]:
+        """Every pair's distance less the shift (npairs,) at ``q`` (nq,) [m]."""
+        self._q[0] = q
+        at = self._at
+        self._distances(self._handle, at[0], at[2])
+        return self._out.tolist()
+
+    def batch(self, Q: Array, cols: list[int] | None = None) -> Array:
+        """Signed distances (n, len(cols)) [m] of pairs ``cols`` (None: all) at rows ``Q``."""
+        Q = np.ascontiguousarray(Q, float)
+        n = len(cols) if cols is not None else len(self._out)
+        out = np.empty((len(Q), n))
+        if cols is not None:
+            self._open[:n] = cols
+        self._batch(self._handle, Q.ctypes.data, len(Q),
+                    None if cols is None else self._at[3], n, out.ctypes.data)
+        return out
+
+    def split(self, qa: Array, qb: Array, open_: list[int], M: list[float],
+              Da: list[float], Db: list[float], spans: list[float] | None,
+              resolution: float) -> bool:
+        """The Python form's ``_split`` (same arguments, the open pairs' values only)."""
+        n = len(open_)
+        self._q[0], self._q[1] = qa, qb
+        self._open[:n] = open_
+        values = self._values
+        values[0, :n], values[1, :n], values[2, :n] = M, Da, Db
+        if spans is not None:
+            self._spans[:4 * n] = spans
+        at = self._at
+        self._count.value = 0
+        ok = self._split(self._handle, at[0], at[1], n, at[3], at[4], at[5], at[6],
+                         None if spans is None else at[7], resolution, at[8])
+        self.midpoints += self._count.value
+        return bool(ok)
+
+
+def _dp(a: Array) -> Any:
+    return a.ctypes.data_as(_DP)
+
+
+def _ip(a: NDArray[np.intc]) -> Any:
+    return a.ctypes.data_as(_IP)
+
+
+def edge_kernel(checker: CollisionChecker, shift: float) -> EdgeKernel | None:
+    """A compiled kernel for one query on ``checker`` (``shift``: margin + tolerance [m]).
+
+    ``None`` where it cannot run (see the module docstring): the caller keeps the Python form.
+    """
+    objects = checker.model.geometryObjects
+    if any(shape_code(o.geometry) is None for o in objects):
+        return None
+    lib = _library()
+    if lib is None:
+        return None
+    parts = checker.__dict__.get("_edge_kernel_parts")
+    if parts is None:
+        moving = [g for g, o in enumerate(objects) if o.parentJoint > 0]
+        f = _placements(checker, moving)
+        parts = checker.__dict__["_edge_kernel_parts"] = (moving, f, None if f is None else
+                                                          _entry(f))
+    moving, f, entry = parts
+    if f is None:
+        return None
+    return EdgeKernel(lib, checker, f, entry, moving, shift)
+
+
+def _entry(f: ca.Function) -> tuple[Any, ctypes.CDLL]:
+    """The C entry point of the compiled Function ``f`` (and its library, kept loaded)."""
+    cdll = ctypes.CDLL(str(library_path(f.name())))
+    return ctypes.cast(getattr(cdll, f.name()), _P), cdll
