@@ -57,6 +57,11 @@ _F64 = np.dtype(np.float64)
 #: without; 14 on 11, 1.9x without it and 1.7x with)
 BROAD_PHASE = 1.5
 
+#: distances below this [m] do not count as clear in a proof
+#: (:mod:`~scara_opt.collision.continuous`): coal's GJK distance is exact to its tolerance
+#: (1e-6 m), the proof keeps ten times that in hand
+DISTANCE_TOL = 1e-5
+
 #: a robot-obstacle pair is not checked when its bodies' ranges along the common joint
 #: axis of a SCARA-type robot stay this much farther apart than the margin [m]
 GAP_TOL = 1e-4
@@ -197,14 +202,12 @@ class CollisionChecker:
         """This thread's compiled distance kernel, or ``None`` (the Pinocchio calls run).
 
         See :mod:`~scara_opt.collision.edge_kernel`; its distances less ``margin`` and
-        :data:`~scara_opt.collision.continuous.DISTANCE_TOL` for the proofs.
+        :data:`DISTANCE_TOL` for the proofs.
         """
         local = self._local
         try:
             return local.kernel
         except AttributeError:
-            from scara_opt.collision.continuous import DISTANCE_TOL  # it imports this module
-
             local.kernel = edge_kernel(self, self.margin + DISTANCE_TOL)
             return local.kernel
 

@@ -36,7 +36,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 from scipy.interpolate import PPoly
 
-from scara_opt.collision.checker import CollisionChecker
+from scara_opt.collision.checker import DISTANCE_TOL, CollisionChecker
 
 if TYPE_CHECKING:
     from scara_opt.model.robot import Robot
@@ -53,9 +53,6 @@ RESOLUTION = 1e-9
 #: the first contact of a trajectory is located to within this [s]
 TIME_TOL = 1e-4
 
-#: distances below this [m] do not count as clear: coal's GJK distance is exact to its
-#: tolerance (1e-6 m), the proof keeps ten times that in hand
-DISTANCE_TOL = 1e-5
 
 #: at most this many configurations are checked in one proof (then: not proven)
 MAX_EVALUATIONS = 200_000
