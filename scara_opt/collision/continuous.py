@@ -345,7 +345,7 @@ class _PathBounds:
         from scara_opt.trajectory.bernstein import piece_bounds
 
         x = np.asarray(path.x, float)
-        bounds = piece_bounds(path.derivative())  # (pieces, nq)
+        self.per_piece = bounds = piece_bounds(path.derivative())  # (pieces, nq)
         self._bounds = [(x, bounds[:, j]) for j in range(bounds.shape[1])]
 
     def speed_bounds(self) -> list[tuple[Array, Array]]:
@@ -374,11 +374,23 @@ def check_path(checker: CollisionChecker, path: PPoly, *, locate: bool = False) 
         A :class:`Proof`; ``contact.at`` is the path parameter.
     """
     x = np.asarray(path.x, float)
+    bounds = _PathBounds(path)
+    kernel = None if locate else checker._kernel()
+    if kernel is not None:  # the same proof, compiled (collision/edge_kernel.cpp)
+        c = np.asarray(path.c, float).reshape(path.c.shape[0], len(x) - 1, -1)
+        clear, spare, at, dist, pair, touching, evals = kernel.prove_path(
+            x, c, bounds.per_piece, checker.weights, checker.gaps, RESOLUTION,
+            MAX_EVALUATIONS)
+        evals += len(x)
+        if clear:
+            return Proof(True, None, spare, evals)
+        return Proof(False, Contact(at, checker.pair_names[pair], dist, touching), -math.inf,
+                     evals)
 
     def evaluate(u: Array) -> Array:
         return path(np.clip(u, x[0], x[-1]))
 
-    return _prove_curve(checker, x, evaluate, VelocityBound(_PathBounds(path)), locate, 1e-6)
+    return _prove_curve(checker, x, evaluate, VelocityBound(bounds), locate, 1e-6)
 
 
 def _prove_curve(checker: CollisionChecker, t: Array, evaluate: Callable[[Array], Array],

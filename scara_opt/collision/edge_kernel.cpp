@@ -12,8 +12,10 @@
 #include <coal/distance.h>
 #include <coal/shape/geometric_shapes.h>
 
+#include <algorithm>
 #include <cstring>
 #include <deque>
+#include <limits>
 #include <memory>
 #include <vector>
 
@@ -202,6 +204,163 @@ int edge_kernel_split(void *kernel, const double *qa, const double *qb, int n,
             if (!sub.pairs.empty()) queue.push_back(std::move(sub));
         }
     }
+    return 1;
+}
+
+/* continuous.check_path (locate=False) of a piecewise polynomial path q(u): m pieces on
+ * breakpoints x (m + 1), coefficients c (order + 1, m, nq) highest power first (scipy's
+ * PPoly), V (m, nq) bounds on |q'| per piece, W (npairs, nq) the pairs' weights, A
+ * (npairs, nq) with a, b (npairs) a SCARA's height gaps (or NULL), resolution [m],
+ * budget (configurations). The same levels, in the same order, as continuous.prove.
+ * out: [spare, at, distance, pair, touching, evaluations]; returns 1 when clear. */
+int edge_kernel_prove_path(void *kernel, int m, int order, const double *x, const double *c,
+                           const double *V, const double *W, const double *A, const double *ga,
+                           const double *gb, double resolution, long long budget,
+                           double *out) {
+    auto *k = (Kernel *)kernel;
+    const int nq = k->nq, np = (int)k->first.size();
+    const double inf = std::numeric_limits<double>::infinity();
+    auto eval = [&](int piece, double u, double *q) { /* scipy's evaluate_poly1 */
+        const double s = u - x[piece];
+        for (int j = 0; j < nq; ++j) {
+            double res = 0.0, z = 1.0;
+            for (int kp = 0; kp <= order; ++kp) {
+                res = res + c[((size_t)(order - kp) * m + piece) * nq + j] * z;
+                if (kp < order) z *= s;
+            }
+            q[j] = res;
+        }
+    };
+    auto contact = [&](double at, const double *d, int touching, long long evals) {
+        int best = 0;
+        for (int p = 1; p < np; ++p) if (d[p] < d[best]) best = p;
+        out[0] = -inf; out[1] = at; out[2] = d[best] + k->shift; out[3] = best;
+        out[4] = touching; out[5] = (double)evals;
+        return 0;
+    };
+    /* the first samples: the breakpoints (the last on the last piece) */
+    std::vector<double> lo, hi, Dlo, Dhi, Qlo, Qhi, Q(nq * (m + 1)), D(np * (m + 1));
+    std::vector<int> piece;
+    for (int i = 0; i <= m; ++i) {
+        eval(i < m ? i : m - 1, x[i], &Q[(size_t)i * nq]);
+        k->place(&Q[(size_t)i * nq]);
+        for (int p = 0; p < np; ++p) D[(size_t)i * np + p] = k->raw(p) - k->shift;
+    }
+    for (int i = 0; i <= m; ++i)
+        for (int p = 0; p < np; ++p)
+            if (D[(size_t)i * np + p] <= 0) return contact(x[i], &D[(size_t)i * np], 1, 0);
+    for (int i = 0; i < m; ++i) {
+        lo.push_back(x[i]); hi.push_back(x[i + 1]); piece.push_back(i);
+        Dlo.insert(Dlo.end(), &D[(size_t)i * np], &D[(size_t)(i + 1) * np]);
+        Dhi.insert(Dhi.end(), &D[(size_t)(i + 1) * np], &D[(size_t)(i + 2) * np]);
+        Qlo.insert(Qlo.end(), &Q[(size_t)i * nq], &Q[(size_t)(i + 1) * nq]);
+        Qhi.insert(Qhi.end(), &Q[(size_t)(i + 1) * nq], &Q[(size_t)(i + 2) * nq]);
+    }
+    double spare = inf;
+    long long evals = 0;
+    std::vector<double> M, fine, half(nq), box_lo(nq), box_hi(nq), Dm;
+    std::vector<char> passed, fails(np);
+    std::vector<int> rest;
+    while (!lo.empty()) {
+        const size_t n = lo.size();
+        M.assign(n * np, 0.0);
+        fine.assign(n * np, 0.0);
+        passed.assign(n * np, 0);
+        rest.clear();
+        for (size_t r = 0; r < n; ++r) {
+            const double *v = V + (size_t)piece[r] * nq;
+            const double w = hi[r] - lo[r];
+            if (A) {
+                for (int j = 0; j < nq; ++j) {
+                    half[j] = v[j] * (w / 2);
+                    const double mid = (Qlo[r * nq + j] + Qhi[r * nq + j]) / 2;
+                    box_lo[j] = mid - half[j];
+                    box_hi[j] = mid + half[j];
+                }
+            }
+            bool ok = true;
+            double least = inf;
+            for (int p = 0; p < np; ++p) {
+                double speed = 0.0;
+                for (int j = 0; j < nq; ++j) speed += v[j] * W[(size_t)p * nq + j];
+                const double bound = w * speed;
+                const double d0 = Dlo[r * np + p], d1 = Dhi[r * np + p];
+                double f = (d0 > 0 && d1 > 0) ? (d0 + d1 - bound) / 2 : -inf;
+                if (A) {
+                    double low = 0.0, high = 0.0;
+                    for (int j = 0; j < nq; ++j) {
+                        const double a = A[(size_t)p * nq + j];
+                        low += a > 0 ? a * box_lo[j] : a * box_hi[j];
+                        high += a > 0 ? a * box_hi[j] : a * box_lo[j];
+                    }
+                    const double g = std::max(low + ga[p], gb[p] - high) - k->shift;
+                    f = std::max(f, g);
+                }
+                M[r * np + p] = bound;
+                fine[r * np + p] = f;
+                passed[r * np + p] = f > 0;
+                ok = ok && f > 0;
+                least = std::min(least, f);
+            }
+            if (ok) spare = std::min(spare, least);
+            else rest.push_back((int)r);
+        }
+        if (rest.empty()) break;
+        int graze = -1;
+        for (int r : rest) {
+            double most = 0.0;
+            for (int p = 0; p < np; ++p)
+                if (!passed[r * np + p]) most = std::max(most, M[r * np + p]);
+            if (most < resolution && (graze < 0 || lo[r] < lo[graze])) graze = r;
+        }
+        if (graze >= 0 || evals + (long long)rest.size() > budget) {
+            const int r = graze >= 0 ? graze : rest[0];
+            std::vector<double> d(np);
+            for (int p = 0; p < np; ++p) d[p] = std::min(Dlo[r * np + p], Dhi[r * np + p]);
+            return contact(lo[r], d.data(), 0, evals);
+        }
+        std::fill(fails.begin(), fails.end(), 0);
+        for (int r : rest)
+            for (int p = 0; p < np; ++p) fails[p] |= !passed[r * np + p];
+        const size_t nr = rest.size();
+        std::vector<double> mids(nr), Qm(nr * nq);
+        Dm.assign(nr * np, inf);
+        int hit = -1;
+        for (size_t i = 0; i < nr; ++i) {
+            const int r = rest[i];
+            mids[i] = (lo[r] + hi[r]) / 2;
+            eval(piece[r], mids[i], &Qm[i * nq]);
+            k->place(&Qm[i * nq]);
+            for (int p = 0; p < np; ++p) {
+                if (!fails[p]) continue;
+                Dm[i * np + p] = k->raw(p) - k->shift;
+                if (Dm[i * np + p] <= 0 && (hit < 0 || mids[i] < mids[hit])) hit = (int)i;
+            }
+        }
+        evals += (long long)nr;
+        if (hit >= 0) return contact(mids[hit], &Dm[(size_t)hit * np], 1, evals);
+        std::vector<double> lo2, hi2, Dlo2, Dhi2, Qlo2, Qhi2;
+        std::vector<int> piece2;
+        for (int half_ = 0; half_ < 2; ++half_)
+            for (size_t i = 0; i < nr; ++i) {
+                const int r = rest[i];
+                piece2.push_back(piece[r]);
+                lo2.push_back(half_ ? mids[i] : lo[r]);
+                hi2.push_back(half_ ? hi[r] : mids[i]);
+                const double *dl = half_ ? &Dm[i * np] : &Dlo[r * np];
+                const double *dh = half_ ? &Dhi[r * np] : &Dm[i * np];
+                Dlo2.insert(Dlo2.end(), dl, dl + np);
+                Dhi2.insert(Dhi2.end(), dh, dh + np);
+                const double *ql = half_ ? &Qm[i * nq] : &Qlo[r * nq];
+                const double *qh = half_ ? &Qhi[r * nq] : &Qm[i * nq];
+                Qlo2.insert(Qlo2.end(), ql, ql + nq);
+                Qhi2.insert(Qhi2.end(), qh, qh + nq);
+            }
+        lo.swap(lo2); hi.swap(hi2); Dlo.swap(Dlo2); Dhi.swap(Dhi2);
+        Qlo.swap(Qlo2); Qhi.swap(Qhi2); piece.swap(piece2);
+    }
+    out[0] = spare + k->shift; out[1] = 0; out[2] = 0; out[3] = -1; out[4] = 0;
+    out[5] = (double)evals;
     return 1;
 }
 

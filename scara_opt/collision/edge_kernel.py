@@ -108,6 +108,9 @@ def _library() -> ctypes.CDLL | None:
     lib.edge_kernel_split.argtypes = [_P, _P, _P, _I, _P, _P, _P, _P, _P, _D, _P]
     lib.edge_kernel_split.restype = _I
     lib.edge_kernel_batch.argtypes = [_P, _P, _I, _P, _I, _P]
+    lib.edge_kernel_prove_path.argtypes = [_P, _I, _I, _P, _P, _P, _P, _P, _P, _P, _D,
+                                           ctypes.c_longlong, _P]
+    lib.edge_kernel_prove_path.restype = _I
     return lib
 
 
@@ -172,7 +175,7 @@ class EdgeKernel:
                     self._open.ctypes.data, *(v.ctypes.data for v in self._values),
                     self._spans.ctypes.data, ctypes.addressof(self._count))
         self._distances, self._split = lib.edge_kernel_distances, lib.edge_kernel_split
-        self._batch = lib.edge_kernel_batch
+        self._batch, self._prove_path = lib.edge_kernel_batch, lib.edge_kernel_prove_path
         self.midpoints = 0
 
     def __del__(self) -> None:
@@ -197,6 +200,34 @@ class EdgeKernel:
         self._batch(self._handle, Q.ctypes.data, len(Q),
                     None if cols is None else self._at[3], n, out.ctypes.data)
         return out
+
+    def prove_path(self, x: Array, c: Array, V: Array, W: Array,
+                   gaps: tuple[Array, Array, Array] | None, resolution: float, budget: int
+                   ) -> tuple[bool, float, float, float, int, bool, int]:
+        """:func:`~scara_opt.collision.continuous.check_path` (``locate=False``), compiled.
+
+        Args:
+            x: (m + 1,) the path's breakpoints; ``c``: (k + 1, m, nq) its coefficients
+                (scipy's ``PPoly.c``); ``V``: (m, nq) bounds on ``|q'|`` per piece.
+            W: (npairs, nq) the pairs' weights; ``gaps``: a SCARA's ``(A, a, b)`` or None.
+            resolution: the grazing bound [m]; ``budget``: most configurations.
+
+        Returns:
+            ``(clear, spare, at, distance, pair, touching, evaluations)``: as
+            :func:`~scara_opt.collision.continuous.prove`'s Proof and Contact hold them
+            (``spare``: the proven clearance [m]; ``pair``: -1 when clear).
+        """
+        x, c = np.ascontiguousarray(x, float), np.ascontiguousarray(c, float)
+        V, W = np.ascontiguousarray(V, float), np.ascontiguousarray(W, float)
+        A, a, b = (None, None, None) if gaps is None else (
+            np.ascontiguousarray(g, float) for g in gaps)
+        out = np.zeros(6)
+        ok = self._prove_path(self._handle, len(x) - 1, c.shape[0] - 1, x.ctypes.data,
+                              c.ctypes.data, V.ctypes.data, W.ctypes.data,
+                              *(None if g is None else g.ctypes.data for g in (A, a, b)),
+                              resolution, budget, out.ctypes.data)
+        spare, at, dist, pair, touching, evals = out.tolist()
+        return bool(ok), spare, at, dist, int(pair), bool(touching), int(evals)
 
     def split(self, qa: Array, qb: Array, open_: list[int], M: list[float],
               Da: list[float], Db: list[float], spans: list[float] | None,
