@@ -66,29 +66,34 @@ def test_kernel_distances_are_pinocchios(checker):
 
 
 def test_native_edges_agree_with_the_python_form(checker):
-    """The same verdict and the same number of midpoints, edge by edge, on 600 edges between
-    free random configurations (whole, 30 % and 5 % of the way: long, short and grazing), a
-    SCARA's height spans included.
+    """The same verdict and the same number of midpoints (and states), edge by edge, on
+    edges between free random configurations (whole, 30 % and 5 % of the way: long, short
+    and grazing; and one joint at a time), a SCARA's height spans included.
 
     Mutation caught: the interval's bound not scaled by its length (``M[p] < dl + dh``):
     fewer midpoints, and edges through obstacles pass. Mutation caught: the spans ignored
     (``apart`` returning false): more midpoints on the SCARA. Mutation caught: the halves'
-    ends swapped (``dl``, ``dh`` both ``dm``): counts differ.
+    ends swapped (``dl``, ``dh`` both ``dm``): counts differ. Mutation caught: the states'
+    cache keyed without the first joint: a state moved by that joint alone reads another's
+    distances.
     """
     robot = checker.robot
     native, python = EdgeProver(checker), EdgeProver(checker, native=False)
-    assert native._kernel is not None and python._kernel is None
+    assert native._native is not None and python._native is None
     rng = np.random.default_rng(11)
     Q = rng.uniform(robot.lower, robot.upper, (800, robot.nq))
     Q = Q[~checker.collides_many(Q)][:400]
     verdicts = []
     for a, b in zip(Q[0::2], Q[1::2], strict=False):
-        for frac in (1.0, 0.3, 0.05):
-            ka, kb = tuple(a.tolist()), tuple((a + frac * (b - a)).tolist())
+        ends = [a + frac * (b - a) for frac in (1.0, 0.3, 0.05)]
+        ends += [np.where(np.arange(robot.nq) == j, b, a) for j in range(robot.nq)]
+        for end in ends:  # long, short, grazing; one joint at a time
+            ka, kb = tuple(a.tolist()), tuple(end.tolist())
             m0, m1 = native.midpoints, python.midpoints
             verdict = native.edge(ka, kb)
             assert verdict == python.edge(ka, kb)
             assert native.midpoints - m0 == python.midpoints - m1
+            assert native.states == python.states
             verdicts.append(verdict)
     assert 0.2 < np.mean(verdicts) < 0.95  # both kinds, many of each
     assert native.midpoints > 500
@@ -130,7 +135,7 @@ def test_meshes_keep_the_python_form(tmp_path):
     checker = so.CollisionChecker(SCARA, cell)
     assert shape_code(checker.model.geometryObjects[-1].geometry) is None
     assert edge_kernel(checker, 0.0) is None and checker._kernel() is None
-    assert EdgeProver(checker)._kernel is None
+    assert EdgeProver(checker)._native is None
     q = np.array([0.0, 0.3, 0.02, 0.0])
     assert checker.distances_many(q[None])[0] == pytest.approx(checker.distances(q))
 

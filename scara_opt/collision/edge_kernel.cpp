@@ -13,9 +13,11 @@
 #include <coal/shape/geometric_shapes.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstring>
 #include <deque>
 #include <limits>
+#include <map>
 #include <memory>
 #include <vector>
 
@@ -362,6 +364,143 @@ int edge_kernel_prove_path(void *kernel, int m, int order, const double *x, cons
     out[0] = spare + k->shift; out[1] = 0; out[2] = 0; out[3] = -1; out[4] = 0;
     out[5] = (double)evals;
     return 1;
+}
+
+} // extern "C"
+
+/* ------------------------------------------------------------------ EdgeProver.edge
+ * One planning query's prover on a kernel: the states' distances (less the shift) and a
+ * SCARA's gaps above and below each pair along its axis, cached per configuration, and
+ * EdgeProver.edge's rule from the two ends before the split. */
+namespace {
+
+struct State {
+    std::vector<double> d, up, down;
+    double least;
+};
+
+struct Prover {
+    Kernel *k;
+    int nq, np;
+    std::vector<double> W, A, a, b; /* weights; gaps (A empty: none), a and b less the shift */
+    std::map<std::vector<double>, State> cache;
+    long long states = 0, midpoints = 0;
+
+    const State &state(const double *q) {
+        std::vector<double> key(q, q + nq);
+        auto it = cache.find(key);
+        if (it != cache.end()) return it->second;
+        State s;
+        s.d.resize(np);
+        k->place(q);
+        s.least = std::numeric_limits<double>::infinity();
+        for (int p = 0; p < np; ++p) {
+            s.d[p] = k->distance(p);
+            s.least = std::min(s.least, s.d[p]);
+        }
+        if (!A.empty()) {
+            s.up.resize(np);
+            s.down.resize(np);
+            for (int p = 0; p < np; ++p) {
+                double h = 0.0;
+                for (int j = 0; j < nq; ++j) h += A[(size_t)p * nq + j] * q[j];
+                s.up[p] = h + a[p];
+                s.down[p] = b[p] - h;
+            }
+        }
+        ++states;
+        return cache.emplace(std::move(key), std::move(s)).first->second;
+    }
+};
+
+/* the open span of s where (1 - s) ga + s gb > 0 (inf, -inf: none): ompl_backend._positive */
+inline void positive(double ga, double gb, double *lo, double *hi) {
+    const double inf = std::numeric_limits<double>::infinity();
+    if (ga > 0 && gb > 0) { *lo = -inf; *hi = inf; }
+    else if (ga > 0) { *lo = -inf; *hi = ga / (ga - gb); }
+    else if (gb > 0) { *lo = ga / (ga - gb); *hi = inf; }
+    else { *lo = inf; *hi = -inf; }
+}
+
+} // namespace
+
+extern "C" {
+
+/* A prover on the kernel: W (npairs, nq) the pairs' weights, A (npairs, nq) with a, b
+ * (npairs) a SCARA's height gaps less the shift (A NULL: none). */
+void *edge_prover_new(void *kernel, const double *W, const double *A, const double *a,
+                      const double *b) {
+    auto *k = (Kernel *)kernel;
+    auto *p = new Prover();
+    p->k = k;
+    p->nq = k->nq;
+    p->np = (int)k->first.size();
+    p->W.assign(W, W + (size_t)p->np * p->nq);
+    if (A) {
+        p->A.assign(A, A + (size_t)p->np * p->nq);
+        p->a.assign(a, a + p->np);
+        p->b.assign(b, b + p->np);
+    }
+    return p;
+}
+
+void edge_prover_free(void *prover) { delete (Prover *)prover; }
+
+/* The state's distances less the shift into out (npairs,; or NULL); returns whether all
+ * are > 0. counts[0]: states so far. */
+int edge_prover_state(void *prover, const double *q, double *out, long long *counts) {
+    auto *p = (Prover *)prover;
+    const State &s = p->state(q);
+    if (out) std::copy(s.d.begin(), s.d.end(), out);
+    counts[0] = p->states;
+    return s.least > 0 || p->np == 0;
+}
+
+/* EdgeProver.edge (without its memory of proven edges): 1 proven clear, 0 not.
+ * counts: [states, midpoints] so far. */
+int edge_prover_edge(void *prover, const double *qa, const double *qb, double resolution,
+                     long long *counts) {
+    auto *p = (Prover *)prover;
+    const int nq = p->nq, np = p->np;
+    const State &sa = p->state(qa);
+    const State &sb = p->state(qb);
+    int ok = 1;
+    if (np && (sa.least <= 0 || sb.least <= 0)) ok = 0;
+    if (ok && np) {
+        std::vector<int> open;
+        std::vector<double> M(np), Ms, da, db, spans;
+        for (int k = 0; k < np; ++k) {
+            double m = 0.0;
+            for (int j = 0; j < nq; ++j) m += p->W[(size_t)k * nq + j] * std::abs(qb[j] - qa[j]);
+            M[k] = m;
+            if (m < sa.d[k] + sb.d[k]) continue;
+            if (!p->A.empty() && ((sa.up[k] > 0 && sb.up[k] > 0) ||
+                                  (sa.down[k] > 0 && sb.down[k] > 0)))
+                continue; /* apart along the axis at both ends: all along (affine) */
+            open.push_back(k);
+        }
+        if (!open.empty()) {
+            const int n = (int)open.size();
+            for (int k : open) {
+                Ms.push_back(M[k]);
+                da.push_back(sa.d[k]);
+                db.push_back(sb.d[k]);
+                if (!p->A.empty()) {
+                    double s[4];
+                    positive(sa.up[k], sb.up[k], &s[0], &s[1]);
+                    positive(sa.down[k], sb.down[k], &s[2], &s[3]);
+                    spans.insert(spans.end(), s, s + 4);
+                }
+            }
+            long long mids = 0;
+            ok = edge_kernel_split(p->k, qa, qb, n, open.data(), Ms.data(), da.data(), db.data(),
+                                   p->A.empty() ? nullptr : spans.data(), resolution, &mids);
+            p->midpoints += mids;
+        }
+    }
+    counts[0] = p->states;
+    counts[1] = p->midpoints;
+    return ok;
 }
 
 } // extern "C"

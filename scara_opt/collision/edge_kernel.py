@@ -37,7 +37,7 @@ if TYPE_CHECKING:
 
 Array = NDArray[np.float64]
 
-__all__ = ["EdgeKernel", "edge_kernel", "shape_code"]
+__all__ = ["EdgeKernel", "NativeProver", "edge_kernel", "shape_code"]
 
 SOURCE = Path(__file__).with_name("edge_kernel.cpp")
 
@@ -111,6 +111,13 @@ def _library() -> ctypes.CDLL | None:
     lib.edge_kernel_prove_path.argtypes = [_P, _I, _I, _P, _P, _P, _P, _P, _P, _P, _D,
                                            ctypes.c_longlong, _P]
     lib.edge_kernel_prove_path.restype = _I
+    lib.edge_prover_new.argtypes = [_P, _P, _P, _P, _P]
+    lib.edge_prover_new.restype = _P
+    lib.edge_prover_free.argtypes = [_P]
+    lib.edge_prover_state.argtypes = [_P, _P, _P, _P]
+    lib.edge_prover_state.restype = _I
+    lib.edge_prover_edge.argtypes = [_P, _P, _P, _D, _P]
+    lib.edge_prover_edge.restype = _I
     return lib
 
 
@@ -148,7 +155,7 @@ class EdgeKernel:
     """A checker's compiled kernel (one per thread: it holds the placed bodies).
 
     Attributes:
-        midpoints: configurations computed inside edges by :meth:`split`.
+        nq, npairs: the robot's joints and the checker's pairs.
     """
 
     def __init__(self, lib: ctypes.CDLL, checker: CollisionChecker, f: ca.Function,
@@ -165,40 +172,24 @@ class EdgeKernel:
         self._handle = lib.edge_kernel_new(
             checker.robot.nq, entry[0], f.sz_iw(), f.sz_w(), len(moving), len(objects),
             _ip(types), _dp(params), _dp(fixed), _ip(slots), len(pairs), _ip(pairs), shift)
-        nq, npairs = checker.robot.nq, len(pairs)
-        # buffers the calls fill, and their addresses (ctypes' conversions cost ~6 µs each)
-        self._q, self._out = np.zeros((2, nq)), np.zeros(npairs)
-        self._open, self._values = np.zeros(npairs, np.intc), np.zeros((3, npairs))
-        self._spans = np.zeros(4 * npairs)
-        self._count = ctypes.c_longlong(0)
-        self._at = (self._q.ctypes.data, self._q[1].ctypes.data, self._out.ctypes.data,
-                    self._open.ctypes.data, *(v.ctypes.data for v in self._values),
-                    self._spans.ctypes.data, ctypes.addressof(self._count))
-        self._distances, self._split = lib.edge_kernel_distances, lib.edge_kernel_split
+        self.nq, self.npairs = checker.robot.nq, len(pairs)
+        self._open = np.zeros(self.npairs, np.intc)  # the pairs asked for by batch
         self._batch, self._prove_path = lib.edge_kernel_batch, lib.edge_kernel_prove_path
-        self.midpoints = 0
 
     def __del__(self) -> None:
         handle = getattr(self, "_handle", None)
         if handle:
             self._lib.edge_kernel_free(handle)
 
-    def distances(self, q: Array) -> list[float]:
-        """Every pair's distance less the shift (npairs,) at ``q`` (nq,) [m]."""
-        self._q[0] = q
-        at = self._at
-        self._distances(self._handle, at[0], at[2])
-        return self._out.tolist()
-
     def batch(self, Q: Array, cols: list[int] | None = None) -> Array:
         """Signed distances (n, len(cols)) [m] of pairs ``cols`` (None: all) at rows ``Q``."""
         Q = np.ascontiguousarray(Q, float)
-        n = len(cols) if cols is not None else len(self._out)
+        n = len(cols) if cols is not None else self.npairs
         out = np.empty((len(Q), n))
         if cols is not None:
             self._open[:n] = cols
         self._batch(self._handle, Q.ctypes.data, len(Q),
-                    None if cols is None else self._at[3], n, out.ctypes.data)
+                    None if cols is None else self._open.ctypes.data, n, out.ctypes.data)
         return out
 
     def prove_path(self, x: Array, c: Array, V: Array, W: Array,
@@ -229,23 +220,66 @@ class EdgeKernel:
         spare, at, dist, pair, touching, evals = out.tolist()
         return bool(ok), spare, at, dist, int(pair), bool(touching), int(evals)
 
-    def split(self, qa: Array, qb: Array, open_: list[int], M: list[float],
-              Da: list[float], Db: list[float], spans: list[float] | None,
-              resolution: float) -> bool:
-        """The Python form's ``_split`` (same arguments, the open pairs' values only)."""
-        n = len(open_)
-        self._q[0], self._q[1] = qa, qb
-        self._open[:n] = open_
-        values = self._values
-        values[0, :n], values[1, :n], values[2, :n] = M, Da, Db
-        if spans is not None:
-            self._spans[:4 * n] = spans
+
+class NativeProver:
+    """One query's states and edges on a kernel (``EdgeProver``'s compiled form).
+
+    The states' distances (less the shift) and a SCARA's height gaps are cached per
+    configuration in C++; :meth:`edge` is ``EdgeProver.edge`` without its memory of proven
+    edges. ``states``, ``midpoints``: the counts so far.
+    """
+
+    def __init__(self, kernel: EdgeKernel, W: Array,
+                 gaps: tuple[Array, Array, Array] | None) -> None:
+        self._lib, self._kernel = kernel._lib, kernel  # the kernel outlives this
+        W = np.ascontiguousarray(W, float)
+        A, a, b = (None, None, None) if gaps is None else (
+            np.ascontiguousarray(g, float) for g in gaps)
+        self._handle = self._lib.edge_prover_new(
+            kernel._handle, W.ctypes.data, *(None if g is None else g.ctypes.data
+                                             for g in (A, a, b)))
+        # buffers the calls fill, and their addresses (ctypes' conversions cost ~6 µs each)
+        self._q = np.zeros((2, kernel.nq))
+        self._d = np.zeros(kernel.npairs)
+        self._counts = np.zeros(2, np.int64)
+        self._at = (self._q.ctypes.data, self._q[1].ctypes.data, self._d.ctypes.data,
+                    self._counts.ctypes.data)
+        self._state, self._edge = self._lib.edge_prover_state, self._lib.edge_prover_edge
+
+    def __del__(self) -> None:
+        handle = getattr(self, "_handle", None)
+        if handle:
+            self._lib.edge_prover_free(handle)
+
+    @property
+    def states(self) -> int:
+        """Configurations whose distances were all computed."""
+        return int(self._counts[0])
+
+    @property
+    def midpoints(self) -> int:
+        """Configurations computed inside edges."""
+        return int(self._counts[1])
+
+    def distances(self, key: tuple[float, ...]) -> list[float]:
+        """Distances less the shift (npairs,) at ``key`` (cached)."""
+        self._q[0] = key
         at = self._at
-        self._count.value = 0
-        ok = self._split(self._handle, at[0], at[1], n, at[3], at[4], at[5], at[6],
-                         None if spans is None else at[7], resolution, at[8])
-        self.midpoints += self._count.value
-        return bool(ok)
+        self._state(self._handle, at[0], at[2], at[3])
+        return self._d.tolist()
+
+    def valid(self, key: tuple[float, ...]) -> bool:
+        """Whether every pair is farther than the margin at ``key`` (cached)."""
+        self._q[0] = key
+        at = self._at
+        return bool(self._state(self._handle, at[0], None, at[3]))
+
+    def edge(self, a: tuple[float, ...], b: tuple[float, ...], resolution: float) -> bool:
+        """Whether the straight segment ``a`` -> ``b`` is proven clear (EdgeProver's rule)."""
+        q = self._q
+        q[0], q[1] = a, b
+        at = self._at
+        return bool(self._edge(self._handle, at[0], at[1], resolution, at[3]))
 
 
 def _dp(a: Array) -> Any:

@@ -31,6 +31,7 @@ from numpy.typing import NDArray
 
 from scara_opt.collision.checker import CollisionChecker
 from scara_opt.collision.continuous import DISTANCE_TOL, RESOLUTION
+from scara_opt.collision.edge_kernel import NativeProver
 
 Array = NDArray[np.float64]
 
@@ -69,8 +70,12 @@ def import_ompl() -> tuple[ModuleType, ModuleType, ModuleType]:
 class EdgeProver:
     """States and straight joint edges checked by the conservative rule, with counts.
 
-    Distances are cached per configuration (OMPL asks for the same states many times) and
-    kept as Python floats: with a few pairs, plain loops beat numpy's per-call overhead.
+    Distances are cached per configuration (OMPL asks for the same states many times).
+    Where the checker's compiled kernel runs (:mod:`~scara_opt.collision.edge_kernel`: no
+    mesh, a compiler), states and edges are proven in C++ (:class:`~scara_opt.collision.
+    edge_kernel.NativeProver`), with the same verdicts and counts as the Python form below
+    (``native=False``, or a mesh): its distances are Python floats, with a few pairs plain
+    loops beat numpy's per-call overhead.
 
     Attributes:
         states: configurations whose distances were all computed (states asked about).
@@ -89,18 +94,31 @@ class EdgeProver:
         self.gaps: dict[tuple[float, ...], Heights] = {}
         self._gaps = None if gaps is None else (gaps[0], gaps[1] - self.shift,
                                                  gaps[2] - self.shift)
-        self.states = 0
-        self.midpoints = 0
+        self._states = 0
+        self._midpoints = 0
         self.edges = 0
         self.proven = 0
         self.known: set[tuple[tuple[float, ...], tuple[float, ...]]] = set()
         self._data = checker._data()
         self._model = checker.robot.model
         self._linear = _linear(self._model)
-        self._kernel = checker._kernel() if native else None
+        kernel = checker._kernel() if native else None
+        self._native = None if kernel is None else NativeProver(kernel, self.W, self._gaps)
+
+    @property
+    def states(self) -> int:
+        """Configurations whose distances were all computed (states asked about)."""
+        return self._states if self._native is None else self._native.states
+
+    @property
+    def midpoints(self) -> int:
+        """Configurations inside edges where some pairs' distances were computed."""
+        return self._midpoints if self._native is None else self._native.midpoints
 
     def distances(self, key: tuple[float, ...]) -> list[float]:
         """Signed distances minus margin and tolerance (npairs,) at ``key`` (cached)."""
+        if self._native is not None:
+            return self._native.distances(key)
         D = self.cache.get(key)
         if D is None:
             D = self.cache[key] = self._compute(np.array(key))
@@ -123,12 +141,9 @@ class EdgeProver:
     def _compute(self, q: Array) -> list[float]:
         import pinocchio as pin
 
-        if self._kernel is not None:
-            self.states += 1
-            return self._kernel.distances(q)
         data, gdata, results = self._data
         pin.computeDistances(self._model, data, self.checker.model, gdata, q)
-        self.states += 1
+        self._states += 1
         shift = self.shift
         return [r.min_distance - shift for r in results]
 
@@ -139,6 +154,8 @@ class EdgeProver:
 
     def valid(self, key: tuple[float, ...]) -> bool:
         """Whether every pair is farther than the margin at ``key``."""
+        if self._native is not None:
+            return self._native.valid(key)
         return min(self.distances(key), default=1.0) > 0
 
     def edge(self, a: tuple[float, ...], b: tuple[float, ...]) -> bool:
@@ -152,6 +169,13 @@ class EdgeProver:
         """
         self.edges += 1
         if (a, b) in self.known:
+            return True
+        if self._native is not None:  # the same rule, compiled
+            if not self._native.edge(a, b, RESOLUTION):
+                return False
+            self.proven += 1
+            self.known.add((a, b))
+            self.known.add((b, a))
             return True
         Da, Db = self.distances(a), self.distances(b)
         if min(Da, default=1.0) <= 0 or min(Db, default=1.0) <= 0:
@@ -185,15 +209,6 @@ class EdgeProver:
         import pinocchio as pin
 
         spans = None if G is None else {k: _apart_spans(G, k) for k in pairs}
-        if self._kernel is not None:  # the same loop, compiled
-            kernel = self._kernel
-            before = kernel.midpoints
-            ok = kernel.split(a, b, pairs, [M[k] for k in pairs],
-                              [Da[k] for k in pairs], [Db[k] for k in pairs],
-                              None if spans is None else [x for k in pairs for x in spans[k]],
-                              RESOLUTION)
-            self.midpoints += kernel.midpoints - before
-            return ok
         data, gdata, _ = self._data
         model, gmodel, shift = self._model, self.checker.model, self.shift
         distance, place = pin.computeDistance, pin.updateGeometryPlacements
@@ -215,7 +230,7 @@ class EdgeProver:
             if 2 * h < wide and 2 * h * max(M[k] for k in pairs) < RESOLUTION:
                 return False  # grazing: not proven
             place(model, data, gmodel, gdata, config(s0 + h))
-            self.midpoints += 1
+            self._midpoints += 1
             Dm = [distance(gmodel, gdata, k).min_distance - shift for k in pairs]
             if min(Dm) <= 0:
                 return False
