@@ -47,8 +47,9 @@ _LOCK = threading.Lock()
 #: cells of benchmarks/bench_plan.py 15-45 % faster)
 RANGE = 0.4
 
-#: rounds of partial shortcuts, and steps of B-spline smoothing, in :func:`simplify_path`
-SHORTCUT_ROUNDS = 6
+#: rounds of partial shortcuts (after one rope shortcut), and steps of B-spline smoothing,
+#: in :func:`simplify_path`
+SHORTCUT_ROUNDS = 4
 SMOOTHING_STEPS = 2
 
 #: install hint when the wheel is missing
@@ -413,15 +414,20 @@ def _solve(ob: ModuleType, og: ModuleType, ou: ModuleType, prover: EdgeProver,
 def simplify_path(og: ModuleType, si: Any, path: Any) -> None:
     """Shorten and smooth ``path`` in place with OMPL's PathSimplifier (its checks are ours).
 
-    Vertex reduction, up to :data:`SHORTCUT_ROUNDS` rounds of partial shortcuts (segments
-    between points anywhere on the path), close vertices collapsed, vertices reduced again,
-    then :data:`SMOOTHING_STEPS` steps of B-spline smoothing (each corner cut where the new
-    segments are proven clear: 4-5 % shorter paths for no time measured). OMPL's whole
-    ``simplify`` (more rounds of all) is about five times the cost with our proven edges
-    (measured on the cells of benchmarks/bench_plan.py: 68-82 ms against 8-16 ms a query).
+    Vertex reduction, one rope shortcut (OMPL 2's ``ropeShortcutPath``: the path pulled
+    taut against the obstacles), up to :data:`SHORTCUT_ROUNDS` rounds of partial shortcuts
+    (segments between points anywhere on the path), close vertices collapsed, vertices
+    reduced again, then :data:`SMOOTHING_STEPS` steps of B-spline smoothing (each corner
+    cut where the new segments are proven clear). Chosen by measurement on the cells of
+    benchmarks/bench_plan.py (25-40 pairs each, median path length of the timed trajectory
+    against OMPL's simplified one, and time against OMPL's plan + simplify): 6 partial
+    rounds alone 1.045 and 0.64; the rope alone 1.006 and 0.64; the rope and 4 rounds 0.983
+    and 0.84; the rope and 6 rounds 0.981 and 0.92; OMPL's whole ``simplify`` (0.05 s)
+    1.066 and 0.86.
     """
     ps = og.PathSimplifier(si)
     ps.reduceVertices(path)
+    ps.ropeShortcutPath(path)
     for _ in range(SHORTCUT_ROUNDS):
         if not ps.partialShortcutPath(path):
             break
