@@ -9,6 +9,7 @@ import pytest
 
 import scara_opt as so
 from scara_opt.collision.edge_kernel import edge_kernel, shape_code
+from scara_opt.errors import FallbackWarning
 from scara_opt.planning.ompl_backend import EdgeProver
 from tests.conftest import DATA
 
@@ -182,3 +183,29 @@ def test_compiled_path_proofs_are_the_python_forms(checker, monkeypatch):
                 assert abs(dist[k] - dist[j]) < 1e-9
         verdicts.append(native.clear)
     assert 0.1 < np.mean(verdicts) < 0.9
+
+
+def test_missing_headers_fall_back_and_say_so(monkeypatch):
+    """Where coal's or Eigen's headers are not found, the kernel is not built: the Python
+    form runs, the fallback is said (a FallbackWarning) and recorded with its reason
+    (``scara-opt doctor`` lists it).
+
+    Mutation caught: the reason dropped (``_library`` returning None without
+    ``fall_back``): no record of the fallback.
+    """
+    from scara_opt.collision import edge_kernel as ek
+    from scara_opt.model import compiled
+
+    monkeypatch.setattr(ek, "build_arguments", lambda: "coal's headers were not found (test)")
+    monkeypatch.setattr(compiled, "_NATIVES", {})  # this process's record, fresh
+    monkeypatch.setattr(compiled, "_SAID", set())
+    ek._library.cache_clear()
+    try:
+        checker = so.CollisionChecker(SCARA, TABLE)
+        with pytest.warns(FallbackWarning, match="edge_kernel.cpp"):
+            assert checker._kernel() is None
+        assert EdgeProver(checker)._native is None
+        said = [n for n in compiled.natives() if n.name == "edge_kernel.cpp"]
+        assert said and said[-1].state == "fallback" and "(test)" in said[-1].detail
+    finally:
+        ek._library.cache_clear()

@@ -30,7 +30,13 @@ from numpy.typing import NDArray
 
 from scara_opt.model import symbolic
 from scara_opt.model.batch_fk import kinematic_key
-from scara_opt.model.compiled import c_library, compiled, library_path, source_hash
+from scara_opt.model.compiled import (
+    c_library,
+    compiled,
+    fall_back,
+    library_path,
+    source_hash,
+)
 
 if TYPE_CHECKING:
     from scara_opt.collision.checker import CollisionChecker
@@ -95,6 +101,7 @@ def _library() -> ctypes.CDLL | None:
     """The compiled kernel, its functions' signatures set, or ``None`` (the Python form)."""
     extra = build_arguments()
     if isinstance(extra, str):
+        fall_back(SOURCE.name, extra)
         return None
     lib = c_library(SOURCE, extra)
     if lib is None:
@@ -198,10 +205,13 @@ class EdgeKernel:
         """:func:`~scara_opt.collision.continuous.check_path` (``locate=False``), compiled.
 
         Args:
-            x: (m + 1,) the path's breakpoints; ``c``: (k + 1, m, nq) its coefficients
-                (scipy's ``PPoly.c``); ``V``: (m, nq) bounds on ``|q'|`` per piece.
-            W: (npairs, nq) the pairs' weights; ``gaps``: a SCARA's ``(A, a, b)`` or None.
-            resolution: the grazing bound [m]; ``budget``: most configurations.
+            x: (m + 1,) the path's breakpoints.
+            c: (k + 1, m, nq) its coefficients (scipy's ``PPoly.c``).
+            V: (m, nq) bounds on ``|q'|`` per piece.
+            W: (npairs, nq) the pairs' weights.
+            gaps: a SCARA's ``(A, a, b)`` (the checker's ``gaps``), or None.
+            resolution: the grazing bound [m].
+            budget: the most configurations to compute.
 
         Returns:
             ``(clear, spare, at, distance, pair, touching, evaluations)``: as

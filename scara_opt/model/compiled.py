@@ -425,6 +425,14 @@ def _fall_back(name: str, reason: str) -> None:
          "solve_many 1.3x, an FA solve 6.7x). `scara-opt doctor` lists what falls back")
 
 
+def fall_back(name: str, reason: str) -> None:
+    """Record that the native code ``name`` falls back for ``reason`` (said once per process).
+
+    For a caller that finds a missing piece before compiling (headers, a library).
+    """
+    _fall_back(name, reason)
+
+
 def library_path(name: str) -> Path | None:
     """The library :func:`compiled` loaded the Function ``name`` from, or ``None``.
 
