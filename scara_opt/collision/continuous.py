@@ -53,7 +53,6 @@ RESOLUTION = 1e-9
 #: the first contact of a trajectory is located to within this [s]
 TIME_TOL = 1e-4
 
-
 #: at most this many configurations are checked in one proof (then: not proven)
 MAX_EVALUATIONS = 200_000
 

@@ -209,7 +209,6 @@ class EdgeProver:
         """
         import pinocchio as pin
 
-        spans = None if G is None else {k: _apart_spans(G, k) for k in pairs}
         data, gdata, _ = self._data
         model, gmodel, shift = self._model, self.checker.model, self.shift
         distance, place = pin.computeDistance, pin.updateGeometryPlacements
@@ -224,6 +223,7 @@ class EdgeProver:
 
             def config(s: float) -> Array:
                 return qa + s * dq
+        spans = None if G is None else {k: _apart_spans(G, k) for k in pairs}
         wide = RESOLUTION / min(M[k] for k in pairs)  # wider intervals do not graze
         queue = deque([(0.5, 0.0, pairs, [Da[k] for k in pairs], [Db[k] for k in pairs])])
         while queue:
