@@ -22,7 +22,8 @@ check at 1e-3 rad/m). Each planner gets a 1 s limit:
 
 Every returned path is checked here, independently: configurations every 1e-3 rad (or m)
 of joint motion along it (ours: along the timed trajectory), each asked of Pinocchio +
-coal. Printed per cell and overall: solved, colliding outputs (and the deepest overlap),
+coal directly (``computeCollisions``, not our checker's batches, which may run our
+compiled kernel). Printed per cell and overall: solved, colliding outputs (and the deepest overlap),
 median times, median joint-space path lengths, and, on the side, one check's cost against
 the raw ``computeCollisions`` call and the batch speedup over a loop.
 
@@ -97,11 +98,22 @@ def dense_polyline(Q: np.ndarray) -> np.ndarray:
 
 
 def deepest(checker: so.CollisionChecker, Q: np.ndarray) -> float:
-    """0 if every configuration of Q (n, nq) is clear, else the deepest overlap [m] (> 0)."""
-    hit = checker.collides_many(Q)
-    if not hit.any():
+    """0 if every configuration of Q (n, nq) is clear, else the deepest overlap [m] (> 0).
+
+    By Pinocchio's own calls on the checker's model (computeCollisions, then
+    computeDistances where in contact): independent of scara_opt's compiled kernel, which
+    the checker's batches may use.
+    """
+    model, gmodel = checker.robot.model, checker.model
+    data, gdata = model.createData(), pin.GeometryData(gmodel)
+    hit = [q for q in Q if pin.computeCollisions(model, data, gmodel, gdata, q, True)]
+    if not hit:
         return 0.0
-    return max(float(-checker.clearance_many(Q[hit]).min()), 1e-12)
+    depth = 0.0
+    for q in hit:
+        pin.computeDistances(model, data, gmodel, gdata, q)
+        depth = max(depth, -min(r.min_distance for r in gdata.distanceResults))
+    return max(depth, 1e-12)
 
 
 def dense_trajectory(traj: so.Trajectory) -> np.ndarray:

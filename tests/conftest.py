@@ -105,11 +105,33 @@ def c_compiler():
     return found if isinstance(found, compiled.Toolchain) else None
 
 
+def pinocchio_collides(checker, Q):
+    """(n,) bool: each row of Q in contact, or closer than the checker's margin, by
+    Pinocchio's own calls on the checker's model (``computeCollisions``; with a margin,
+    ``computeDistances``): the dense checks' reference, independent of scara_opt's compiled
+    kernel (collision/edge_kernel.cpp), which the checker's batches may use.
+    """
+    import pinocchio as pin
+
+    model, gmodel = checker.robot.model, checker.model
+    data, gdata = model.createData(), pin.GeometryData(gmodel)
+    Q = np.atleast_2d(np.asarray(Q, float))
+    if not checker.margin:
+        return np.array([pin.computeCollisions(model, data, gmodel, gdata, q, True)
+                         for q in Q], dtype=bool)
+    out = np.zeros(len(Q), dtype=bool)
+    for i, q in enumerate(Q):
+        pin.computeDistances(model, data, gmodel, gdata, q)
+        out[i] = min((r.min_distance for r in gdata.distanceResults), default=1.0) < \
+            checker.margin
+    return out
+
+
 def dense_first_contact(checker, qa, qb, step=1e-3):
     """First fraction along qa->qb in collision by sampling every ``step`` of joint motion
     (rad or m): the independent check the collision proofs are tested against; None if clear.
     """
     n = int(np.ceil(np.abs(qb - qa).max() / step)) + 1
     s = np.linspace(0.0, 1.0, n)
-    hit = checker.collides_many(qa + s[:, None] * (qb - qa))
+    hit = pinocchio_collides(checker, qa + s[:, None] * (qb - qa))
     return float(s[np.argmax(hit)]) if hit.any() else None

@@ -11,7 +11,7 @@ import pytest
 
 import scara_opt as so
 from scara_opt.collision.continuous import VelocityBound, prove_segment
-from tests.conftest import dense_first_contact
+from tests.conftest import dense_first_contact, pinocchio_collides
 
 THIN = so.Cell([so.Box("plate", (0.004, 0.5, 0.4), xyz=(0.28, 0.05, -0.05), rpy=(0, 0, 0.3)),
                 so.Cylinder("post", 0.01, 0.4, xyz=(0.15, -0.25, 0.0))])
@@ -117,7 +117,7 @@ def test_velocity_bound_covers_the_trajectory_speed(method, groups):
 def _dense_trajectory_contact(checker, traj):
     peak = traj.peaks()["velocity"].max()
     t = np.arange(0.0, traj.duration, 1e-3 / peak)
-    hit = checker.collides_many(traj.evaluate(t))
+    hit = pinocchio_collides(checker, traj.evaluate(t))
     return float(t[np.argmax(hit)]) if hit.any() else None
 
 

@@ -9,7 +9,7 @@ import pytest
 
 import scara_opt as so
 from scara_opt.planning import PlanStatus, plan_path
-from tests.conftest import dense_first_contact
+from tests.conftest import dense_first_contact, pinocchio_collides
 
 ROBOT = so.load_robot("zavar2024")
 POST = so.Cell([so.Cylinder("post", 0.03, 0.4, xyz=(0.3, 0.15, 0.0))])
@@ -26,7 +26,7 @@ def dense_clear_trajectory(checker, traj, step=1e-3):
     """The timed trajectory sampled so no joint moves more than ``step`` between samples."""
     dt = step / traj.peaks()["velocity"].max()
     t = np.append(np.arange(0.0, traj.duration, dt), traj.duration)
-    return not checker.collides_many(traj.evaluate(t)).any()
+    return not pinocchio_collides(checker, traj.evaluate(t)).any()
 
 
 def test_planned_path_around_a_post_is_clear_and_reproducible():

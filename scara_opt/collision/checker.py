@@ -300,6 +300,11 @@ class CollisionChecker:
     def _batch(self, Q: ArrayLike) -> Array:
         return self.robot.check_q_batch(Q)
 
+    @property
+    def _broad(self) -> bool:
+        """Whether batches use coal's broad phase (many pairs per body: :data:`BROAD_PHASE`)."""
+        return self.npairs > BROAD_PHASE * len(self.bodies)
+
     def _pool(self, threads: int) -> Any:
         """A pool of ``threads`` copies of the model and data, kept per thread count.
 
@@ -309,8 +314,7 @@ class CollisionChecker:
         """
         pools = self.__dict__.setdefault("_pools", {})
         if threads not in pools:
-            broad = self.npairs > BROAD_PHASE * len(self.bodies)
-            make = (pin.BroadPhaseManagerPool_DynamicAABBTreeCollisionManager if broad
+            make = (pin.BroadPhaseManagerPool_DynamicAABBTreeCollisionManager if self._broad
                     else pin.GeometryPool)
             pools[threads] = make(self.robot.model, self.model, threads)
         return pools[threads]
@@ -319,7 +323,11 @@ class CollisionChecker:
         """:meth:`collides` of each row of ``Q`` (n, nq) in one call, (n,) bool.
 
         Pinocchio's ``computeCollisionsInParallel`` over a pool (:meth:`_pool`) in
-        ``threads`` threads; with a margin, :meth:`distances_many` instead.
+        ``threads`` threads; in one thread without the broad phase, the compiled kernel's
+        loop of the same contact tests (:mod:`~scara_opt.collision.edge_kernel`; measured
+        on the cells of benchmarks/bench_plan.py: 1.94 against 2.27 µs a configuration in
+        the rack, 4.23 against 4.77 in the table, a tie in the post); with a margin,
+        :meth:`distances_many` instead.
         """
         Qa = self._batch(Q)
         threads = int(check_real("threads", threads, 1, 256))
@@ -327,6 +335,9 @@ class CollisionChecker:
             return np.zeros(len(Qa), dtype=bool)
         if self.margin:
             return self.distances_many(Qa).min(axis=1) < self.margin
+        kernel = self._kernel() if threads == 1 and not self._broad else None
+        if kernel is not None:  # the same contact tests, no pool (collision/edge_kernel.cpp)
+            return kernel.collides(Qa)
         out = pin.computeCollisionsInParallel(threads, self._pool(threads),
                                               np.asfortranarray(Qa.T), True)
         return np.asarray(out, dtype=bool)

@@ -9,6 +9,7 @@
  * Shapes: 0 sphere (r), 1 box (x, y, z full sides), 2 capsule (r, length),
  * 3 cylinder (r, length); nothing else (edge_kernel.py keeps the Python form then).
  */
+#include <coal/collision.h>
 #include <coal/distance.h>
 #include <coal/shape/geometric_shapes.h>
 
@@ -48,6 +49,10 @@ struct Kernel {
     std::vector<coal::ComputeDistance> functors;
     std::vector<coal::DistanceRequest> requests;
     std::vector<coal::DistanceResult> results;
+    /* and for contact tests, as Pinocchio's computeCollisions */
+    std::vector<coal::ComputeCollision> colliders;
+    std::vector<coal::CollisionRequest> contact_requests;
+    std::vector<coal::CollisionResult> contact_results;
 
     void place(const double *config) {
         const double *arg[1] = {config};
@@ -71,6 +76,13 @@ struct Kernel {
     }
 
     double distance(int k) { return raw(k) - shift; }
+
+    bool touching(int k) { /* the pair in contact at the placed configuration */
+        coal::CollisionResult &result = contact_results[k];
+        result.clear();
+        colliders[k](tf[first[k]], tf[second[k]], contact_requests[k], result);
+        return result.isCollision();
+    }
 };
 
 std::shared_ptr<coal::CollisionGeometry> shape(int type, const double *p) {
@@ -132,6 +144,14 @@ void *edge_kernel_new(int nq, void *fk, int sz_iw, int sz_w, int nmoving, int nb
         request.enable_cached_gjk_guess = true;
         k->requests.push_back(request);
         k->results.emplace_back();
+        k->colliders.emplace_back(k->shapes[a].get(), k->shapes[b].get());
+        /* Pinocchio's: one contact, the GJK guess cached, GJK stopping once the pair is
+         * proven 1e-6 m apart (computeCollision's distance_upper_bound) */
+        coal::CollisionRequest contact(coal::NO_REQUEST, 1);
+        contact.enable_cached_gjk_guess = true;
+        contact.distance_upper_bound = contact.security_margin + 1e-6;
+        k->contact_requests.push_back(contact);
+        k->contact_results.emplace_back();
     }
     return k;
 }
@@ -153,6 +173,19 @@ void edge_kernel_batch(void *kernel, const double *Q, int n, const int *cols, in
     for (int i = 0; i < n; ++i) {
         k->place(Q + (size_t)i * k->nq);
         for (int c = 0; c < ncols; ++c) out[(size_t)i * ncols + c] = k->raw(cols ? cols[c] : c);
+    }
+}
+
+/* Whether any pair is in contact at each of the n rows of Q (n, nq): out (n,), 0 or 1,
+ * as CollisionChecker.collides (Pinocchio's computeCollisions, stopping at the first). */
+void edge_kernel_collides(void *kernel, const double *Q, int n, unsigned char *out) {
+    auto *k = (Kernel *)kernel;
+    const int np = (int)k->first.size();
+    for (int i = 0; i < n; ++i) {
+        k->place(Q + (size_t)i * k->nq);
+        unsigned char hit = 0;
+        for (int p = 0; p < np && !hit; ++p) hit = k->touching(p);
+        out[i] = hit;
     }
 }
 

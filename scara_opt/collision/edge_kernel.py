@@ -115,6 +115,7 @@ def _library() -> ctypes.CDLL | None:
     lib.edge_kernel_split.argtypes = [_P, _P, _P, _I, _P, _P, _P, _P, _P, _D, _P]
     lib.edge_kernel_split.restype = _I
     lib.edge_kernel_batch.argtypes = [_P, _P, _I, _P, _I, _P]
+    lib.edge_kernel_collides.argtypes = [_P, _P, _I, _P]
     lib.edge_kernel_prove_path.argtypes = [_P, _I, _I, _P, _P, _P, _P, _P, _P, _P, _D,
                                            ctypes.c_longlong, _P]
     lib.edge_kernel_prove_path.restype = _I
@@ -182,6 +183,7 @@ class EdgeKernel:
         self.nq, self.npairs = checker.robot.nq, len(pairs)
         self._open = np.zeros(self.npairs, np.intc)  # the pairs asked for by batch
         self._batch, self._prove_path = lib.edge_kernel_batch, lib.edge_kernel_prove_path
+        self._collides = lib.edge_kernel_collides
 
     def __del__(self) -> None:
         handle = getattr(self, "_handle", None)
@@ -198,6 +200,13 @@ class EdgeKernel:
         self._batch(self._handle, Q.ctypes.data, len(Q),
                     None if cols is None else self._open.ctypes.data, n, out.ctypes.data)
         return out
+
+    def collides(self, Q: Array) -> NDArray[np.bool_]:
+        """Whether any pair is in contact (n,) at each row of ``Q`` (n, nq), no margin."""
+        Q = np.ascontiguousarray(Q, float)
+        out = np.zeros(len(Q), np.uint8)
+        self._collides(self._handle, Q.ctypes.data, len(Q), out.ctypes.data)
+        return out.view(np.bool_)
 
     def prove_path(self, x: Array, c: Array, V: Array, W: Array,
                    gaps: tuple[Array, Array, Array] | None, resolution: float, budget: int
