@@ -1,14 +1,16 @@
-/* The conservative edge proof of scara_opt.planning.ompl_backend.EdgeProver, in C++.
+/* The collision proofs' inner loops in C++ (scara_opt.collision.edge_kernel says which).
  *
- * The same rule, the same order of intervals, the same counts as the Python form
- * (EdgeProver._split); only the calls change: coal's distance on our own coal shapes, the
- * robot bodies placed by the compiled casadi Function of their world placements (the chain
- * walk of scara_opt.model.symbolic), no Python between two configurations.
- * edge_kernel.py builds it (once per machine) and checks it against the Python form.
+ * Each does what its Python form does, with the same rule, the same order of intervals and
+ * the same counts: EdgeProver's states and edges (edge_prover_*, edge_kernel_split),
+ * continuous.check_path (edge_kernel_prove_path), the checker's batches of distances and
+ * contact tests (edge_kernel_batch, edge_kernel_collides). Only the calls change: coal's
+ * functors on our own coal shapes, the robot's bodies placed by the compiled casadi
+ * Function of their world placements (the chain walk of scara_opt.model.symbolic), no
+ * Python between two configurations. edge_kernel.py builds it (once per machine);
+ * tests/test_edge_kernel.py holds it to the Python forms and to Pinocchio.
  *
  * Shapes: 0 sphere (r), 1 box (x, y, z full sides), 2 capsule (r, length),
- * 3 cylinder (r, length); nothing else (edge_kernel.py keeps the Python form then).
- */
+ * 3 cylinder (r, length); nothing else (edge_kernel.py keeps the Python forms then). */
 #include <coal/collision.h>
 #include <coal/distance.h>
 #include <coal/shape/geometric_shapes.h>

@@ -1,19 +1,28 @@
-"""The edge proof's inner loop compiled: coal's distances with no Python between two states.
+"""The proofs' inner loops compiled: coal's distances with no Python between two states.
 
-:class:`~scara_opt.planning.ompl_backend.EdgeProver` spends most of a planning query
-splitting edges: at each midpoint it places the bodies (Pinocchio) and asks coal for the
+:class:`~scara_opt.planning.ompl_backend.EdgeProver` spent most of a planning query
+splitting edges: at each midpoint it placed the bodies (Pinocchio) and asked coal for the
 distance of each open pair, ~2 µs of Python call per pair around ~0.5 µs of coal's work.
-``edge_kernel.cpp`` runs the same loop (same rule, same intervals in the same order, same
-counts) in C++ against coal's own library, the one the ``pin`` wheel installs, with the
-robot's bodies placed by a compiled casadi Function of their world placements
-(:func:`~scara_opt.model.symbolic.chain_walk`'s frames times each body's placement in its
-joint frame, Pinocchio's ``oMg``).
+``edge_kernel.cpp`` runs the same loops in C++ against coal's own library (the one the
+``pin`` wheel installs), each with the same rule, the same intervals in the same order and
+the same counts as its Python form, which stays as the reference the tests hold it to:
 
-It is built once per machine like every native kernel (:mod:`scara_opt.model.compiled`:
-the cache, the checks, ``SCARA_OPT_NO_COMPILE``), with coal's headers and library from the
-``pin`` wheel's prefix and Eigen's headers from casadi's wheel. Where any piece is missing
-(no compiler, no headers, a body that is not a sphere, box, capsule or cylinder: a mesh),
-:func:`edge_kernel` returns ``None`` and the Python form runs: the same verdicts, slower.
+* :class:`NativeProver`: ``EdgeProver``'s states and edges (the per-state cache, the rule
+  from the two ends, a SCARA's height spans, the split middle first);
+* :meth:`EdgeKernel.prove_path`: :func:`~scara_opt.collision.continuous.check_path`
+  (``locate=False``), the proof of the spline a planned move is timed along;
+* :meth:`EdgeKernel.batch` and :meth:`EdgeKernel.collides`: the checker's batches of
+  distances and of contact tests (per pair coal's functors and requests as Pinocchio's
+  ``GeometryData`` holds them).
+
+The robot's bodies are placed by a compiled casadi Function of their world placements
+(:func:`~scara_opt.model.symbolic.chain_walk`'s frames times each body's placement in its
+joint frame: Pinocchio's ``oMg``). It is built once per machine like every native kernel
+(:mod:`scara_opt.model.compiled`: the cache, the checks, ``SCARA_OPT_NO_COMPILE``), with
+coal's headers and library from the ``pin`` wheel's prefix and Eigen's headers from
+casadi's wheel. Where any piece is missing (no compiler, no headers, a body that is not a
+sphere, box, capsule or cylinder: a mesh), :func:`edge_kernel` returns ``None`` and the
+Python forms run: the same verdicts, slower.
 """
 
 from __future__ import annotations
