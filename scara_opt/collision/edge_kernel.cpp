@@ -17,7 +17,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstring>
 #include <deque>
 #include <limits>
 #include <map>
@@ -35,6 +34,14 @@ struct Interval {
     std::vector<int> pairs;       /* open pairs */
     std::vector<double> d0, d1;   /* their distances at its ends, less the shift */
 };
+
+/* A placement from the 12 numbers edge_kernel.py passes: rotation row by row, translation. */
+void set_placement(coal::Transform3s &tf, const double *x) {
+    coal::Matrix3s R;
+    R << x[0], x[1], x[2], x[3], x[4], x[5], x[6], x[7], x[8];
+    tf.setRotation(R);
+    tf.setTranslation(coal::Vec3s(x[9], x[10], x[11]));
+}
 
 struct Kernel {
     int nq = 0, nmoving = 0;
@@ -60,14 +67,8 @@ struct Kernel {
         const double *arg[1] = {config};
         double *res[1] = {placed.data()};
         fk(arg, res, iw.data(), w.data(), 0);
-        for (size_t g = 0; g < slot.size(); ++g) {
-            if (slot[g] < 0) continue;
-            const double *x = &placed[12 * slot[g]];
-            coal::Matrix3s R;
-            R << x[0], x[1], x[2], x[3], x[4], x[5], x[6], x[7], x[8];
-            tf[g].setRotation(R);
-            tf[g].setTranslation(coal::Vec3s(x[9], x[10], x[11]));
-        }
+        for (size_t g = 0; g < slot.size(); ++g)
+            if (slot[g] >= 0) set_placement(tf[g], &placed[12 * slot[g]]);
     }
 
     double raw(int k) { /* the pair's signed distance [m] at the placed configuration */
@@ -129,13 +130,8 @@ void *edge_kernel_new(int nq, void *fk, int sz_iw, int sz_w, int nmoving, int nb
         if (!s) { delete k; return nullptr; }
         k->shapes.push_back(s);
         k->slot.push_back(slot[g]);
-        coal::Transform3s t;
-        const double *x = fixed + 12 * g;
-        coal::Matrix3s R;
-        R << x[0], x[1], x[2], x[3], x[4], x[5], x[6], x[7], x[8];
-        t.setRotation(R);
-        t.setTranslation(coal::Vec3s(x[9], x[10], x[11]));
-        k->tf.push_back(t);
+        k->tf.emplace_back();
+        set_placement(k->tf.back(), fixed + 12 * g);
     }
     for (int p = 0; p < npairs; ++p) {
         const int a = pairs[2 * p], b = pairs[2 * p + 1];
@@ -159,13 +155,6 @@ void *edge_kernel_new(int nq, void *fk, int sz_iw, int sz_w, int nmoving, int nb
 }
 
 void edge_kernel_free(void *kernel) { delete (Kernel *)kernel; }
-
-/* Every pair's distance less the shift at configuration q (nq,): out (npairs,). */
-void edge_kernel_distances(void *kernel, const double *q, double *out) {
-    auto *k = (Kernel *)kernel;
-    k->place(q);
-    for (size_t p = 0; p < k->first.size(); ++p) out[p] = k->distance((int)p);
-}
 
 /* Signed distances [m] of the pairs cols (ncols; NULL: all) at each of the n rows of Q
  * (n, nq): out (n, ncols), as CollisionChecker.pair_distances. */

@@ -120,9 +120,6 @@ def _library() -> ctypes.CDLL | None:
     lib.edge_kernel_new.argtypes = [_I, _P, _I, _I, _I, _I, _IP, _DP, _DP, _IP, _I, _IP, _D]
     lib.edge_kernel_new.restype = _P
     lib.edge_kernel_free.argtypes = [_P]
-    lib.edge_kernel_distances.argtypes = [_P, _P, _P]
-    lib.edge_kernel_split.argtypes = [_P, _P, _P, _I, _P, _P, _P, _P, _P, _D, _P]
-    lib.edge_kernel_split.restype = _I
     lib.edge_kernel_batch.argtypes = [_P, _P, _I, _P, _I, _P]
     lib.edge_kernel_collides.argtypes = [_P, _P, _I, _P]
     lib.edge_kernel_prove_path.argtypes = [_P, _I, _I, _P, _P, _P, _P, _P, _P, _P, _D,

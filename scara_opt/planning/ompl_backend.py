@@ -172,12 +172,18 @@ class EdgeProver:
         if (a, b) in self.known:
             return True
         if self._native is not None:  # the same rule, compiled
-            if not self._native.edge(a, b, RESOLUTION):
-                return False
-            self.proven += 1
-            self.known.add((a, b))
-            self.known.add((b, a))
-            return True
+            clear = self._native.edge(a, b, RESOLUTION)
+        else:
+            clear = self._prove(a, b)
+        if not clear:
+            return False
+        self.proven += 1
+        self.known.add((a, b))
+        self.known.add((b, a))
+        return True
+
+    def _prove(self, a: tuple[float, ...], b: tuple[float, ...]) -> bool:
+        """:meth:`edge`'s rule in Python: from the ends, then :meth:`_split`."""
         Da, Db = self.distances(a), self.distances(b)
         if min(Da, default=1.0) <= 0 or min(Db, default=1.0) <= 0:
             return False
@@ -190,12 +196,7 @@ class EdgeProver:
         G = None if ga is None or gb is None else (ga, gb)
         if G is not None and pairs:  # apart along the axis at both ends: all along (affine)
             pairs = [k for k in pairs if not _apart(G, k, 0.0, 1.0)]
-        if pairs and not self._split(a, b, M, pairs, Da, Db, G):
-            return False
-        self.proven += 1
-        self.known.add((a, b))
-        self.known.add((b, a))
-        return True
+        return not pairs or self._split(a, b, M, pairs, Da, Db, G)
 
     def _split(self, a: tuple[float, ...], b: tuple[float, ...], M: list[float],
                pairs: list[int], Da: list[float], Db: list[float],
