@@ -62,7 +62,6 @@ def cmd_plan(args: argparse.Namespace) -> int:
     from scara_opt.cli_args import joint_scale, joint_units
     from scara_opt.cli_pose import target_from_args
     from scara_opt.errors import InputError, NoPathFoundError
-    from scara_opt.motion import plan  # (mypy reads so.plan as the module motion/plan.py)
     from scara_opt.outputs import OutputDir, write_animation
 
     if (args.goal is None) == (args.xyz is None):
@@ -81,7 +80,7 @@ def cmd_plan(args: argparse.Namespace) -> int:
         goal = target_from_args(args, np.asarray(args.xyz, float) / (1e3 if args.mm else 1.0))
     kw = cell_keywords(args)
     try:
-        traj = plan(robot, [so.PTP(goal)], start=start, **kw)
+        traj = so.plan(robot, [so.PTP(goal)], start=start, **kw)
     except NoPathFoundError as exc:
         if args.json:
             print(json.dumps({"robot": robot.name, "status": "no_path", "message": str(exc),

@@ -212,10 +212,13 @@ def test_compiled_path_proofs_are_the_python_forms(checker, monkeypatch):
 def test_missing_headers_fall_back_and_say_so(monkeypatch):
     """Where coal's or Eigen's headers are not found, the kernel is not built: the Python
     form runs, the fallback is said (a FallbackWarning) and recorded with its reason
-    (``scara-opt doctor`` lists it).
+    (``scara-opt doctor`` lists it). With ``SCARA_OPT_NO_COMPILE=1`` the headers are not
+    looked for: the kernel is "off", as every native piece, and nothing is said.
 
-    Mutation caught: the reason dropped (``_library`` returning None without
-    ``fall_back``): no record of the fallback.
+    Mutation caught: the reason dropped (``c_library`` returning None for a string from
+    ``extra`` without ``_fall_back``): no record of the fallback. Mutation caught: the
+    headers looked for before the ``SCARA_OPT_NO_COMPILE`` test: "fallback" instead of
+    "off".
     """
     from scara_opt.collision import edge_kernel as ek
     from scara_opt.model import compiled
@@ -231,5 +234,11 @@ def test_missing_headers_fall_back_and_say_so(monkeypatch):
         assert EdgeProver(checker)._native is None
         said = [n for n in compiled.natives() if n.name == "edge_kernel.cpp"]
         assert said and said[-1].state == "fallback" and "(test)" in said[-1].detail
+        monkeypatch.setattr(compiled, "_NATIVES", {})
+        monkeypatch.setenv("SCARA_OPT_NO_COMPILE", "1")
+        ek._library.cache_clear()
+        assert so.CollisionChecker(SCARA, TABLE)._kernel() is None
+        said = [n for n in compiled.natives() if n.name == "edge_kernel.cpp"]
+        assert [n.state for n in said] == ["off"]
     finally:
         ek._library.cache_clear()

@@ -39,13 +39,7 @@ from numpy.typing import NDArray
 
 from scara_opt.model import symbolic
 from scara_opt.model.batch_fk import kinematic_key
-from scara_opt.model.compiled import (
-    c_library,
-    compiled,
-    fall_back,
-    library_path,
-    source_hash,
-)
+from scara_opt.model.compiled import c_library, compiled, library_path, source_hash
 
 if TYPE_CHECKING:
     from scara_opt.collision.checker import CollisionChecker
@@ -108,11 +102,7 @@ def build_arguments() -> tuple[str, ...] | str:
 @functools.lru_cache(maxsize=1)
 def _library() -> ctypes.CDLL | None:
     """The compiled kernel, its functions' signatures set, or ``None`` (the Python form)."""
-    extra = build_arguments()
-    if isinstance(extra, str):
-        fall_back(SOURCE.name, extra)
-        return None
-    lib = c_library(SOURCE, extra)
+    lib = c_library(SOURCE, build_arguments)  # headers looked for only when compiling
     if lib is None:
         return None
     if lib.edge_kernel_casadi_int_size() != ctypes.sizeof(ctypes.c_longlong):

@@ -425,14 +425,6 @@ def _fall_back(name: str, reason: str) -> None:
          "solve_many 1.3x, an FA solve 6.7x). `scara-opt doctor` lists what falls back")
 
 
-def fall_back(name: str, reason: str) -> None:
-    """Record that the native code ``name`` falls back for ``reason`` (said once per process).
-
-    For a caller that finds a missing piece before compiling (headers, a library).
-    """
-    _fall_back(name, reason)
-
-
 def library_path(name: str) -> Path | None:
     """The library :func:`compiled` loaded the Function ``name`` from, or ``None``.
 
@@ -443,7 +435,9 @@ def library_path(name: str) -> Path | None:
     return _PATHS.get(name)
 
 
-def c_library(source: str | Path, extra: tuple[str, ...] = ()) -> ctypes.CDLL | None:
+def c_library(source: str | Path,
+              extra: tuple[str, ...] | Callable[[], tuple[str, ...] | str] = ()
+              ) -> ctypes.CDLL | None:
     """The C file ``source`` compiled into a shared library in the cache folder, loaded.
 
     Compiled once per machine (keyed by the source's contents, ``extra``, the flags, the
@@ -451,10 +445,11 @@ def c_library(source: str | Path, extra: tuple[str, ...] = ()) -> ctypes.CDLL | 
     compiling is off (``SCARA_OPT_NO_COMPILE=1``) or falls back (said once per process):
     the caller runs its numpy form. A ``.cpp`` file is compiled as C++ (the compiler
     driver knows it by its suffix) and linked with the C++ library; ``extra``: more
-    arguments after the file (include and library folders, libraries).
+    arguments after the file (include and library folders, libraries), or a function
+    that finds them, asked only when compiling is on, and returning why not (a string:
+    the fallback's reason) where they cannot be found.
     """
     source = Path(source)
-    libs = ("-lm", *(("-lstdc++",) if source.suffix == ".cpp" else ()), *extra)
     if os.environ.get(NO_COMPILE_ENV) == "1":
         _note(Native(source.name, "off", None, f"{NO_COMPILE_ENV}=1"))
         return None
@@ -462,6 +457,11 @@ def c_library(source: str | Path, extra: tuple[str, ...] = ()) -> ctypes.CDLL | 
     if not isinstance(chain, Toolchain):
         _fall_back(source.name, chain)
         return None
+    found = extra() if callable(extra) else extra
+    if isinstance(found, str):
+        _fall_back(source.name, found)
+        return None
+    libs = ("-lm", *(("-lstdc++",) if source.suffix == ".cpp" else ()), *found)
     library = _library(source.stem, f"{source_hash(source)} {libs}", chain)
     with _LOCK:
         if str(library) in _LIBRARIES:
