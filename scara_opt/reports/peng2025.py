@@ -11,7 +11,7 @@ import numpy as np
 import pandas as pd
 
 import scara_opt as so
-from scara_opt.plots import draw_robot
+from scara_opt.plots import draw_robot, root_figure
 from scara_opt.reports import Finding, PaperReport
 from scara_opt.reports import verdicts as rules
 from scara_opt.reports.cycle import add_cycle_finding
@@ -60,16 +60,16 @@ def _validation(robot: so.Robot, rep: PaperReport, out: Path) -> None:
         "matched if the closed form finds exactly 2 elbow branches, each solved", "ik"))
     title = ("peng2025 Figs. 9-10: closed-form branches of the validation pose, "
              "stroke widened to [-5, 40] mm")
-    path = out / "peng2025_fig9_fig10_branches.png"
-    if not branches:
-        draw_robot(widened, widened.lower, label="(no branch)", title=title, path=path)
-    ax = None
+    ax = (draw_robot(widened, widened.lower, label="(no branch)", title=title)
+          if not branches else None)
     for k, b in enumerate(branches[:2]):
         ax = draw_robot(widened, b.q, ax=ax, color=f"C{k}", title=title,
-                        label=f"branch {k + 1}: theta2 = {np.degrees(b.q[2]):.4g} deg",
-                        path=path if k == len(branches[:2]) - 1 else None)
+                        label=f"branch {k + 1}: theta2 = {np.degrees(b.q[2]):.4g} deg")
     if branches:
         rep.animation = (widened, np.array([b.q for b in branches[:2]]), title)
+    path = out / "peng2025_fig9_fig10_branches.png"
+    assert ax is not None  # drawn: the pose without a branch, or each branch
+    root_figure(ax).savefig(path, dpi=120, bbox_inches="tight")
     rep.figures.append(path)
 
 
