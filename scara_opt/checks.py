@@ -155,16 +155,17 @@ def check_real(name: str, value: object, low: float = -math.inf, high: float = m
     return v
 
 
-def check_int(name: str, value: object, least: int, *, error: type[Exception] = InputError,
-              ) -> int:
-    """``value`` as an int >= ``least`` (Python or numpy integer; not bool, not float).
+def check_int(name: str, value: object, least: int, most: int | None = None, *,
+              error: type[Exception] = InputError) -> int:
+    """``value`` as an int in [``least``, ``most``] (Python or numpy integer; not bool, float).
 
     Raises:
-        InputError: names ``name``, the value and the least value.
+        InputError: names ``name``, the value and the range.
     """
     if (not isinstance(value, (int, np.integer)) or isinstance(value, (bool, np.bool_))
-            or value < least):
-        kind = "a positive integer" if least == 1 else f"an integer >= {least}"
+            or value < least or (most is not None and value > most)):
+        kind = ("a positive integer" if least == 1 else f"an integer >= {least}"
+                ) if most is None else f"an integer in [{least}, {most}]"
         raise error(f"{name} must be {kind}; got {describe(value)}")
     return int(value)
 

@@ -30,7 +30,7 @@ import numpy as np
 import pinocchio as pin
 from numpy.typing import ArrayLike, NDArray
 
-from scara_opt.checks import check_real, describe
+from scara_opt.checks import check_int, check_real, describe
 from scara_opt.collision.bound import height_gaps, height_range, pair_weights
 from scara_opt.collision.cell import Cell
 from scara_opt.collision.edge_kernel import EdgeKernel, edge_kernel
@@ -52,11 +52,6 @@ __all__ = ["Clearance", "CollisionChecker"]
 _F64 = np.dtype(np.float64)
 
 
-#: batches go through coal's broad phase above this many pairs per body (measured on the
-#: cells of benchmarks/bench_plan.py: 52 pairs on 13 bodies 2.4x the loop with it, 1.5x
-#: without; 14 on 11, 1.9x without it and 1.7x with)
-BROAD_PHASE = 1.5
-
 #: distances below this [m] do not count as clear in a proof
 #: (:mod:`~scara_opt.collision.continuous`): coal's GJK distance is exact to its tolerance
 #: (1e-6 m), the proof keeps ten times that in hand
@@ -65,6 +60,20 @@ DISTANCE_TOL = 1e-5
 #: a robot-obstacle pair is not checked when its bodies' ranges along the common joint
 #: axis of a SCARA-type robot stay this much farther apart than the margin [m]
 GAP_TOL = 1e-4
+
+
+def fresh_starts(gdata: pin.GeometryData) -> None:
+    """Every request of ``gdata`` starts coal's GJK afresh (Pinocchio caches the last guess).
+
+    A guess carried over from an earlier query made ``computeCollisions`` answer "free"
+    on a 44 mm overlap; a distance started afresh is the same whatever came before.
+    """
+    import warnings
+
+    with warnings.catch_warnings():  # coal marks the flag deprecated (Pinocchio sets it)
+        warnings.simplefilter("ignore", DeprecationWarning)
+        for req in (*gdata.distanceRequests, *gdata.collisionRequests):
+            req.enable_cached_gjk_guess = False
 
 
 def _heights(robot: Robot, bodies: list[Body]) -> tuple[Array, list] | None:
@@ -194,6 +203,7 @@ class CollisionChecker:
             return local.pair
         except AttributeError:
             gdata = pin.GeometryData(self.model)
+            fresh_starts(gdata)
             # the results, fetched once: each element refers into the data's own vector
             local.pair = (self.robot.model.createData(), gdata, list(gdata.distanceResults))
             return local.pair
@@ -249,11 +259,20 @@ class CollisionChecker:
         return len(self.pair_names)
 
     # ------------------------------------------------------------------ one configuration
-    def collides(self, q: ArrayLike) -> bool:
-        """Whether any checked pair is in contact (closer than ``margin``) at ``q`` (nq,).
+    def touching(self, d: Array) -> NDArray[np.bool_]:
+        """Which signed distances ``d`` [m] are contacts: below ``margin`` (none: <= 0)."""
+        return d < self.margin if self.margin else d <= 0.0
 
-        Pinocchio's ``computeCollisions`` (FK, placements, coal) stopping at the first
-        contact; with a margin, :meth:`distances`.
+    def collides(self, q: ArrayLike) -> bool:
+        """Whether any checked pair is in contact at ``q`` (nq,): :meth:`touching`.
+
+        The verdict is coal's signed distance of each pair, the one :meth:`distances`
+        reports, every query started afresh (no GJK guess carried over from an earlier
+        one); a pair is not asked of coal only when the balls holding its two bodies are
+        farther apart than the margin. It always agrees with :meth:`distances`. (Coal's
+        boolean collision test, Pinocchio's ``computeCollisions``, can answer "free" on a
+        deep overlap: with a guess carried from the previous query, or without its
+        contact computation.)
 
         Raises:
             InputError: ``q`` not (nq,) finite numbers.
@@ -261,13 +280,12 @@ class CollisionChecker:
         if not (type(q) is np.ndarray and q.dtype is _F64 and q.shape == self._shape
                 and math.isfinite(sum(q.tolist()))):
             q = self.robot.check_q(q)
-        if self.margin:
-            return bool(self.distances(q).min() < self.margin) if self.npairs else False
-        try:
-            data, gdata, _ = self._local.pair
-        except AttributeError:
-            data, gdata, _ = self._data()
-        return pin.computeCollisions(self._robot_model, data, self.model, gdata, q, True)
+        if not self.npairs:
+            return False
+        kernel = self._kernel()
+        if kernel is not None:
+            return bool(kernel.collides(q[None, :])[0])
+        return bool(self.touching(self.distances(q)).any())
 
     def distances(self, q: ArrayLike) -> Array:
         """Signed distance of every checked pair (npairs,) [m] at ``q`` (nq,)."""
@@ -300,47 +318,38 @@ class CollisionChecker:
     def _batch(self, Q: ArrayLike) -> Array:
         return self.robot.check_q_batch(Q)
 
-    @property
-    def _broad(self) -> bool:
-        """Whether batches use coal's broad phase (many pairs per body: :data:`BROAD_PHASE`)."""
-        return self.npairs > BROAD_PHASE * len(self.bodies)
-
-    def _pool(self, threads: int) -> Any:
-        """A pool of ``threads`` copies of the model and data, kept per thread count.
-
-        A broad-phase pool (coal's dynamic AABB tree) when there are many pairs per body
-        (it skips the pairs whose boxes are apart), else a plain geometry pool (updating
-        the tree costs more than a few narrow-phase tests).
-        """
-        pools = self.__dict__.setdefault("_pools", {})
-        if threads not in pools:
-            make = (pin.BroadPhaseManagerPool_DynamicAABBTreeCollisionManager if self._broad
-                    else pin.GeometryPool)
-            pools[threads] = make(self.robot.model, self.model, threads)
-        return pools[threads]
-
     def collides_many(self, Q: ArrayLike, threads: int = 1) -> NDArray[np.bool_]:
         """:meth:`collides` of each row of ``Q`` (n, nq) in one call, (n,) bool.
 
-        Pinocchio's ``computeCollisionsInParallel`` over a pool (:meth:`_pool`) in
-        ``threads`` threads; in one thread without the broad phase, the compiled kernel's
-        loop of the same contact tests (:mod:`~scara_opt.collision.edge_kernel`; measured
-        on the cells of benchmarks/bench_plan.py: 1.94 against 2.27 µs a configuration in
-        the rack, 4.23 against 4.77 in the table, a tie in the post); with a margin,
-        :meth:`distances_many` instead.
+        The same verdicts as :meth:`collides`, row by row: in the compiled kernel's loop
+        (:mod:`~scara_opt.collision.edge_kernel`), the rows split over ``threads``
+        threads (each its own kernel; the kernel runs without Python's lock); where no
+        kernel runs, :meth:`distances_many`.
+
+        Raises:
+            InputError: ``Q`` not (n, nq) finite numbers; ``threads`` not an integer in
+                [1, 256].
         """
         Qa = self._batch(Q)
-        threads = int(check_real("threads", threads, 1, 256))
+        threads = check_int("threads", threads, 1, 256)
         if not self.npairs or not len(Qa):
             return np.zeros(len(Qa), dtype=bool)
-        if self.margin:
-            return self.distances_many(Qa).min(axis=1) < self.margin
-        kernel = self._kernel() if threads == 1 and not self._broad else None
-        if kernel is not None:  # the same contact tests, no pool (collision/edge_kernel.cpp)
-            return kernel.collides(Qa)
-        out = pin.computeCollisionsInParallel(threads, self._pool(threads),
-                                              np.asfortranarray(Qa.T), True)
-        return np.asarray(out, dtype=bool)
+        if self._kernel() is None:
+            return self.touching(self.distances_many(Qa)).any(axis=1)
+        if threads == 1 or len(Qa) < 2 * threads:
+            return self._kernel_collides(Qa)
+        from concurrent.futures import ThreadPoolExecutor
+
+        chunks = np.array_split(Qa, threads)
+        with ThreadPoolExecutor(threads) as pool:
+            return np.concatenate(list(pool.map(self._kernel_collides, chunks)))
+
+    def _kernel_collides(self, Q: Array) -> NDArray[np.bool_]:
+        """This thread's kernel's contact tests of the rows of ``Q`` (n, nq)."""
+        kernel = self._kernel()
+        if kernel is None:  # pragma: no cover - collides_many asked for one first
+            raise RuntimeError("no compiled kernel")
+        return kernel.collides(Q)
 
     def distances_many(self, Q: ArrayLike) -> Array:
         """Signed distances (n, npairs) [m] of every pair at each row of ``Q`` (n, nq)."""

@@ -52,16 +52,14 @@ struct Kernel {
     std::vector<coal::Transform3s> tf;
     std::vector<int> slot;          /* a body's row in the Function's output, or -1: fixed */
     std::vector<int> first, second; /* the pairs' bodies */
-    double shift = 0.0;
-    /* per pair, as Pinocchio's GeometryData: coal's functor, its request (the GJK guess
-     * cached from the pair's last call) and result */
+    double shift = 0.0, margin = 0.0;
+    /* per body: a ball holding it, centre in its own frame and radius (4 numbers) */
+    std::vector<double> balls;
+    /* per pair: coal's functor, its request (a fresh GJK start at every call: a warm start
+     * carried from an earlier query changes no answer) and result */
     std::vector<coal::ComputeDistance> functors;
     std::vector<coal::DistanceRequest> requests;
     std::vector<coal::DistanceResult> results;
-    /* and for contact tests, as Pinocchio's computeCollisions */
-    std::vector<coal::ComputeCollision> colliders;
-    std::vector<coal::CollisionRequest> contact_requests;
-    std::vector<coal::CollisionResult> contact_results;
 
     void place(const double *config) {
         const double *arg[1] = {config};
@@ -80,11 +78,23 @@ struct Kernel {
 
     double distance(int k) { return raw(k) - shift; }
 
-    bool touching(int k) { /* the pair in contact at the placed configuration */
-        coal::CollisionResult &result = contact_results[k];
-        result.clear();
-        colliders[k](tf[first[k]], tf[second[k]], contact_requests[k], result);
-        return result.isCollision();
+    /* A lower bound [m] on the pair's distance at the placed configuration: the distance
+     * of the two balls holding its bodies (no coal call). */
+    double balls_apart(int k) const {
+        const double *ba = &balls[4 * first[k]], *bb = &balls[4 * second[k]];
+        const coal::Transform3s &ta = tf[first[k]], &tb = tf[second[k]];
+        const coal::Vec3s ca = ta.transform(coal::Vec3s(ba[0], ba[1], ba[2]));
+        const coal::Vec3s cb = tb.transform(coal::Vec3s(bb[0], bb[1], bb[2]));
+        return (ca - cb).norm() - ba[3] - bb[3];
+    }
+
+    /* Whether the pair is in contact at the placed configuration: closer than the margin
+     * (with none: a signed distance <= 0), decided by coal's signed distance itself; only
+     * a pair whose balls are farther apart than the margin is not asked of coal. */
+    bool touching(int k) {
+        if (balls_apart(k) > margin) return false;
+        const double d = raw(k);
+        return margin > 0 ? d < margin : d <= 0;
     }
 };
 
@@ -111,11 +121,24 @@ extern "C" {
 
 int edge_kernel_casadi_int_size(void) { return (int)sizeof(casadi_int); }
 
+/* The ball holding a shape, in its own frame: centre (3) and radius (4 numbers). */
+void holding_ball(int type, const double *p, double *out) {
+    out[0] = out[1] = out[2] = 0.0;
+    switch (type) {
+    case 0: out[3] = p[0]; break;
+    case 1: out[3] = 0.5 * std::sqrt(p[0] * p[0] + p[1] * p[1] + p[2] * p[2]); break;
+    case 2: out[3] = p[0] + 0.5 * p[1]; break;
+    default: out[3] = std::sqrt(p[0] * p[0] + 0.25 * p[1] * p[1]); break;
+    }
+}
+
 /* A kernel for nbodies bodies (types, params 3 each, fixed world placements 12 each for
- * slot -1) and npairs pairs; fk: the casadi entry, its work sizes; shift: margin + tol. */
+ * slot -1) and npairs pairs; fk: the casadi entry, its work sizes; shift: margin + tol for
+ * the proofs, margin: the clearance a contact test asks for [m]. */
 void *edge_kernel_new(int nq, void *fk, int sz_iw, int sz_w, int nmoving, int nbodies,
                       const int *types, const double *params, const double *fixed,
-                      const int *slot, int npairs, const int *pairs, double shift) {
+                      const int *slot, int npairs, const int *pairs, double shift,
+                      double margin) {
     auto *k = new Kernel();
     k->nq = nq;
     k->nmoving = nmoving;
@@ -125,9 +148,12 @@ void *edge_kernel_new(int nq, void *fk, int sz_iw, int sz_w, int nmoving, int nb
     k->placed.assign(12 * (nmoving > 0 ? nmoving : 1), 0.0);
     k->q.assign(nq, 0.0);
     k->shift = shift;
+    k->margin = margin;
+    k->balls.assign(4 * (size_t)nbodies, 0.0);
     for (int g = 0; g < nbodies; ++g) {
         auto s = shape(types[g], params + 3 * g);
         if (!s) { delete k; return nullptr; }
+        holding_ball(types[g], params + 3 * g, &k->balls[4 * (size_t)g]);
         k->shapes.push_back(s);
         k->slot.push_back(slot[g]);
         k->tf.emplace_back();
@@ -139,17 +165,9 @@ void *edge_kernel_new(int nq, void *fk, int sz_iw, int sz_w, int nmoving, int nb
         k->second.push_back(b);
         k->functors.emplace_back(k->shapes[a].get(), k->shapes[b].get());
         coal::DistanceRequest request(true);
-        request.enable_cached_gjk_guess = true;
+        request.gjk_initial_guess = coal::GJKInitialGuess::DefaultGuess;
         k->requests.push_back(request);
         k->results.emplace_back();
-        k->colliders.emplace_back(k->shapes[a].get(), k->shapes[b].get());
-        /* Pinocchio's: one contact, the GJK guess cached, GJK stopping once the pair is
-         * proven 1e-6 m apart (computeCollision's distance_upper_bound) */
-        coal::CollisionRequest contact(coal::NO_REQUEST, 1);
-        contact.enable_cached_gjk_guess = true;
-        contact.distance_upper_bound = contact.security_margin + 1e-6;
-        k->contact_requests.push_back(contact);
-        k->contact_results.emplace_back();
     }
     return k;
 }
@@ -168,7 +186,7 @@ void edge_kernel_batch(void *kernel, const double *Q, int n, const int *cols, in
 }
 
 /* Whether any pair is in contact at each of the n rows of Q (n, nq): out (n,), 0 or 1,
- * as CollisionChecker.collides (Pinocchio's computeCollisions, stopping at the first). */
+ * as CollisionChecker.collides (Kernel::touching, stopping at the first). */
 void edge_kernel_collides(void *kernel, const double *Q, int n, unsigned char *out) {
     auto *k = (Kernel *)kernel;
     const int np = (int)k->first.size();

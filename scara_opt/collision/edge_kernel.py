@@ -12,8 +12,10 @@ the same counts as its Python form, which stays as the reference the tests hold 
 * :meth:`EdgeKernel.prove_path`: :func:`~scara_opt.collision.continuous.check_path`
   (``locate=False``), the proof of the spline a planned move is timed along;
 * :meth:`EdgeKernel.batch` and :meth:`EdgeKernel.collides`: the checker's batches of
-  distances and of contact tests (per pair coal's functors and requests as Pinocchio's
-  ``GeometryData`` holds them).
+  distances and of contact tests (per pair coal's distance functor, every call started
+  afresh: no GJK guess carried from an earlier query; a contact is a signed distance
+  below the margin, a pair skipped only when the balls holding its bodies are farther
+  apart than that).
 
 The robot's bodies are placed by a compiled casadi Function of their world placements
 (:func:`~scara_opt.model.symbolic.chain_walk`'s frames times each body's placement in its
@@ -107,7 +109,8 @@ def _library() -> ctypes.CDLL | None:
         return None
     if lib.edge_kernel_casadi_int_size() != ctypes.sizeof(ctypes.c_longlong):
         return None  # pragma: no cover - casadi's default integer
-    lib.edge_kernel_new.argtypes = [_I, _P, _I, _I, _I, _I, _IP, _DP, _DP, _IP, _I, _IP, _D]
+    lib.edge_kernel_new.argtypes = [_I, _P, _I, _I, _I, _I, _IP, _DP, _DP, _IP, _I, _IP, _D,
+                                    _D]
     lib.edge_kernel_new.restype = _P
     lib.edge_kernel_free.argtypes = [_P]
     lib.edge_kernel_batch.argtypes = [_P, _P, _I, _P, _I, _P]
@@ -175,7 +178,8 @@ class EdgeKernel:
         self._lib = lib
         self._handle = lib.edge_kernel_new(
             checker.robot.nq, entry[0], f.sz_iw(), f.sz_w(), len(moving), len(objects),
-            _ip(types), _dp(params), _dp(fixed), _ip(slots), len(pairs), _ip(pairs), shift)
+            _ip(types), _dp(params), _dp(fixed), _ip(slots), len(pairs), _ip(pairs), shift,
+            checker.margin)
         self.nq, self.npairs = checker.robot.nq, len(pairs)
         self._open = np.zeros(self.npairs, np.intc)  # the pairs asked for by batch
         self._batch, self._prove_path = lib.edge_kernel_batch, lib.edge_kernel_prove_path
@@ -198,7 +202,12 @@ class EdgeKernel:
         return out
 
     def collides(self, Q: Array) -> NDArray[np.bool_]:
-        """Whether any pair is in contact (n,) at each row of ``Q`` (n, nq), no margin."""
+        """Whether any pair is in contact (n,) at each row of ``Q`` (n, nq).
+
+        Closer than the checker's margin (with none: a signed distance <= 0), by coal's
+        signed distance with a fresh start: the verdict of
+        :meth:`~scara_opt.collision.checker.CollisionChecker.collides`.
+        """
         Q = np.ascontiguousarray(Q, float)
         out = np.zeros(len(Q), np.uint8)
         self._collides(self._handle, Q.ctypes.data, len(Q), out.ctypes.data)

@@ -52,7 +52,7 @@ from scara_opt.motion import branch
 from scara_opt.motion.moves import PTP, Move, goal_point
 from scara_opt.motion.timing import section_spline
 from scara_opt.motion.tool_limits import ToolProfile
-from scara_opt.planning.planner import PathPlan, check_clear, plan_path
+from scara_opt.planning.planner import SEED_MAX, PathPlan, check_clear, plan_path
 from scara_opt.target import Target
 from scara_opt.trajectory.limits import Limits
 from scara_opt.trajectory.trajectory import Trajectory, concatenate, cubic_range
@@ -102,7 +102,8 @@ class CellPlanning:
     Args:
         checker: the robot in its cell.
         time_limit: each PTP's planning limit [s].
-        seed: the planner's seed (move ``i`` plans with ``seed + i``).
+        seed: the planner's seed (move ``i`` plans with ``seed + i``, modulo
+            :data:`~scara_opt.planning.planner.SEED_MAX` + 1).
     """
 
     def __init__(self, checker: CollisionChecker, time_limit: float, seed: int) -> None:
@@ -158,7 +159,7 @@ class CellPlanning:
         if np.abs(q1 - q_prev).max() <= 1e-9:
             raise MoveError(index, "PTP goal is where the robot already is: drop the move")
         result = plan_path(self.checker, q_prev, q1, time_limit=self.time_limit,
-                           seed=self.seed + index)
+                           seed=(self.seed + index) % (SEED_MAX + 1))
         self.plans[index] = result
         if result.path is None:  # not solved
             raise NoPathFoundError(index, f"PTP: {result.message}", result.time_s,
@@ -304,7 +305,7 @@ def in_cell(robot: Robot, cell: object, margin: float, time_limit: float, seed: 
         InputError: a checker of another robot, a bad margin, time limit or seed.
     """
     time_limit = check_real("time_limit", time_limit, 0.0, 3600.0, low_open=True, unit="s")
-    seed = check_int("seed", seed, 0)
+    seed = check_int("seed", seed, 0, SEED_MAX)
     if cell is None:
         return None
     if isinstance(cell, CollisionChecker):

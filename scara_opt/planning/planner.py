@@ -39,6 +39,9 @@ __all__ = ["PathPlan", "PlanStatus", "check_clear", "plan_path"]
 #: default wall-clock limit of one query [s]
 TIME_LIMIT = 1.0
 
+#: the largest seed: OMPL seeds its generator with ``seed + 1``, an unsigned 64-bit integer
+SEED_MAX = 2**64 - 2
+
 #: the planner samples within the joint limits inset by this fraction of each range (a
 #: spline timed through its waypoints then has room to round them without leaving the
 #: limits); the start and the goal may lie anywhere within the limits
@@ -134,7 +137,8 @@ def plan_path(checker: CollisionChecker, start: ArrayLike, goal: ArrayLike, *,
         A :class:`PathPlan`; ``status`` ``"no_path"`` when nothing was found in time.
 
     Raises:
-        InputError: bad shapes, a ``time_limit`` <= 0, a bad ``seed``.
+        InputError: bad shapes, a ``time_limit`` <= 0, a ``seed`` not an integer in
+            [0, :data:`SEED_MAX`].
         JointLimitError: start or goal outside the joint limits.
         CollisionError: start or goal in collision (bodies and depth named).
         ModuleNotFoundError: OMPL is not installed and the straight path is not clear.
@@ -143,7 +147,7 @@ def plan_path(checker: CollisionChecker, start: ArrayLike, goal: ArrayLike, *,
         raise InputError(f"checker must be a CollisionChecker(robot, cell); got "
                          f"{describe(checker)}")
     time_limit = check_real("time_limit", time_limit, 0.0, 3600.0, low_open=True, unit="s")
-    seed = check_int("seed", seed, 0)
+    seed = check_int("seed", seed, 0, SEED_MAX)
     check_flag("simplify", simplify)
     begin = time.perf_counter()
     qa = check_within_limits(checker.robot, start, "start")
