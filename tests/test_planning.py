@@ -9,7 +9,7 @@ import pytest
 
 import scara_opt as so
 from scara_opt.planning import PlanStatus, plan_path
-from tests.conftest import dense_first_contact, pinocchio_collides
+from tests.conftest import DATA, dense_first_contact, pinocchio_collides
 
 ROBOT = so.load_robot("zavar2024")
 POST = so.Cell([so.Cylinder("post", 0.03, 0.4, xyz=(0.3, 0.15, 0.0))])
@@ -423,3 +423,48 @@ def test_the_simplifier_shortens_every_path_and_keeps_it_clear():
         assert short.length <= 0.8 * raw.length
         assert np.array_equal(short.path[0], QA) and np.array_equal(short.path[-1], QB)
         assert dense_clear(checker, short.path)
+
+
+def _close_pass():
+    """zavar2024 in the example cell, and a PTP whose plan at no margin passes 0.44 mm from
+    the column (seed 0 of random clear pairs)."""
+    cell = so.load_cell(DATA.parent.parent / "examples" / "scara_cell.toml")
+    checker = so.CollisionChecker(ROBOT, cell)
+    rng = np.random.default_rng(0)
+    while True:
+        a, b = rng.uniform(ROBOT.lower, ROBOT.upper, (2, 4))
+        if min(checker.clearance(a).distance, checker.clearance(b).distance) > 1e-4:
+            return cell, checker, a, b
+
+
+def test_a_margin_asked_for_is_kept_on_every_route():
+    """margin=2 mm on every route that takes it: plan with a checker (which has none) and
+    with a Cell, cycle_time with a checker, check_collisions of a Trajectory and of a
+    MotionTrajectory; each keeps or reports against 2 mm, and the planned move stays 2 mm
+    clear by a dense check; margin= without a cell is refused.
+
+    Mutation caught: ``make_checker`` keeping a checker's own margin (as before) -> the
+    plan with a checker passes within 0.44 mm of the column; fails. Mutation caught:
+    ``in_cell`` accepting a margin without a cell -> no error; fails.
+    """
+    cell, checker, a, b = _close_pass()
+    loose = so.plan(ROBOT, [so.PTP(b)], start=a, cell=checker)
+    assert loose.check_collisions().least.distance < 0.002  # the symptom without a margin
+    wide = so.CollisionChecker(ROBOT, cell, margin=0.002)
+    for route in (checker, cell):
+        traj = so.plan(ROBOT, [so.PTP(b)], start=a, cell=route, margin=0.002)
+        assert traj.checker.margin == 0.002
+        report = traj.check_collisions()
+        assert report.clear and report.margin == 0.002 and report.least.distance >= 0.002
+        assert dense_clear_trajectory(wide, traj)
+    res = so.cycle_time(ROBOT, across=0.2, cell=checker, margin=0.002)
+    assert res.trajectory.checker.margin == 0.002
+    timed = so.time_parameterize(np.array([a, b]), ROBOT)
+    assert timed.check_collisions(checker, margin=0.002).margin == 0.002
+    assert timed.check_collisions(cell, ROBOT, margin=0.002).margin == 0.002
+    assert loose.check_collisions(margin=0.002).margin == 0.002
+    assert loose.check_collisions().margin == 0.0
+    with pytest.raises(so.InputError, match="margin"):
+        so.plan(ROBOT, [so.PTP(b)], start=a, margin=0.002)
+    with pytest.raises(so.InputError, match="margin"):
+        so.cycle_time(ROBOT, margin=0.002)

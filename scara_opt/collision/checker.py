@@ -14,7 +14,11 @@ A robot whose revolute axes are all parallel (a SCARA) keeps every body within a
 range along that axis, whatever the joints do (the prismatic strokes bound it exactly:
 :func:`~scara_opt.collision.bound.height_range`). A robot body and an obstacle whose
 ranges never come within the margin (the arms and a table below the tool's lowest
-reach) are not checked against each other; :attr:`CollisionChecker.skipped` says so.
+reach) are not checked against each other; :attr:`CollisionChecker.skipped` says so, and
+:attr:`CollisionChecker.apart` keeps each such pair's least gap [m]: a proven lower bound on
+its distance at every configuration. Verdicts need only the checked pairs; a *reported*
+clearance (:meth:`CollisionChecker.clearance`, ``clearance_many``) covers every pair but
+the allowed ones, the far pairs too (:attr:`CollisionChecker.everything`).
 """
 
 from __future__ import annotations
@@ -30,7 +34,7 @@ import numpy as np
 import pinocchio as pin
 from numpy.typing import ArrayLike, NDArray
 
-from scara_opt.checks import check_int, check_real, describe
+from scara_opt.checks import check_flag, check_int, check_real, describe
 from scara_opt.collision.bound import height_gaps, height_range, pair_weights
 from scara_opt.collision.cell import Cell
 from scara_opt.collision.edge_kernel import EdgeKernel, edge_kernel
@@ -131,6 +135,9 @@ class CollisionChecker:
         missing_mesh: ``"error"`` or ``"capsule"`` for a robot mesh that is missing.
         geometry: a :class:`~scara_opt.collision.geometry.RobotGeometry` already built
             (then ``radius``, ``srdf``, ``missing_mesh`` are not used).
+        skip_apart: leave out the robot-obstacle pairs of a SCARA-type robot that never come
+            within the margin along the joints' common axis (default True; they are in
+            :attr:`apart`).
 
     Raises:
         CellError, MeshNotFoundError, UnknownBodyError: see
@@ -141,8 +148,10 @@ class CollisionChecker:
 
     def __init__(self, robot: Robot, cell: Cell | None = None, *, margin: float = 0.0,
                  radius: object = None, srdf: str | Path | None = None, allowed: object = (),
-                 missing_mesh: str = "error", geometry: RobotGeometry | None = None) -> None:
+                 missing_mesh: str = "error", geometry: RobotGeometry | None = None,
+                 skip_apart: bool = True) -> None:
         self.robot = check_robot(robot)
+        check_flag("skip_apart", skip_apart)
         if cell is None:
             cell = Cell(name="no obstacles")
         if not isinstance(cell, Cell):
@@ -151,6 +160,7 @@ class CollisionChecker:
         self.cell = cell
         self.margin = check_real("margin", margin, 0.0, 1.0, unit="m")
         given_pairs = name_pairs(allowed, "allowed")
+        self._allowed, self._skip_apart = given_pairs, skip_apart
         robot_pairs = [p for p in given_pairs if not set(p) & set(cell.names)]
         cell_pairs = [p for p in given_pairs if set(p) & set(cell.names)]
         self.geometry = geometry if geometry is not None else robot_geometry(
@@ -171,6 +181,9 @@ class CollisionChecker:
         n_robot = len(self.geometry.bodies)
         pairs = list(self.geometry.pairs)
         self.skipped = dict(self.geometry.skipped)
+        #: ``{(robot body, obstacle): least gap [m]}`` of the pairs left out as never
+        #: within reach along a SCARA's axis: a lower bound on their distance everywhere
+        self.apart: dict[tuple[str, str], float] = {}
         heights = _heights(self.robot, bodies[:n_robot])
         for i in range(n_robot):
             for j in range(n_robot, len(bodies)):
@@ -179,9 +192,10 @@ class CollisionChecker:
                     self.skipped[key] = "allowed"
                     continue
                 gap = _gap(heights, i, model.geometryObjects[j])
-                if gap > self.margin + GAP_TOL:
+                if skip_apart and gap > self.margin + GAP_TOL:
                     self.skipped[key] = (f"never within reach: at least {gap * 1e3:.3g} mm "
                                          "apart along the joints' common axis")
+                    self.apart[key] = gap
                 else:
                     pairs.append((i, j))
         for i, j in pairs:
@@ -258,6 +272,38 @@ class CollisionChecker:
         """Number of pairs checked."""
         return len(self.pair_names)
 
+    @cached_property
+    def everything(self) -> CollisionChecker:
+        """This checker with no pair left out as :attr:`apart` (itself when none is).
+
+        The same bodies, margin and allowed pairs: what reported clearances are computed on.
+        """
+        if not self.apart:
+            return self
+        return CollisionChecker(self.robot, self.cell, margin=self.margin,
+                                allowed=self._allowed, geometry=self.geometry,
+                                skip_apart=False)
+
+    def with_margin(self, margin: float) -> CollisionChecker:
+        """This checker asking for ``margin`` [m] instead (itself when it already does).
+
+        The same bodies, cell and allowed pairs (the pairs left out as :attr:`apart`
+        follow the new margin).
+
+        Raises:
+            InputError: ``margin`` not a finite number in [0, 1] m.
+        """
+        margin = check_real("margin", margin, 0.0, 1.0, unit="m")
+        if margin == self.margin:
+            return self
+        return CollisionChecker(self.robot, self.cell, margin=margin, allowed=self._allowed,
+                                geometry=self.geometry, skip_apart=self._skip_apart)
+
+    @property
+    def least_apart(self) -> float:
+        """The least gap of the pairs left out as :attr:`apart` [m] (``inf``: none)."""
+        return min(self.apart.values(), default=math.inf)
+
     # ------------------------------------------------------------------ one configuration
     def touching(self, d: Array) -> NDArray[np.bool_]:
         """Which signed distances ``d`` [m] are contacts: below ``margin`` (none: <= 0)."""
@@ -295,17 +341,21 @@ class CollisionChecker:
         return np.array([r.min_distance for r in results])
 
     def clearance(self, q: ArrayLike) -> Clearance:
-        """The closest pair at ``q`` (nq,) and its signed distance.
+        """The closest pair at ``q`` (nq,) and its signed distance, over every pair.
+
+        Every pair but the allowed ones: the checked pairs and those left out of the checks
+        as :attr:`apart` (:attr:`everything`).
 
         Raises:
             InputError: ``q`` not (nq,) finite numbers, or nothing to check (no pairs).
         """
-        if not self.npairs:
+        full = self.everything
+        if not full.npairs:
             raise InputError("the checker has no pair of bodies to check (no obstacle and no "
                              "self pair): add obstacles to the cell")
-        d = self.distances(q)
+        d = full.distances(q)
         k = int(np.argmin(d))
-        return Clearance(float(d[k]), self.pair_names[k])
+        return Clearance(float(d[k]), full.pair_names[k])
 
     def contacts(self, q: ArrayLike) -> list[Clearance]:
         """Every checked pair closer than ``margin`` at ``q``, deepest first."""
@@ -387,8 +437,11 @@ class CollisionChecker:
         return out
 
     def clearance_many(self, Q: ArrayLike) -> Array:
-        """Smallest signed distance (n,) [m] at each row of ``Q`` (n, nq)."""
-        D = self.distances_many(Q)
+        """Smallest signed distance (n,) [m] at each row of ``Q`` (n, nq), over every pair.
+
+        As :meth:`clearance`: the :attr:`apart` pairs too.
+        """
+        D = self.everything.distances_many(Q)
         return D.min(axis=1) if D.shape[1] else np.full(len(D), np.inf)
 
     def __repr__(self) -> str:

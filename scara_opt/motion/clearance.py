@@ -172,8 +172,9 @@ class CellPlanning:
         return plan is not None and plan.path is not None and len(plan.path) > 2
 
     def prove(self, traj: Trajectory) -> CollisionReport:
-        """The timed section proven clear, or its first contact."""
-        return collision_report(self.checker, traj)
+        """The timed section proven clear, or its first contact (no least clearance: the
+        whole trajectory's is found on demand, ``check_collisions()``)."""
+        return collision_report(self.checker, traj, least=False)
 
     def refuse(self, index: int, kind: str, report: CollisionReport, at: float,
                bodies: tuple[str, str], t0: float) -> None:
@@ -225,7 +226,7 @@ class CellPlanning:
                                 len(owner) - 1))
                 self.refuse(owner[k], "+".join(m.kind for _, m in run), report, report.time,
                             report.bodies, t0)
-            return part, note + _proven(report.clearance, report.evaluations), knots, profile
+            return part, note + _proven(report.evaluations), knots, profile
         plan = self.plans[index]
         for level in range(-1, RETRIES + 2):
             last = level > RETRIES
@@ -236,7 +237,7 @@ class CellPlanning:
                 if proof is None:
                     continue
                 part, note, knots, profile = timed(rows, owner)
-                proven = _proven(proof.clearance, proof.evaluations, "the spline it follows")
+                proven = _proven(proof.evaluations, "the spline it follows")
             else:
                 part, note, knots, profile = (_stopping(rows, owner, timed) if last
                                               else timed(rows, owner))
@@ -244,7 +245,7 @@ class CellPlanning:
                 report = self.prove(traj)
                 if not (report.clear and self._inside(traj)):
                     continue
-                proven = _proven(report.clearance, report.evaluations)
+                proven = _proven(report.evaluations)
             how = ("stopping at each waypoint (no spline through them was proven clear)"
                    if last else f"timed through {len(rows)} points (attempt {level + 2})")
             note += (f"{proven}; planned around the cell: {len(Q)} waypoints "
@@ -277,10 +278,10 @@ def _within_limits(robot: Robot, lo: Array, hi: Array) -> bool:
                 and (hi <= robot.upper + LIMIT_SLACK).all())
 
 
-def _proven(clearance: float, checks: int, what: str = "") -> str:
-    """The note's words for a proof."""
+def _proven(checks: int, what: str = "") -> str:
+    """The note's words for a proof (its lower bound is no clearance: check_collisions())."""
     of = f" ({what})" if what else ""
-    return f", proven clear{of} (clearance >= {clearance * 1e3:.3g} mm, {checks} checks)"
+    return f", proven clear{of} ({checks} checks)"
 
 
 def _stopping(Q: Array, owner: list[int], timed: Callable) -> tuple:
@@ -297,22 +298,29 @@ def _stopping(Q: Array, owner: list[int], timed: Callable) -> tuple:
     return joined, f"{len(Q) - 1} straight segments, {note}", np.array(knots), profile
 
 
-def in_cell(robot: Robot, cell: object, margin: float, time_limit: float, seed: int
+def in_cell(robot: Robot, cell: object, margin: float | None, time_limit: float, seed: int
             ) -> CellPlanning | None:
     """The :class:`CellPlanning` of :func:`~scara_opt.motion.plan`'s ``cell=`` (None: none).
 
+    ``margin`` [m]: ``None`` keeps a checker's own (0 for a Cell); any other value is used,
+    with a checker too.
+
     Raises:
-        InputError: a checker of another robot, a bad margin, time limit or seed.
+        InputError: a checker of another robot, a bad margin, time limit or seed; a
+            margin without a cell.
     """
     time_limit = check_real("time_limit", time_limit, 0.0, 3600.0, low_open=True, unit="s")
     seed = check_int("seed", seed, 0, SEED_MAX)
     if cell is None:
+        if margin is not None:
+            check_real("margin", margin, 0.0, 1.0, unit="m")
+            raise InputError(f"margin={margin!r} is the clearance to keep from a cell, and no "
+                             "cell was given: pass cell= (a Cell or a CollisionChecker), or "
+                             "drop margin=")
         return None
     if isinstance(cell, CollisionChecker):
         if cell.robot is not robot and cell.robot.joint_names != robot.joint_names:
             raise InputError(f"the checker is for robot {cell.robot.name!r}, not "
                              f"{robot.name!r}: build CollisionChecker(robot, cell)")
-        checker = cell
-    else:
-        checker = make_checker(cell, robot, margin, robot.nq)
+    checker = make_checker(cell, robot, margin, robot.nq)
     return CellPlanning(checker, time_limit, seed)

@@ -217,7 +217,7 @@ def check_cycle_blend(blend: float, up: float, across: float, down: float,
 def cycle_time(robot: Robot, up: float = 0.025, across: float = 0.305, down: float = 0.025,
                limits: ToolLimits | None = None, blend: float = 0.0, *,
                vmax: ArrayLike | None = None, amax: ArrayLike | None = None,
-               cell: Cell | CollisionChecker | None = None, margin: float = 0.0,
+               cell: Cell | CollisionChecker | None = None, margin: float | None = None,
                time_limit: float = 1.0, seed: int = 0) -> CycleResult:
     """Time the pick-and-place cycle (A up, across, down to B, and back) three ways.
 
@@ -237,7 +237,8 @@ def cycle_time(robot: Robot, up: float = 0.025, across: float = 0.305, down: flo
             placement whose program plans clear of the cell is used, the PTPs across go
             around its obstacles, every section is proven clear. The quintic baseline is
             timed only when its straight corner-to-corner segments are proven clear too.
-        margin: clearance to keep from the cell [m].
+        margin: clearance to keep from the cell [m] (as :func:`~scara_opt.plan`'s:
+            default the checker's own, 0 with a Cell; refused without a cell).
         time_limit: planning limit of each PTP around obstacles [s].
         seed: the planner's seed.
 

@@ -175,7 +175,8 @@ def plan(robot: Robot, moves: Move | Iterable[Move], limits: ToolLimits | None =
          step: float = STEP, method: str = "toppra", allow_flip: bool = False,
          torque_limits: bool | ArrayLike | None = None, payload: PayloadLike | None = None,
          payload_frame: str | None = None, cell: Cell | CollisionChecker | None = None,
-         margin: float = 0.0, time_limit: float = 1.0, seed: int = 0) -> MotionTrajectory:
+         margin: float | None = None, time_limit: float = 1.0, seed: int = 0
+         ) -> MotionTrajectory:
     """Plan a program of PTP / LIN / CIRC moves into one timed trajectory.
 
     Args:
@@ -204,7 +205,9 @@ def plan(robot: Robot, moves: Move | Iterable[Move], limits: ToolLimits | None =
             plan in: PTPs go around its obstacles, every section is proven clear, a LIN or
             CIRC that hits it is refused (:mod:`scara_opt.motion.clearance`). A Cell is
             made into a checker at each call: pass a checker to plan many programs.
-        margin: clearance to keep from the cell [m] (with a Cell).
+        margin: clearance to keep from the cell [m]; default a checker's own margin (0
+            with a Cell); a margin given with a checker is used (``checker.with_margin``),
+            and one given without a cell is refused.
         time_limit: planning limit of each PTP around obstacles [s] (> 0).
         seed: the planner's seed (the same seed, the same path).
 

@@ -158,8 +158,11 @@ class MotionTrajectory(Trajectory):
         return out
 
     def check_collisions(self, cell: object = None, robot: Robot | None = None, *,
-                         margin: float = 0.0) -> CollisionReport:
+                         margin: float | None = None) -> CollisionReport:
         """:meth:`Trajectory.check_collisions` in the cell it was planned in by default.
+
+        With no ``cell``, the checker it was planned with (``margin=``: that checker asking
+        for another margin).
 
         Raises:
             InputError: no cell given and none attached.
@@ -168,6 +171,8 @@ class MotionTrajectory(Trajectory):
             if self.checker is None:
                 raise InputError("this trajectory was planned without a cell: pass one, "
                                  "check_collisions(cell)")
+            if margin is not None:
+                return super().check_collisions(self.checker, margin=margin)
             if "collisions" not in self._derivs:
                 self._derivs["collisions"] = super().check_collisions(self.checker)
             return self._derivs["collisions"]

@@ -287,7 +287,7 @@ class Trajectory:
                 for k, p in enumerate(self.pieces)]
 
     def check_collisions(self, cell: object, robot: Robot | None = None, *,
-                         margin: float = 0.0) -> CollisionReport:
+                         margin: float | None = None) -> CollisionReport:
         """Prove the trajectory clear of a cell, or report its first contact.
 
         Not sampled: between checked instants, a bound on how far any point of the robot
@@ -299,11 +299,14 @@ class Trajectory:
             cell: a :class:`~scara_opt.Cell` (with ``robot``) or a
                 :class:`~scara_opt.CollisionChecker`.
             robot: the robot the trajectory moves (not needed with a checker).
-            margin: clearance to keep [m] (with a Cell).
+            margin: clearance to keep [m]; default a checker's own (0 with a Cell); given
+                with a checker, it is used (``checker.with_margin(margin)``).
 
         Returns:
-            A :class:`~scara_opt.collision.continuous.CollisionReport`: ``clear``, or the
-            first contact's ``time`` [s], ``bodies`` and ``depth`` [m].
+            A :class:`~scara_opt.collision.continuous.CollisionReport`: ``clear`` with the
+            least clearance along the whole trajectory (``least``, to 0.1 mm) and the
+            proven lower bound (``clearance``), or the first contact's ``time`` [s],
+            ``bodies`` and ``depth`` [m].
 
         Raises:
             InputError: neither a Cell nor a checker, no robot, or a robot of another size.
