@@ -126,10 +126,65 @@ def test_start_goal_and_time_limit_errors():
             plan_path(checker, QA, QB, time_limit=bad)
     with pytest.raises(so.CollisionError, match="start is in collision"):
         so.plan(ROBOT, [so.PTP(QB)], start=inside, cell=POST)
-    with pytest.raises(so.MoveCollisionError, match="move 0: PTP the goal is in collision"):
+    with pytest.raises(so.MoveCollisionError, match="move 0: PTP: the goal is in collision"):
         so.plan(ROBOT, [so.PTP(inside)], start=QA, cell=POST)
     with pytest.raises(so.InputError, match="time_limit"):
         so.plan(ROBOT, [so.PTP(QB)], start=QA, cell=POST, time_limit=0)
+
+
+def _just_clear(checker, gap):
+    """A configuration between QA and the post whose clearance is in (0, gap] [m]."""
+    inside = np.array([0.4636, 0.0, 0.0, 0.0])
+    lo, hi = QA.copy(), inside
+    for _ in range(80):
+        mid = (lo + hi) / 2
+        d = checker.clearance(mid).distance
+        if 0 < d <= gap:
+            return mid
+        lo, hi = (mid, hi) if d > 0 else (lo, mid)
+    raise AssertionError("no configuration found")  # pragma: no cover
+
+
+def test_a_start_too_close_for_a_proof_is_named_not_timed_out():
+    """A start 1 µm from the post: clear (``collides`` is False), but closer than the 0.01
+    mm a proof needs: refused at once naming the start, the bodies and the gap, never "no
+    path found within the time limit ... give more time".
+
+    Mutation caught: ``check_provable`` doing nothing -> NO_PATH after the time limit,
+    "RRTConnect grew 0 states"; fails.
+    """
+    checker = so.CollisionChecker(ROBOT, POST)
+    q = _just_clear(checker, 2e-6)
+    assert not checker.collides(q)
+    with pytest.raises(so.CollisionError, match=r"start is 0\.00\d+ mm from contact \(link\d "
+                                                r"and post\).* at least .* mm farther"):
+        plan_path(checker, q, QB, time_limit=0.3)
+    with pytest.raises(so.CollisionError, match="goal is"):
+        so.plan(ROBOT, [so.PTP(q)], start=QB, cell=checker, time_limit=0.3)
+
+
+def test_compiling_the_kernel_does_not_count_against_the_time_limit(monkeypatch):
+    """The first query on a cold cache (the kernel's build simulated by a 1.5 s pause in
+    ``edge_kernel``): solved within a 1 s limit, with the same path as a warm query.
+
+    Mutation caught: the clock started before the prover is built (as before) -> NO_PATH
+    (or another path) on the cold query; fails.
+    """
+    import time as clock
+
+    from scara_opt.planning import ompl_backend
+
+    warm = plan_path(so.CollisionChecker(ROBOT, POST), QA, QB, seed=5, time_limit=1.0)
+    real = ompl_backend.EdgeProver.__init__
+
+    def slow(self, *args, **kwargs):
+        clock.sleep(1.5)
+        real(self, *args, **kwargs)
+
+    monkeypatch.setattr(ompl_backend.EdgeProver, "__init__", slow)
+    cold = plan_path(so.CollisionChecker(ROBOT, POST), QA, QB, seed=5, time_limit=1.0)
+    assert cold.success and np.array_equal(cold.path, warm.path)
+    assert cold.time_s < 1.5
 
 
 def test_ptp_in_a_cell_is_timed_and_proven_clear_again():
