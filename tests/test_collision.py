@@ -235,11 +235,54 @@ def test_mesh_obstacle_and_missing_mesh(tmp_path):
     (lambda: so.Capsule("c", 0.1, 0.2, xyz=(0, 0)), "xyz"),
     (lambda: so.Box("", (0.1, 0.1, 0.1)), "name"),
     (lambda: so.Cell([so.Sphere("s", 0.1), "table"]), "Box, Cylinder"),
+    (lambda: so.Box("b", (10**400, 1, 1)), "size must be 3 finite numbers"),
+    (lambda: so.Box("b", (1, 1, 1), xyz=(10**400, 0, 0)), "xyz must be 3 finite"),
+    (lambda: so.Sphere("s", 10**400), "radius must be a finite number"),
+    (lambda: so.Box("b", (1, 1, 1), xyz=(1e300, 0, 0)), "beyond 10000 m"),
+    (lambda: so.Box("b", (1e-300, 1, 1)), r"size\[0\] 1e-300 m is outside"),
+    (lambda: so.Box("b\0x", (1, 1, 1)), "control character"),
+    (lambda: so.Cell([so.Box("b", (1, 1, 1))], name="c\0"), "control character"),
+    (lambda: so.Mesh("m", path="a\0b.stl"), "NUL byte"),
+    (lambda: so.Cell([so.Sphere("a", 0.1), so.Sphere("b", 0.1, xyz=(1, 0, 0))],
+                     allowed=[("a", "b")]), "names two obstacles"),
 ])
 def test_bad_obstacles_in_python(make, match):
-    """Zero, negative or NaN sizes, bad poses and non-obstacles are refused in Python too."""
+    """Zero, negative or NaN sizes, integers beyond any float, positions beyond 10 km,
+    sizes below 1 µm, control characters in names, a NUL in a path, an allowed pair of two
+    obstacles, and non-obstacles: each a CellError naming what was wrong.
+
+    Mutation caught: ``_finite`` without its OverflowError guard -> OverflowError; fails.
+    Mutation caught: ``MAX_EXTENT`` not checked -> the box at 1e300 m accepted ("0.000 mm
+    deep" later); fails. Mutation caught: ``check_text`` accepting control characters ->
+    fails.
+    """
     with pytest.raises(so.CellError, match=match):
         make()
+
+
+def test_bad_paths_and_pairs_are_specific_errors(tmp_path):
+    """A cell file with a radius of 1 followed by 400 zeros, a NUL in a cell file's path or
+    an export's, an allowed pair of two obstacles given to the checker: specific errors,
+    never OverflowError or ValueError.
+
+    Mutation caught: ``cell._float`` without its guard -> OverflowError; fails. Mutation
+    caught: ``to_csv`` without ``check_path`` -> ValueError (embedded null byte); fails.
+    """
+    big = tmp_path / "big.toml"
+    big.write_text('length_unit = "m"\n[[obstacles]]\nname = "b"\ntype = "sphere"\n'
+                   f"radius = 1{'0' * 400}\n")
+    with pytest.raises(so.CellError, match="too large"):
+        so.load_cell(big)
+    with pytest.raises(so.CellError, match="NUL byte"):
+        so.load_cell("a\0b.toml")
+    robot = so.load_robot("zavar2024")
+    traj = so.plan(robot, [so.PTP([0.1, 0.1, 0.01, 0.1])], start=np.zeros(4))
+    for write in (traj.to_csv, traj.to_json, traj.to_ros_yaml):
+        with pytest.raises(so.InputError, match="NUL byte"):
+            write(str(tmp_path / "a\0b.txt"))
+    two = so.Cell([so.Sphere("a", 0.02, xyz=(1, 1, 0)), so.Sphere("b", 0.02, xyz=(2, 1, 0))])
+    with pytest.raises(so.CellError, match="names two obstacles"):
+        so.CollisionChecker(robot, two, allowed=[("a", "b")])
 
 
 def test_batch_agrees_with_the_loop_and_the_distances():

@@ -523,3 +523,18 @@ def test_a_margin_asked_for_is_kept_on_every_route():
         so.plan(ROBOT, [so.PTP(b)], start=a, margin=0.002)
     with pytest.raises(so.InputError, match="margin"):
         so.cycle_time(ROBOT, margin=0.002)
+
+
+def test_the_largest_seed_is_refused_before_any_work():
+    """seed=2**64-1 (OMPL's seed + 1 would not fit in its unsigned 64 bits) is an InputError
+    naming the range even where the straight segment is blocked (it was a TypeError from
+    OMPL), and the largest seed it takes plans.
+
+    Mutation caught: ``SEED_MAX`` not passed to ``check_int`` -> TypeError from OMPL; fails.
+    """
+    checker = so.CollisionChecker(ROBOT, POST)
+    with pytest.raises(so.InputError, match=r"seed must be an integer in \[0, 18446744073709551614\]"):
+        plan_path(checker, QA, QB, seed=2**64 - 1)
+    with pytest.raises(so.InputError, match="seed"):
+        so.plan(ROBOT, [so.PTP(QB)], start=QA, cell=checker, seed=2**64 - 1)
+    assert plan_path(checker, QA, QB, seed=2**64 - 2).success

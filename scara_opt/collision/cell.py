@@ -30,7 +30,7 @@ from __future__ import annotations
 from collections.abc import Iterable
 from pathlib import Path
 
-from scara_opt.checks import describe
+from scara_opt.checks import check_path, check_text, describe
 from scara_opt.collision.geometry import name_pairs
 from scara_opt.collision.obstacles import Box, Capsule, Cylinder, Mesh, Obstacle, Sphere
 from scara_opt.errors import CellError, InputError
@@ -83,6 +83,12 @@ class Cell:
             raise
         except InputError as exc:
             raise CellError(str(exc)) from None
+        for a, b in pairs:
+            if a in seen and b in seen:
+                raise CellError(f"allowed pair ({a!r}, {b!r}) names two obstacles: obstacles "
+                                "are never checked against each other; an allowed pair is a "
+                                "robot link or body and an obstacle")
+        check_text("the cell's name", name, CellError)
         self.obstacles: tuple[Obstacle, ...] = items
         self.allowed: tuple[tuple[str, str], ...] = pairs
         self.name = name
@@ -116,7 +122,16 @@ def _number(entry: dict, key: str, where: str) -> float:
     value = entry.get(key)
     if isinstance(value, bool) or not isinstance(value, (int, float)):
         raise CellError(f"{where}: {key} must be a number; got {describe(value)}")
-    return float(value)
+    return _float(value, key, where)
+
+
+def _float(value: int | float, key: str, where: str) -> float:
+    """``value`` as a float, or CellError for an integer beyond any float."""
+    try:
+        return float(value)
+    except OverflowError:
+        raise CellError(f"{where}: {key} {describe(value)} is too large for any size or "
+                        "position; give its real value") from None
 
 
 def _triple(entry: dict, key: str, where: str, unit: float,
@@ -126,7 +141,7 @@ def _triple(entry: dict, key: str, where: str, unit: float,
     if (not isinstance(value, list) or len(value) != 3
             or not all(isinstance(v, (int, float)) and not isinstance(v, bool) for v in value)):
         raise CellError(f"{where}: {key} must be a list of 3 numbers; got {describe(value)}")
-    x, y, z = (float(v) * unit for v in value)
+    x, y, z = (_float(v, key, where) * unit for v in value)
     return x, y, z
 
 
@@ -172,9 +187,7 @@ def load_cell(path: str | Path) -> Cell:
             missing size, a size <= 0, duplicate names, a bad ``allowed`` entry.
         MeshNotFoundError: a mesh file that cannot be found.
     """
-    if not isinstance(path, (str, Path)):
-        raise CellError(f"a cell file path must be a str or Path; got {describe(path)}")
-    path = Path(path)
+    path = check_path("a cell file path", path, CellError)
     where = f"cell file {str(path)!r}"
     data = read_toml(path, where, "a TOML cell file", CellError)
     check_keys(data, CELL_KEYS, where, CellError)

@@ -46,7 +46,7 @@ from scara_opt.collision.geometry import (
     robot_geometry,
     support_points,
 )
-from scara_opt.errors import InputError
+from scara_opt.errors import CellError, InputError
 from scara_opt.model.robot import Robot, check_robot
 
 Array = NDArray[np.float64]
@@ -161,6 +161,11 @@ class CollisionChecker:
         self.margin = check_real("margin", margin, 0.0, 1.0, unit="m")
         given_pairs = name_pairs(allowed, "allowed")
         self._allowed, self._skip_apart = given_pairs, skip_apart
+        for a, b in given_pairs:
+            if a in cell.names and b in cell.names:
+                raise CellError(f"allowed pair ({a!r}, {b!r}) names two obstacles: obstacles "
+                                "are never checked against each other; an allowed pair is two "
+                                "robot bodies, or a robot body and an obstacle")
         robot_pairs = [p for p in given_pairs if not set(p) & set(cell.names)]
         cell_pairs = [p for p in given_pairs if set(p) & set(cell.names)]
         self.geometry = geometry if geometry is not None else robot_geometry(

@@ -18,30 +18,58 @@ import coal
 import numpy as np
 import pinocchio as pin
 
-from scara_opt.checks import describe, is_real
+from scara_opt.checks import check_path, check_text, describe, is_real
 from scara_opt.errors import CellError, MeshNotFoundError
 
 __all__ = ["Box", "Capsule", "Cylinder", "Mesh", "Obstacle", "Sphere"]
 
 
-def _vector(owner: str, name: str, value: object, n: int = 3) -> tuple[float, ...]:
-    """``value`` as ``n`` finite floats, or CellError naming the obstacle and field."""
+#: the largest position or size of an obstacle [m]: a cell spans metres, and coal's
+#: distances lose their micrometres far beyond this (a box at 1e300 m was "0.000 mm deep")
+MAX_EXTENT = 1e4
+
+#: the smallest size of an obstacle [m] (a 1e-300 m box inside a link gave -inf mm)
+MIN_SIZE = 1e-6
+
+
+def _finite(value: object) -> float | None:
+    """``value`` as a finite float, or None (not a real number, inf, NaN, or too large)."""
+    if not is_real(value):
+        return None
+    try:
+        v = float(value)
+    except OverflowError:  # an int beyond any float
+        return None
+    return v if math.isfinite(v) else None
+
+
+def _vector(owner: str, name: str, value: object, n: int = 3,
+            limit: float = MAX_EXTENT) -> tuple[float, ...]:
+    """``value`` as ``n`` finite floats within ±``limit``, or CellError naming the field."""
     try:
         items = list(value)  # type: ignore[call-overload]
     except TypeError:
         items = None
-    if (items is None or len(items) != n or not all(is_real(v) for v in items)
-            or not all(math.isfinite(float(v)) for v in items)):
+    floats = None if items is None else [_finite(v) for v in items]
+    if floats is None or len(floats) != n or any(v is None for v in floats):
         raise CellError(f"obstacle {owner!r}: {name} must be {n} finite numbers; got "
                         f"{describe(value)}")
-    return tuple(float(v) for v in items)
+    out = tuple(float(v) for v in floats if v is not None)
+    if max(abs(v) for v in out) > limit:
+        raise CellError(f"obstacle {owner!r}: {name} {list(out)} lies beyond {limit:g} m "
+                        "(no cell is that large: check the units)")
+    return out
 
 
 def _size(owner: str, name: str, value: object, unit: str = "m") -> float:
-    if not (is_real(value) and math.isfinite(float(value)) and float(value) > 0):
+    v = _finite(value)
+    if v is None or v <= 0:
         raise CellError(f"obstacle {owner!r}: {name} must be a finite number > 0 [{unit}]; got "
                         f"{describe(value)}; give its real size (a flat plate is a thin box)")
-    return float(value)
+    if unit == "m" and not MIN_SIZE <= v <= MAX_EXTENT:
+        raise CellError(f"obstacle {owner!r}: {name} {v:g} m is outside [{MIN_SIZE:g}, "
+                        f"{MAX_EXTENT:g}] m; give its real size (check the units)")
+    return v
 
 
 @dataclass(frozen=True)
@@ -61,9 +89,7 @@ class Obstacle:
     kind: ClassVar[str] = "obstacle"
 
     def __post_init__(self) -> None:
-        if not isinstance(self.name, str) or not self.name:
-            raise CellError(f"an obstacle's name must be a non-empty str; got "
-                            f"{describe(self.name)}")
+        check_text("an obstacle's name", self.name, CellError)
         object.__setattr__(self, "xyz", _vector(self.name, "xyz", self.xyz))
         object.__setattr__(self, "rpy", _vector(self.name, "rpy", self.rpy))
         self._check()
@@ -178,13 +204,11 @@ class Mesh(Obstacle):
     kind: ClassVar[str] = "mesh"
 
     def _check(self) -> None:
-        if not isinstance(self.path, (str, Path)) or not str(self.path):
-            raise CellError(f"obstacle {self.name!r}: path must be a mesh file path; got "
-                            f"{describe(self.path)}")
+        check_path(f"obstacle {self.name!r}: path", self.path, CellError)
         if not Path(self.path).is_file():
             raise MeshNotFoundError(str(self.path), f"obstacle {self.name!r}",
                                     "check the path (a cell file's paths are relative to it)")
-        scale = _vector(self.name, "scale", self.scale)
+        scale = _vector(self.name, "scale", self.scale, limit=1e6)
         object.__setattr__(self, "scale", tuple(_size(self.name, f"scale[{i}]", v, "-")
                                                 for i, v in enumerate(scale)))
 

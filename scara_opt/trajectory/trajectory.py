@@ -18,7 +18,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 from scipy.interpolate import PPoly
 
-from scara_opt.checks import check_memory, check_real, describe, float_array
+from scara_opt.checks import check_memory, check_path, check_real, describe, float_array
 from scara_opt.errors import InputError
 from scara_opt.trajectory.bernstein import coefficients, piece_bounds
 from scara_opt.trajectory.limits import Limits
@@ -393,7 +393,7 @@ class Trajectory:
             for k, name in enumerate(self.limits.joint_names):
                 cols.append(tau[:, k])
                 header.append(f"{name}_torque_{'N' if self.limits.unit(k) == 'm' else 'Nm'}")
-        path = Path(path)
+        path = check_path("path", path)
         np.savetxt(path, np.column_stack(cols), delimiter=",", header=",".join(header),
                    comments="", fmt="%.10g")
         return path
