@@ -35,7 +35,7 @@ def test_2r_arm_and_post_distance_by_hand():
     robot = so.Robot.from_urdf(ARM2R)
     post = so.Cylinder("post", radius=0.05, length=0.4, xyz=(0.32, 0.21, 0.0))
     checker = so.CollisionChecker(robot, so.Cell([post]))
-    assert checker.pair_names == (("upper_0", "post"), ("fore_0", "post"))
+    assert checker.pair_names == (("upper", "post"), ("fore", "post"))  # the URDF's links
     c = np.array([0.32, 0.21])
     for q1, q2 in [(0.4, -0.9), (0.1, 0.3), (-0.2, 1.4), (0.45, -1.2)]:
         elbow = 0.30 * np.array([math.cos(q1), math.sin(q1)])

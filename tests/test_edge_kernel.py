@@ -145,21 +145,23 @@ def test_native_plans_are_the_python_forms():
     assert (native.states, native.checks) == (python.states, python.checks)
 
 
-def test_meshes_keep_the_python_form(tmp_path):
-    """A cell with a mesh obstacle has no kernel (coal's meshes are not passed to C++): the
-    checker's batch distances and the prover run Pinocchio's calls, and say so by
-    ``_kernel() is None``.
+def test_meshes_go_through_the_kernel(tmp_path):
+    """A cell with a mesh obstacle (an open, one-triangle wedge) runs the compiled kernel
+    too: the prover is native, and the kernel's reported distances are the Python form's
+    (coal's own BVH distance) to 1e-9 m.
+
+    Mutation caught: ``shape_code`` not knowing meshes (as before) -> no kernel; fails.
     """
     stl = tmp_path / "wedge.stl"
     stl.write_text("solid w\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 0.1 0 0\n"
                    "vertex 0 0.1 0\nendloop\nendfacet\nendsolid w\n")
     cell = so.Cell([so.Mesh("wedge", stl, xyz=(0.3, 0.0, -0.05))])
     checker = so.CollisionChecker(SCARA, cell)
-    assert shape_code(checker.model.geometryObjects[-1].geometry) is None
-    assert edge_kernel(checker, 0.0) is None and checker._kernel() is None
-    assert EdgeProver(checker)._native is None
-    q = np.array([0.0, 0.3, 0.02, 0.0])
-    assert checker.distances_many(q[None])[0] == pytest.approx(checker.distances(q))
+    assert shape_code(checker.model.geometryObjects[-1].geometry)[0] == 4
+    assert checker._kernel() is not None and EdgeProver(checker)._native is not None
+    Q = np.random.default_rng(2).uniform(SCARA.lower, SCARA.upper, (200, 4))
+    python = checker._python_distances(Q, None, "exact")
+    assert np.abs(checker.distances_many(Q) - python).max() < 1e-9
 
 
 def test_compiled_path_proofs_are_the_python_forms(checker, monkeypatch):

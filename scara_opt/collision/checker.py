@@ -23,6 +23,7 @@ the allowed ones, the far pairs too (:attr:`CollisionChecker.everything`).
 
 from __future__ import annotations
 
+import logging
 import math
 import threading
 from dataclasses import dataclass
@@ -49,9 +50,11 @@ from scara_opt.collision.geometry import (
 from scara_opt.errors import CellError, InputError
 from scara_opt.model.robot import Robot, check_robot
 
+log = logging.getLogger(__name__)
+
 Array = NDArray[np.float64]
 
-__all__ = ["Clearance", "CollisionChecker"]
+__all__ = ["Clearance", "CollisionChecker", "always_touching"]
 
 _F64 = np.dtype(np.float64)
 
@@ -80,6 +83,47 @@ def fresh_starts(gdata: pin.GeometryData) -> None:
             req.enable_cached_gjk_guess = False
 
 
+#: random configurations a moving body must touch an obstacle at, every one, to be taken as
+#: always touching it (:func:`always_touching`)
+ALWAYS_SAMPLES = 200
+
+
+def always_touching(robot: Robot, model: pin.GeometryModel, bodies: list[Body],
+                    pairs: list[tuple[int, int]], samples: int = ALWAYS_SAMPLES
+                    ) -> dict[tuple[int, int], str]:
+    """The robot-obstacle ``pairs`` in contact in every configuration, and why.
+
+    A body fixed in the world (Pinocchio's joint 0: a base link) touching an obstacle
+    touches it whatever the joints do: exact. A moving body touching it at each of
+    ``samples`` random configurations within the limits (seed 0), as MoveIt's setup
+    assistant finds its "Always" pairs: a sample, not a proof; such pairs are reported.
+    A contact is a signed distance <= 0 (coal, fresh requests).
+    """
+    from scara_opt.collision.geometry import pair_distance
+
+    candidates = [(i, j) for i, j in pairs if bodies[j].joint == 0]
+    if not candidates:
+        return {}
+    data, gdata = robot.model.createData(), pin.GeometryData(model)
+    Q = np.random.default_rng(0).uniform(robot.sampling_lower, robot.sampling_upper,
+                                         (samples, robot.nq))
+    Q[0] = np.clip(np.zeros(robot.nq), robot.lower, robot.upper)
+    out: dict[tuple[int, int], str] = {}
+    open_ = candidates
+    for k, q in enumerate(Q):
+        pin.updateGeometryPlacements(robot.model, data, model, gdata, q)
+        open_ = [(i, j) for i, j in open_ if pair_distance(model, gdata, i, j) <= 0.0]
+        for i, j in [p for p in open_ if bodies[p[0]].joint == 0]:
+            out[(i, j)] = "always in contact (fixed in the world, overlapping the obstacle)"
+        open_ = [p for p in open_ if bodies[p[0]].joint != 0]
+        if not open_:
+            break
+        if k == len(Q) - 1:
+            for p in open_:
+                out[p] = f"always in contact (touching at each of {samples} random configurations)"
+    return out
+
+
 def _heights(robot: Robot, bodies: list[Body]) -> tuple[Array, list] | None:
     """The common axis of a SCARA-type robot and each body's range along it (else None)."""
     n = robot.yaw_axis
@@ -97,6 +141,97 @@ def _gap(heights: tuple | None, i: int, obj: pin.GeometryObject) -> float:
     h = points @ n
     lo, hi = ranges[i]
     return max(float(h.min()) - pad - hi, lo - float(h.max()) - pad)
+
+
+class MeshPairs:
+    """The meshes among a checker's bodies, for the Python form of their distances.
+
+    The rules of the compiled kernel (:mod:`~scara_opt.collision.edge_kernel`): a pair
+    with a mesh is no deeper than the balls holding its bodies allow (coal's BVH distance
+    can be ``-DBL_MAX``), and a body inside a closed mesh (its point's winding number:
+    :mod:`~scara_opt.collision.mesh_bounds`) is a contact, its distance negated.
+    """
+
+    def __init__(self, model: pin.GeometryModel, pairs: NDArray[np.int64]) -> None:
+        from scara_opt.collision.edge_kernel import shape_code
+        from scara_opt.collision.mesh_bounds import mesh_parts
+
+        objects = model.geometryObjects
+        self.parts: list[Any] = []
+        self.radius: list[float] = []
+        self.point: list[Array] = []
+        for o in objects:
+            code = shape_code(o.geometry)
+            if code is not None and code[0] == 4:
+                parts = mesh_parts(o.geometry)
+                self.parts.append(parts)
+                self.radius.append(float(parts.ball[3]))
+                self.point.append(parts.point)
+            else:
+                self.parts.append(None)
+                self.radius.append(_holding_radius(o.geometry))
+                self.point.append(np.zeros(3))
+        self.pairs = pairs
+        self.pair = [self.parts[int(i)] is not None or self.parts[int(j)] is not None
+                     for i, j in pairs]
+        self.any = any(self.pair)
+
+    def corrected(self, k: int, d: float, model: pin.GeometryModel, gdata: pin.GeometryData,
+                  kind: str) -> float:
+        """Pair ``k``'s distance ``d`` [m] by the kernel's rules (bodies placed in gdata).
+
+        ``kind`` as :meth:`~scara_opt.collision.edge_kernel.EdgeKernel.batch`'s: the
+        surface distance is the bound inside a motion; reported (``"exact"``) it is 0
+        where coal's collision test finds the surfaces meeting, negated inside a closed
+        mesh; at a motion's start (``"rest"``) a body inside one is a contact (-1 m).
+        """
+        import coal
+
+        a, b = (int(x) for x in self.pairs[k])
+        deepest = -(self.radius[a] + self.radius[b])
+        d = deepest if not math.isfinite(d) or d < deepest else d
+        if kind == "bound" or d <= 0:
+            return d
+        if kind == "exact":
+            objects = model.geometryObjects
+            request, result = coal.CollisionRequest(coal.NO_REQUEST, 1), coal.CollisionResult()
+            if coal.collide(objects[a].geometry, gdata.oMg[a], objects[b].geometry,
+                            gdata.oMg[b], request, result):
+                return 0.0
+        if self.inside(a, b, gdata):
+            return -d if kind == "exact" else -1.0
+        return d
+
+    def inside(self, a: int, b: int, gdata: pin.GeometryData) -> bool:
+        """Whether body ``a`` lies inside ``b`` or ``b`` inside ``a``, a closed mesh."""
+        from scara_opt.collision.mesh_bounds import winding_number
+
+        for outer, body in ((b, a), (a, b)):
+            parts = self.parts[outer]
+            if parts is None or not parts.closed:
+                continue
+            p = gdata.oMg[outer].actInv(gdata.oMg[body].act(self.point[body]))
+            if (parts.hull[:, :3] @ p + parts.hull[:, 3] <= 1e-12).all() and \
+                    abs(winding_number(parts, p)) > 0.5:
+                return True
+        return False
+
+
+def _holding_radius(shape: Any) -> float:
+    """The radius [m] of a ball about a primitive's centre holding it (as the kernel's)."""
+    import coal
+
+    if isinstance(shape, coal.Sphere):
+        return float(shape.radius)
+    if isinstance(shape, coal.Box):
+        return float(np.linalg.norm(np.asarray(shape.halfSide, float)))
+    if isinstance(shape, coal.Capsule):
+        return float(shape.radius + shape.halfLength)
+    if isinstance(shape, (coal.Cylinder, coal.Cone)):
+        return float(math.hypot(shape.radius, shape.halfLength))
+    shape.computeLocalAABB()
+    return float(np.linalg.norm(np.maximum(np.abs(np.asarray(shape.aabb_local.min_)),
+                                           np.abs(np.asarray(shape.aabb_local.max_)))))
 
 
 @dataclass(frozen=True)
@@ -138,6 +273,10 @@ class CollisionChecker:
         skip_apart: leave out the robot-obstacle pairs of a SCARA-type robot that never come
             within the margin along the joints' common axis (default True; they are in
             :attr:`apart`).
+        check_touching: check the robot-obstacle pairs that touch in every configuration
+            too (default False: a mounting, such as the fixed base on its table, is left
+            out as MoveIt's setup assistant leaves out its "Always" pairs; they are in
+            :attr:`always` and :attr:`skipped` either way). See :func:`always_touching`.
 
     Raises:
         CellError, MeshNotFoundError, UnknownBodyError: see
@@ -149,9 +288,10 @@ class CollisionChecker:
     def __init__(self, robot: Robot, cell: Cell | None = None, *, margin: float = 0.0,
                  radius: object = None, srdf: str | Path | None = None, allowed: object = (),
                  missing_mesh: str = "error", geometry: RobotGeometry | None = None,
-                 skip_apart: bool = True) -> None:
+                 skip_apart: bool = True, check_touching: bool = False) -> None:
         self.robot = check_robot(robot)
         check_flag("skip_apart", skip_apart)
+        check_flag("check_touching", check_touching)
         if cell is None:
             cell = Cell(name="no obstacles")
         if not isinstance(cell, Cell):
@@ -161,6 +301,7 @@ class CollisionChecker:
         self.margin = check_real("margin", margin, 0.0, 1.0, unit="m")
         given_pairs = name_pairs(allowed, "allowed")
         self._allowed, self._skip_apart = given_pairs, skip_apart
+        self._check_touching = check_touching
         for a, b in given_pairs:
             if a in cell.names and b in cell.names:
                 raise CellError(f"allowed pair ({a!r}, {b!r}) names two obstacles: obstacles "
@@ -203,6 +344,20 @@ class CollisionChecker:
                     self.apart[key] = gap
                 else:
                     pairs.append((i, j))
+        #: ``{(robot body, obstacle): why}`` of the pairs in contact in every configuration
+        #: (a base mounted on its table), left out unless ``check_touching``
+        self.always: dict[tuple[str, str], str] = {}
+        if pairs:
+            for (i, j), why in always_touching(robot, model, bodies, pairs).items():
+                self.always[(bodies[i].name, bodies[j].name)] = why
+            if not check_touching:
+                self.skipped.update(self.always)
+                pairs = [(i, j) for i, j in pairs
+                         if (bodies[i].name, bodies[j].name) not in self.always]
+                for (a, b), why in self.always.items():
+                    level = logging.INFO if "fixed" in why else logging.WARNING
+                    log.log(level, "%s and %s are %s: not checked (check_touching=True "
+                            "checks them)", a, b, why)
         for i, j in pairs:
             model.addCollisionPair(pin.CollisionPair(i, j))
         self.model = model
@@ -287,7 +442,7 @@ class CollisionChecker:
             return self
         return CollisionChecker(self.robot, self.cell, margin=self.margin,
                                 allowed=self._allowed, geometry=self.geometry,
-                                skip_apart=False)
+                                skip_apart=False, check_touching=self._check_touching)
 
     def with_margin(self, margin: float) -> CollisionChecker:
         """This checker asking for ``margin`` [m] instead (itself when it already does).
@@ -302,7 +457,8 @@ class CollisionChecker:
         if margin == self.margin:
             return self
         return CollisionChecker(self.robot, self.cell, margin=margin, allowed=self._allowed,
-                                geometry=self.geometry, skip_apart=self._skip_apart)
+                                geometry=self.geometry, skip_apart=self._skip_apart,
+                                check_touching=self._check_touching)
 
     @property
     def least_apart(self) -> float:
@@ -339,8 +495,15 @@ class CollisionChecker:
         return bool(self.touching(self.distances(q)).any())
 
     def distances(self, q: ArrayLike) -> Array:
-        """Signed distance of every checked pair (npairs,) [m] at ``q`` (nq,)."""
+        """Signed distance of every checked pair (npairs,) [m] at ``q`` (nq,).
+
+        Coal's signed distance; a pair with a mesh as :class:`~scara_opt.collision.
+        mesh_bounds.MeshParts` says (its surface distance, negated when one body lies
+        inside a closed mesh).
+        """
         qa = self._q(q)
+        if self._meshes.any:
+            return self.distances_many(qa[None, :])[0]
         data, gdata, results = self._data()
         pin.computeDistances(self._robot_model, data, self.model, gdata, qa)
         return np.array([r.min_distance for r in results])
@@ -363,7 +526,10 @@ class CollisionChecker:
         return Clearance(float(d[k]), full.pair_names[k])
 
     def contacts(self, q: ArrayLike) -> list[Clearance]:
-        """Every checked pair closer than ``margin`` at ``q``, deepest first."""
+        """Every checked pair closer than ``margin`` at ``q``, deepest first (the pairs
+        :meth:`collides` finds in contact, by :meth:`distances`)."""
+        if not self.collides(q):
+            return []
         d = self.distances(q)
         hit = np.flatnonzero(d < self.margin) if self.margin else np.flatnonzero(d <= 0.0)
         order = hit[np.argsort(d[hit])]
@@ -412,34 +578,55 @@ class CollisionChecker:
         kernel = self._kernel()
         if kernel is not None:
             return kernel.batch(Qa)
-        data, gdata, results = self._data()
-        out = np.empty((len(Qa), self.npairs))
-        model, gmodel = self._robot_model, self.model
-        for i, q in enumerate(Qa):
-            pin.computeDistances(model, data, gmodel, gdata, q)
-            out[i] = [r.min_distance for r in results]
-        return out
+        return self._python_distances(Qa, None, "exact")
 
-    def pair_distances(self, Q: Array, pairs: NDArray[np.intp] | None = None) -> Array:
+    def pair_distances(self, Q: Array, pairs: NDArray[np.intp] | None = None,
+                       kind: str = "bound") -> Array:
         """Signed distances (n, len(pairs)) of some pairs at each row of ``Q`` (n, nq) [m].
 
         No checks (the proofs' inner loop): ``Q`` a float array, ``pairs`` indices into
-        :attr:`pair_names` (``None``: all, as :meth:`distances_many`).
+        :attr:`pair_names` (``None``: all). ``kind``: ``"exact"``, as
+        :meth:`distances_many`; ``"bound"``, what a proof takes inside a motion, and
+        ``"rest"``, at a motion's start: for a pair with a mesh a lower bound on its
+        distance outside a solid (the compiled kernel's tree of hulls where above the
+        margin and tolerance, else the surface distance), and at rest a body inside a
+        closed mesh a contact (:meth:`~scara_opt.collision.edge_kernel.EdgeKernel.batch`).
+        The same for every other pair.
         """
         kernel = self._kernel()
+        cols = None if pairs is None else [int(k) for k in pairs]
         if kernel is not None:
-            return kernel.batch(Q, None if pairs is None else [int(k) for k in pairs])
-        if pairs is None:
-            return self.distances_many(Q)
-        data, gdata, _ = self._data()
+            return kernel.batch(Q, cols, kind)
+        return self._python_distances(Q, cols, kind)
+
+    def _python_distances(self, Q: Array, cols: list[int] | None, kind: str) -> Array:
+        """Pinocchio's distances of pairs ``cols`` (None: all) at the rows of ``Q``.
+
+        A pair with a mesh by the kernel's rules (:meth:`MeshPairs.corrected`).
+        """
+        data, gdata, results = self._data()
         model, gmodel = self._robot_model, self.model
-        place, distance = pin.updateGeometryPlacements, pin.computeDistance
-        cols = [int(k) for k in pairs]
+        meshes = self._meshes
+        every = cols is None
+        cols = list(range(self.npairs)) if cols is None else cols
         out = np.empty((len(Q), len(cols)))
+        place, distance = pin.updateGeometryPlacements, pin.computeDistance
         for i, q in enumerate(Q):
-            place(model, data, gmodel, gdata, q)
-            out[i] = [distance(gmodel, gdata, k).min_distance for k in cols]
+            if every:
+                pin.computeDistances(model, data, gmodel, gdata, q)
+                out[i] = [r.min_distance for r in results]
+            else:
+                place(model, data, gmodel, gdata, q)
+                out[i] = [distance(gmodel, gdata, k).min_distance for k in cols]
+            for c, k in enumerate(cols):
+                if meshes.pair[k]:
+                    out[i, c] = meshes.corrected(k, out[i, c], gmodel, gdata, kind)
         return out
+
+    @cached_property
+    def _meshes(self) -> MeshPairs:
+        """What the checker's pairs with a mesh need (:class:`MeshPairs`)."""
+        return MeshPairs(self.model, self.pairs)
 
     def clearance_many(self, Q: ArrayLike) -> Array:
         """Smallest signed distance (n,) [m] at each row of ``Q`` (n, nq), over every pair.

@@ -228,7 +228,7 @@ def prove_segment(checker: CollisionChecker, qa: ArrayLike, qb: ArrayLike, *,
     def bound(lo: Array, hi: Array) -> Array:
         return np.outer(hi - lo, M)
 
-    D = checker.distances_many(np.array([q0, q1]))
+    D = checker.pair_distances(np.array([q0, q1]), None, "rest")
     gaps = checker.gaps
     apart: Callable[..., Array] | None = None
     if gaps is not None:
@@ -410,7 +410,7 @@ def check_path(checker: CollisionChecker, path: PPoly, *, locate: bool = False) 
 def _prove_curve(checker: CollisionChecker, t: Array, evaluate: Callable[[Array], Array],
                  vel: VelocityBound, locate: bool, tol: float) -> Proof:
     """:func:`prove` over a curve from the samples ``t``, its speed bounded by ``vel``."""
-    D = checker.distances_many(evaluate(t))
+    D = checker.pair_distances(evaluate(t), None, "rest")
     W = checker.weights
     seen: list = [None, None]
 
@@ -495,7 +495,8 @@ class LeastClearance:
 def least(s: Array, D: Array, config: Callable[[Array], Array],
           bound: Callable[[Array, Array], Array],
           distances: Callable[[Array, Index | None], Array], tol: float, *,
-          budget: int = MAX_EVALUATIONS, apart: Callable[..., Array] | None = None
+          budget: int = MAX_EVALUATIONS, apart: Callable[..., Array] | None = None,
+          exact: Callable[[Array, Index | None], Array] | None = None
           ) -> tuple[float, float, int, float, bool, int]:
     """The least signed distance over a motion, by branch and bound on its intervals.
 
@@ -506,16 +507,22 @@ def least(s: Array, D: Array, config: Callable[[Array], Array],
     where every pair is computed.
 
     Args:
-        s, D, config, bound, distances: as :func:`prove` (``D`` not shifted).
+        s, D, config, bound, distances: as :func:`prove` (``D`` not shifted); with
+            ``exact``, ``D`` and ``distances`` may be lower bounds on the distances.
         tol: the tolerance [m].
         budget: most configurations to evaluate.
         apart: as :func:`prove`'s, with no shift.
+        exact: the exact distances, where ``distances`` gives bounds (a mesh's tree of
+            hulls): asked only where a bound is below the least found so far, which only
+            an exact value may set.
 
     Returns:
         ``(distance, at, pair, lower, converged, evaluations)``.
     """
     s = np.asarray(s, float)
     D = np.asarray(D, float)
+    if exact is not None:
+        D = _exact_where_low(s, config(s), D, math.inf, exact)
     k = np.unravel_index(int(np.argmin(D)), D.shape)
     best, at, pair = float(D[k]), float(s[k[0]]), int(k[1])
     Q = config(s)
@@ -538,6 +545,8 @@ def least(s: Array, D: Array, config: Callable[[Array], Array],
         mid = (lo + hi) / 2
         Qm = config(mid)
         Dm = distances(Qm, None)
+        if exact is not None:
+            Dm = _exact_where_low(mid, Qm, Dm, best, exact)
         evals += mid.size
         i, j = np.unravel_index(int(np.argmin(Dm)), Dm.shape)
         if Dm[i, j] < best:
@@ -546,6 +555,17 @@ def least(s: Array, D: Array, config: Callable[[Array], Array],
         Dlo, Dhi = np.concatenate([Dlo, Dm]), np.concatenate([Dm, Dhi])
         Qlo, Qhi = np.concatenate([Qlo, Qm]), np.concatenate([Qm, Qhi])
     return best, at, pair, min(lower, best), True, evals
+
+
+def _exact_where_low(s: Array, Q: Array, D: Array, best: float,
+                     exact: Callable[[Array, Index | None], Array]) -> Array:
+    """``D`` (k, npairs) bounds with the exact values where a bound is below ``best``."""
+    low = D < best
+    out = D.copy()
+    for r in np.flatnonzero(low.any(axis=1)):
+        cols = np.flatnonzero(low[r])
+        out[r, cols] = exact(Q[r:r + 1], cols)[0]
+    return out
 
 
 def least_clearance(checker: CollisionChecker, traj: Trajectory, tol: float = LEAST_TOL, *,
@@ -574,9 +594,15 @@ def least_clearance(checker: CollisionChecker, traj: Trajectory, tol: float = LE
     def bound(lo: Array, hi: Array) -> Array:
         return (hi - lo)[:, None] * (speeds(lo, hi) @ W.T)
 
-    D = full.distances_many(traj.evaluate(t))
+    meshy = full._meshes.any  # bounds first, exact values where they may be the least
+
+    def exact(Q: Array, cols: Index | None) -> Array:
+        return full.pair_distances(Q, cols, "exact")
+
+    D = full.pair_distances(traj.evaluate(t), None, "bound" if meshy else "exact")
     d, at, pair, lower, ok, evals = least(t, D, traj.evaluate, bound, full.pair_distances, tol,
-                                          apart=_trajectory_gaps(full, speeds, 0.0))
+                                          apart=_trajectory_gaps(full, speeds, 0.0),
+                                          exact=exact if meshy else None)
     return LeastClearance(d, at, full.pair_names[pair], lower, tol, ok, evals + len(t))
 
 

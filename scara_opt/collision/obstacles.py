@@ -9,6 +9,7 @@ at construction: zero, negative or non-finite sizes raise :class:`~scara_opt.err
 
 from __future__ import annotations
 
+import logging
 import math
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -21,12 +22,17 @@ import pinocchio as pin
 from scara_opt.checks import check_path, check_text, describe, is_real
 from scara_opt.errors import CellError, MeshNotFoundError
 
+log = logging.getLogger(__name__)
+
 __all__ = ["Box", "Capsule", "Cylinder", "Mesh", "Obstacle", "Sphere"]
 
 
 #: the largest position or size of an obstacle [m]: a cell spans metres, and coal's
 #: distances lose their micrometres far beyond this (a box at 1e300 m was "0.000 mm deep")
 MAX_EXTENT = 1e4
+
+#: the widest a mesh obstacle may be [m] (wider: a file in mm read as metres)
+MESH_EXTENT = 50.0
 
 #: the smallest size of an obstacle [m] (a 1e-300 m box inside a link gave -inf mm)
 MIN_SIZE = 1e-6
@@ -195,8 +201,9 @@ class Mesh(Obstacle):
         path: the mesh file.
         scale: per-axis scale (3,) from the file's units to metres (e.g. 0.001 for mm).
 
-    Note: coal gives no penetration depth between a mesh and a shape: a contact with a
-    mesh reports depth 0.
+    A closed mesh (watertight, consistently wound) is a solid: a body inside it is a
+    contact. An open one is a surface (said once, when it is loaded). A contact with a mesh
+    reports coal's depth of its triangles (at least 0).
     """
 
     path: str | Path = ""
@@ -211,6 +218,33 @@ class Mesh(Obstacle):
         scale = _vector(self.name, "scale", self.scale, limit=1e6)
         object.__setattr__(self, "scale", tuple(_size(self.name, f"scale[{i}]", v, "-")
                                                 for i, v in enumerate(scale)))
+        self._inspect()
+
+    def _inspect(self) -> None:
+        """Load the mesh once: refuse an empty one or one metres across (a file in mm read
+        as metres), and say so of an open one (a surface: inside it is no contact).
+
+        Raises:
+            CellError: unreadable, no triangles, or wider than :data:`MESH_EXTENT`.
+        """
+        from scara_opt.collision.mesh_bounds import is_closed, mesh_arrays
+
+        shape = self.shape()
+        V, T = mesh_arrays(shape)
+        where = f"obstacle {self.name!r}: mesh {str(self.path)!r}"
+        if not len(T):
+            raise CellError(f"{where} has no triangles; export the part as a triangle mesh "
+                            "(STL, OBJ)")
+        extent = float((V.max(axis=0) - V.min(axis=0)).max())
+        if extent > MESH_EXTENT:
+            raise CellError(f"{where} spans {extent:.4g} m at scale {list(self.scale)}: more "
+                            f"than {MESH_EXTENT:g} m, no fixture is that large; a file in mm "
+                            "needs scale = 0.001 (in a cell file in m; in a cell file in mm "
+                            "the file's units are taken as mm already)")
+        if not is_closed(V, T):
+            log.warning("%s is open (not watertight, or not consistently wound): it is taken "
+                        "as a surface, so a body inside it is not a contact; close the mesh "
+                        "to make it a solid", where)
 
     def shape(self) -> coal.CollisionGeometry:
         """A coal ``BVHModel`` read by coal's mesh loader."""

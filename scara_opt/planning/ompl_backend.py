@@ -101,6 +101,7 @@ class EdgeProver:
         self.proven = 0
         self.known: set[tuple[tuple[float, ...], tuple[float, ...]]] = set()
         self._data = checker._data()
+        self._meshy = checker._meshes.any
         self._model = checker.robot.model
         self._linear = _linear(self._model)
         kernel = checker._kernel() if native else None
@@ -142,10 +143,12 @@ class EdgeProver:
     def _compute(self, q: Array) -> list[float]:
         import pinocchio as pin
 
-        data, gdata, results = self._data
-        pin.computeDistances(self._model, data, self.checker.model, gdata, q)
         self._states += 1
         shift = self.shift
+        if self._meshy:  # the checker's rules for meshes (the inside test of a solid)
+            return (self.checker.pair_distances(q[None, :], None, "rest")[0] - shift).tolist()
+        data, gdata, results = self._data
+        pin.computeDistances(self._model, data, self.checker.model, gdata, q)
         return [r.min_distance - shift for r in results]
 
     @property
@@ -231,9 +234,13 @@ class EdgeProver:
             h, s0, pairs, D0, D1 = queue.popleft()  # h: half the interval's length
             if 2 * h < wide and 2 * h * max(M[k] for k in pairs) < RESOLUTION:
                 return False  # grazing: not proven
-            place(model, data, gmodel, gdata, config(s0 + h))
             self._midpoints += 1
-            Dm = [distance(gmodel, gdata, k).min_distance - shift for k in pairs]
+            if self._meshy:  # the checker's bounds for meshes
+                Dm = (self.checker.pair_distances(config(s0 + h)[None, :], np.array(pairs))[0]
+                      - shift).tolist()
+            else:
+                place(model, data, gmodel, gdata, config(s0 + h))
+                Dm = [distance(gmodel, gdata, k).min_distance - shift for k in pairs]
             if min(Dm) <= 0:
                 return False
             for lo, d_lo, d_hi in ((s0, D0, Dm), (s0 + h, Dm, D1)):

@@ -134,11 +134,12 @@ def check_provable(checker: CollisionChecker, q: Array, what: str) -> None:
     Raises:
         CollisionError: ``q`` within the margin plus the tolerance (bodies and gap named).
     """
-    d = checker.distances(q)
-    if not len(d):
-        return
-    k = int(np.argmin(d))
     need = checker.margin + DISTANCE_TOL
+    d = checker.pair_distances(q[None, :], None, "rest")[0]  # bounds: exact where small
+    if not len(d) or d.min() > need:
+        return
+    d = checker.distances(q)
+    k = int(np.argmin(d))
     if d[k] <= need:
         a, b = checker.pair_names[k]
         raise CollisionError(
