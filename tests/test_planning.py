@@ -538,3 +538,60 @@ def test_the_largest_seed_is_refused_before_any_work():
     with pytest.raises(so.InputError, match="seed"):
         so.plan(ROBOT, [so.PTP(QB)], start=QA, cell=checker, seed=2**64 - 1)
     assert plan_path(checker, QA, QB, seed=2**64 - 2).success
+
+
+class _Clock:
+    """A stand-in for ``time``: ``perf_counter`` advances ``step`` s at every call."""
+
+    def __init__(self, step):
+        self.now, self.step = 0.0, step
+
+    def perf_counter(self):
+        self.now += self.step
+        return self.now
+
+
+def test_the_simplifier_stops_at_the_time_limit(monkeypatch):
+    """With a clock that runs 20 ms at each reading, a 1 s limit ends the simplifier part way: the
+    path is the shortest proven by then (every edge proven, the dense check clear), and the
+    plan says the simplifier was stopped.
+
+    Mutation caught: ``EdgeProver.edge`` ignoring its deadline (the simplifier unbounded,
+    as before) -> no edge answered late, the message says nothing; fails.
+    """
+    from scara_opt.planning import ompl_backend
+
+    checker = so.CollisionChecker(ROBOT, POST)
+    monkeypatch.setattr(ompl_backend, "time", _Clock(0.02))
+    res = plan_path(checker, QA, QB, seed=3, time_limit=1.0)
+    assert res.success and "stopped at the time limit" in res.message
+    assert dense_clear(checker, res.path)
+    monkeypatch.undo()
+    free = plan_path(checker, QA, QB, seed=3, time_limit=1.0)
+    assert "stopped at the time limit" not in free.message
+
+
+def test_a_program_past_its_time_limit_is_timed_the_way_proven_by_construction(monkeypatch):
+    """so.plan whose clock runs out while the planned PTP is timed: no more spline tries
+    after the first (the time limit bounds the whole call), the section stops at each
+    waypoint, proven clear (the dense check agrees), and its note says why.
+
+    Mutation caught: ``timed_clear`` trying every spline whatever the time -> the note says
+    "attempt"; fails.
+    """
+    from scara_opt.motion import clearance
+
+    checker = so.CollisionChecker(ROBOT, POST)
+    real = clearance.CellPlanning.joints
+
+    def joints(self, *args):
+        path = real(self, *args)
+        self.deadline = -math.inf  # as if the planning had used the whole limit
+        return path
+
+    monkeypatch.setattr(clearance.CellPlanning, "joints", joints)
+    monkeypatch.setattr(clearance.CellPlanning, "_spline_clear", lambda self, rows, limits:
+                        None)  # the first spline is not proven: a retry would follow
+    traj = so.plan(ROBOT, [so.PTP(QB)], start=QA, cell=checker, time_limit=1.0)
+    assert "stopping at each waypoint (the time limit was reached)" in traj.notes
+    assert dense_clear_trajectory(checker, traj)

@@ -24,6 +24,8 @@
 
 from __future__ import annotations
 
+import math
+import time
 from collections.abc import Callable
 
 import numpy as np
@@ -101,7 +103,9 @@ class CellPlanning:
 
     Args:
         checker: the robot in its cell.
-        time_limit: each PTP's planning limit [s].
+        time_limit: the limit of the whole program's planning [s], from :meth:`start_clock`:
+            each PTP plans within what is left; past it, a section is timed the one way
+            proven by construction (stopping at its waypoints) and proven once more.
         seed: the planner's seed (move ``i`` plans with ``seed + i``, modulo
             :data:`~scara_opt.planning.planner.SEED_MAX` + 1).
     """
@@ -110,7 +114,19 @@ class CellPlanning:
         self.checker = checker
         self.time_limit = time_limit
         self.seed = seed
+        self.deadline = math.inf
         self.plans: dict[int, PathPlan] = {}
+
+    def start_clock(self) -> None:
+        """Start the time limit, once the compiled kernel is built (its one-off compilation
+        does not count)."""
+        self.checker._kernel()
+        self.deadline = time.perf_counter() + self.time_limit
+
+    def left(self) -> float:
+        """What is left of the time limit [s] (at least 1 µs: a straight PTP is still
+        proven, and the planner reports no path found within the limit)."""
+        return max(self.deadline - time.perf_counter(), 1e-6)
 
     def check_start(self, q: Array) -> None:
         """Refuse a start in collision (bodies and depth named)."""
@@ -158,7 +174,8 @@ class CellPlanning:
         q1 = self.goal(index, move, robot, q_prev)
         if np.abs(q1 - q_prev).max() <= 1e-9:
             raise MoveError(index, "PTP goal is where the robot already is: drop the move")
-        result = plan_path(self.checker, q_prev, q1, time_limit=self.time_limit,
+        result = plan_path(self.checker, q_prev, q1, time_limit=min(self.left(),
+                                                                      self.time_limit),
                            seed=(self.seed + index) % (SEED_MAX + 1))
         self.plans[index] = result
         if result.path is None:  # not solved
@@ -200,9 +217,10 @@ class CellPlanning:
         """``timed(Q, owner)`` of a section, proven clear (and a planned one within limits).
 
         A planned PTP is timed through its waypoints, then through :func:`hugging` points,
-        more of them up to :data:`RETRIES` times, until the timing is proven clear and
-        within the joint limits; as a last resort, straight from waypoint to waypoint,
-        stopping at each (exactly the polyline that was proven, slower). With toppra the
+        more of them up to :data:`RETRIES` times (while the time limit lasts), until the
+        timing is proven clear and within the joint limits; as a last resort, straight
+        from waypoint to waypoint, stopping at each (exactly the polyline that was proven,
+        slower). With toppra the
         spline a try would follow (:func:`~scara_opt.motion.timing.section_spline`) is
         proven before it is timed (:func:`~scara_opt.collision.continuous.check_path`, its
         exact range against the limits): the timing runs along it, so it visits nothing
@@ -228,8 +246,12 @@ class CellPlanning:
                             report.bodies, t0)
             return part, note + _proven(report.evaluations), knots, profile
         plan = self.plans[index]
+        late = False
         for level in range(-1, RETRIES + 2):
             last = level > RETRIES
+            if 0 <= level <= RETRIES and time.perf_counter() > self.deadline:
+                late = True
+                continue  # out of time: no more tries, the timing proven by construction
             rows = Q if level < 0 or last else hugging(Q, level)
             owner = [index] * len(rows)
             if method == "toppra" and not last:  # the spline proven before it is timed
@@ -246,7 +268,9 @@ class CellPlanning:
                 if not (report.clear and self._inside(traj)):
                     continue
                 proven = _proven(report.evaluations)
-            how = ("stopping at each waypoint (no spline through them was proven clear)"
+            why = ("the time limit was reached" if late else
+                   "no spline through them was proven clear")
+            how = (f"stopping at each waypoint ({why})"
                    if last else f"timed through {len(rows)} points (attempt {level + 2})")
             note += (f"{proven}; planned around the cell: {len(Q)} waypoints "
                      f"({plan.time_s * 1e3:.1f} ms, {plan.states} states), {how}")

@@ -208,7 +208,11 @@ def plan(robot: Robot, moves: Move | Iterable[Move], limits: ToolLimits | None =
         margin: clearance to keep from the cell [m]; default a checker's own margin (0
             with a Cell); a margin given with a checker is used (``checker.with_margin``),
             and one given without a cell is refused.
-        time_limit: planning limit of each PTP around obstacles [s] (> 0).
+        time_limit: limit of the whole call in a cell [s] (> 0): the PTPs plan within what
+            is left, the simplifier stops at it with the shortest path proven by then, and
+            past it a planned section is timed stopping at its waypoints (proven by
+            construction) and proven once more: the call ends within the limit plus that
+            last timing and proof. The kernel's one-off compilation does not count.
         seed: the planner's seed (the same seed, the same path).
 
     Returns:
@@ -245,6 +249,8 @@ def plan(robot: Robot, moves: Move | Iterable[Move], limits: ToolLimits | None =
         dynamics = RobotDynamics(robot, True if torque_limits is None else torque_limits,
                                  payload, payload_frame)
     cellp = in_cell(robot, cell, margin, time_limit, seed)
+    if cellp is not None:
+        cellp.start_clock()
     begin = time.perf_counter()
     if start is None:
         if not isinstance(program[0], PTP):

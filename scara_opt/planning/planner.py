@@ -159,7 +159,9 @@ def plan_path(checker: CollisionChecker, start: ArrayLike, goal: ArrayLike, *,
         checker: the robot in its cell (its ``margin`` is kept all along).
         start: (nq,) the configuration to start from [rad or m].
         goal: (nq,) the configuration to reach [rad or m].
-        time_limit: wall-clock limit for planning and simplifying [s] (> 0).
+        time_limit: wall-clock limit for planning and simplifying together [s] (> 0): the
+            simplifier stops at it with the shortest path proven by then (the message says
+            so); the kernel's one-off compilation does not count.
         seed: OMPL's random seed (``seed + 1``): the same seed gives the same path.
         simplify: shorten and smooth the planner's path (OMPL's PathSimplifier).
 
@@ -217,7 +219,8 @@ def plan_path(checker: CollisionChecker, start: ArrayLike, goal: ArrayLike, *,
             raise RuntimeError("an edge of the planner's path is not proven clear")
         Q = run.raw
     Q[0], Q[-1] = qa, qb
+    cut = " (stopped at the time limit: the shortest path proven by then)" if run.cut else ""
     return PathPlan(PlanStatus.SOLVED, Q, f"RRTConnect ({run.plan_s * 1e3:.1f} ms) and "
-                    f"PathSimplifier ({run.simplify_s * 1e3:.1f} ms), every edge proven",
+                    f"PathSimplifier ({run.simplify_s * 1e3:.1f} ms{cut}), every edge proven",
                     "RRTConnect", time.perf_counter() - begin, prover.configurations,
                     prover.edges, run.planner_states, path_length(Q), seed)
