@@ -108,7 +108,7 @@ def cmd_run(args: argparse.Namespace) -> int:
     where = (f"; proven clear of {cell!r}: clearance >= {report.clearance * 1e3:.3f} mm all "
              f"along" if report is not None else "")
     print(f"solved: {program.name!r} on {program.robot.name}, {len(program.moves)} moves in "
-          f"{traj.duration:.4f} s (planned in {traj.compute_time_s * 1e3:.0f} ms){where}")
+          f"{traj.duration:.4f} s{where} (planned in {traj.compute_time_s * 1e3:.0f} ms)")
     for row in rows:
         name = f"move {row['index']} ({row['type']}{', ' + row['label'] if row['label'] else ''})"
         if row["start"]:
