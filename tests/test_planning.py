@@ -126,7 +126,7 @@ def test_start_goal_and_time_limit_errors():
             plan_path(checker, QA, QB, time_limit=bad)
     with pytest.raises(so.CollisionError, match="start is in collision"):
         so.plan(ROBOT, [so.PTP(QB)], start=inside, cell=POST)
-    with pytest.raises(so.MoveCollisionError, match="move 0: PTP the goal is in collision"):
+    with pytest.raises(so.MoveCollisionError, match="move 0: PTP: the goal is in collision"):
         so.plan(ROBOT, [so.PTP(inside)], start=QA, cell=POST)
     with pytest.raises(so.InputError, match="time_limit"):
         so.plan(ROBOT, [so.PTP(QB)], start=QA, cell=POST, time_limit=0)

@@ -139,7 +139,7 @@ class CellPlanning:
         except CollisionError as exc:
             other = " (and so is every other IK solution)" if isinstance(goal, Target) else ""
             a, b = exc.bodies
-            raise MoveCollisionError(index, f"PTP {exc}{other}", (a, b), exc.depth) from None
+            raise MoveCollisionError(index, f"PTP: {exc}{other}", (a, b), exc.depth) from None
         return q  # pragma: no cover - collides() and check_clear agree
 
     def joints(self, index: int, move: Move, robot: Robot, q_prev: Array, step: float,
