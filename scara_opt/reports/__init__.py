@@ -202,6 +202,7 @@ def _in_processes(names: Sequence[str], out: Path, quick: bool, jobs: int,
     again here, each once (as in one process: the command line shows them as its notes),
     and the rest of their stderr is passed on.
     """
+    import os
     import pickle
     import subprocess
     import sys
@@ -226,7 +227,9 @@ def _in_processes(names: Sequence[str], out: Path, quick: bool, jobs: int,
                     running.append((subprocess.Popen(
                         [sys.executable, "-m", "scara_opt.reports.worker", str(out),
                          "1" if quick else "0", tmp, *lane],
-                        stdout=subprocess.DEVNULL, stderr=err, start_new_session=True), log))
+                        stdout=subprocess.DEVNULL, stderr=err, start_new_session=True,
+                        env={**os.environ, "SCARA_OPT_REPRODUCE_PARENT": str(os.getpid())}),
+                        log))
             while running:
                 collect()
                 for proc, log in list(running):

@@ -9,8 +9,9 @@ warnings it raises are pickled into ``RESULTS/<first paper>.warnings`` for the p
 issue again (Python would print them as ``<frozen runpy>:88: CompilingWarning: ...``).
 
 SIGINT is ignored: the parent process stops the workers. A worker whose parent is gone
-(ended by SIGKILL, or any way that skipped its clean-up) ends itself within
-:data:`WATCH_S`, so it never goes on writing into a folder nobody will collect.
+(ended by SIGKILL, or any way that skipped its clean-up) is ended with it (Linux's
+``PR_SET_PDEATHSIG``; elsewhere a thread looks every :data:`WATCH_S`), so it never goes on
+writing into a folder nobody will collect.
 """
 
 from __future__ import annotations
@@ -26,6 +27,9 @@ from collections.abc import Sequence
 from pathlib import Path
 from typing import Any
 
+#: the environment variable by which the parent gives its process id (a worker still
+#: loading when its parent died would otherwise take its new parent for it)
+PARENT_ENV = "SCARA_OPT_REPRODUCE_PARENT"
 #: how often a worker checks that its parent is still there [s]
 WATCH_S = 0.2
 
@@ -38,6 +42,22 @@ def _watch_parent(parent: int) -> None:
             os._exit(1)
 
 
+def _end_with_parent(parent: int) -> None:
+    """Have the kernel end this process with its parent (Linux ``PR_SET_PDEATHSIG``), and
+    watch the parent from a thread as well (other systems; a long C call that holds the
+    GIL delays only the thread)."""
+    try:
+        import ctypes
+
+        libc = ctypes.CDLL(None, use_errno=True)
+        libc.prctl(1, signal.SIGKILL, 0, 0, 0)  # PR_SET_PDEATHSIG = 1
+    except (OSError, AttributeError):  # not Linux
+        pass
+    if os.getppid() != parent:  # gone before the line above
+        os._exit(1)
+    threading.Thread(target=_watch_parent, args=(parent,), daemon=True).start()
+
+
 def _write(path: Path, data: bytes) -> None:
     """``data`` into ``path`` through a temporary name and a rename."""
     tmp = path.with_name(f".{path.name}.tmp")
@@ -48,7 +68,7 @@ def _write(path: Path, data: bytes) -> None:
 def main(argv: Sequence[str]) -> None:
     """Run the papers named in ``argv`` and write their pickled reports (see the module)."""
     signal.signal(signal.SIGINT, signal.SIG_IGN)
-    threading.Thread(target=_watch_parent, args=(os.getppid(),), daemon=True).start()
+    _end_with_parent(int(os.environ.get(PARENT_ENV, os.getppid())))
     out, quick, results, *papers = argv
     caught: list[tuple[type[Warning], str]] = []
 
