@@ -18,7 +18,6 @@ import pytest
 import scara_opt as so
 from scara_opt.cli.app import main
 from tests.conftest import ROOT
-from tests.conftest import run_cli as run
 
 WALL = """name = "wall cell"
 length_unit = "mm"
@@ -230,7 +229,7 @@ def test_a_stopped_reproduce_leaves_no_worker_and_no_partial_folder(tmp_path, si
 
     Before (issue 36): the workers kept running and writing into ``.scara-opt-partial-*``,
     which survived later runs. Mutations caught: ``_on_termination`` not entered in main()
-    -> the workers survive SIGTERM, fails; the worker's parent watch not started -> they
+    -> the workers survive SIGTERM, fails; ``_end_with_parent`` not called in the worker -> they
     survive SIGKILL, fails; ``remove_stale_staging`` not called -> the folder stays, fails.
     """
     out = tmp_path / "out"

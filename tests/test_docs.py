@@ -15,9 +15,8 @@ from pathlib import Path
 
 import pytest
 
-from tests.conftest import ROOT
-
 from tests import doc_blocks
+from tests.conftest import ROOT
 from tests.doc_blocks import PAGES, output_matches
 
 

@@ -7,11 +7,10 @@ needs one of the API's robot options takes it under the same name.
 
 SI inside, ``--deg`` and ``--mm`` outside: :func:`joint_scale`, :func:`joint_units`.
 Number types: :func:`positive`, :func:`nonnegative`; ``degrees``: an angle option in degrees
-(``--yaw``). ``--vmax/--amax/--jmax`` of the
-commands that time a motion (``path``, ``cycle``, ``plan``, ``run``): one value for every joint or one per
-joint, in SI (rad/s or m/s and their derivatives,
-whatever ``--deg``/``--mm`` say about positions); a joint without a limit of its own (a
-URDF carries no acceleration limit) needs the option. The limits are resolved before any
+(``--yaw``). ``--vmax/--amax/--jmax`` of the commands that time a motion (``path``,
+``cycle``, ``plan``, ``run``): one value for every joint or one per joint, in SI (rad/s or
+m/s and their derivatives, whatever ``--deg``/``--mm`` say about positions); a joint
+without a limit of its own (a URDF carries no acceleration limit) needs the option. The limits are resolved before any
 IK runs, so a missing or bad one is refused at once, naming the option.
 """
 

@@ -34,8 +34,10 @@ def entries(folder: Path) -> dict[str, list[Path]]:
 
 @contextmanager
 def _held(lock: Path) -> Iterator[bool]:
-    """Hold ``lock`` (``flock``, not waiting): True if taken or absent, False if another
-    process holds it (a build under way, or one waited for)."""
+    """Hold ``lock`` (``flock``, not waiting): whether it was taken (or is absent).
+
+    False when another process holds it (a build under way, or one waited for).
+    """
     try:
         import fcntl
     except ImportError:  # not POSIX: the builds hold no lock either

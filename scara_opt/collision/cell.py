@@ -21,8 +21,9 @@ A cell file states its units, like a robot file, and lists its obstacles::
     rpy = [0, 0, 0]             # optional
 
 A mesh's ``file`` is relative to the cell file, its coordinates in ``length_unit`` times
-``scale`` (one number, or one per axis). Unknown or misspelt keys, a missing size, a size <= 0 and duplicate names are
-refused with :class:`~scara_opt.errors.CellError` naming the obstacle and the key.
+``scale`` (one number, or one per axis). Unknown or misspelt keys, a missing size, a size
+<= 0 (quoted in the file's unit) and duplicate names are refused with
+:class:`~scara_opt.errors.CellError` naming the obstacle and the key.
 """
 
 from __future__ import annotations

@@ -215,7 +215,9 @@ class _Reader:
         xyz = np.array(self.numbers(entry, "xyz", at, 3, self.lu)) * self.L
         try:
             if "yaw" in entry:
-                return Target(xyz, yaw=self.number(entry, "yaw", at, self.au) * self.A)
+                yaw = self.number(entry, "yaw", at, self.au)
+                assert yaw is not None  # "yaw" is in entry
+                return Target(xyz, yaw=yaw * self.A)
             if "rpy" in entry:
                 rpy = np.array(self.numbers(entry, "rpy", at, 3, self.au)) * self.A
                 return Target(xyz, rotation=rpy_to_matrix(rpy))

@@ -43,9 +43,11 @@ def _watch_parent(parent: int) -> None:
 
 
 def _end_with_parent(parent: int) -> None:
-    """Have the kernel end this process with its parent (Linux ``PR_SET_PDEATHSIG``), and
-    watch the parent from a thread as well (other systems; a long C call that holds the
-    GIL delays only the thread)."""
+    """Have the kernel end this process with its parent (Linux ``PR_SET_PDEATHSIG``).
+
+    A thread watches the parent as well (other systems; a long C call that holds the GIL
+    delays only the thread).
+    """
     try:
         import ctypes
 
