@@ -10,8 +10,9 @@ Number types: :func:`positive`, :func:`nonnegative`; ``degrees``: an angle optio
 (``--yaw``). ``--vmax/--amax/--jmax`` of the commands that time a motion (``path``,
 ``cycle``, ``plan``, ``run``): one value for every joint or one per joint, in SI (rad/s or
 m/s and their derivatives, whatever ``--deg``/``--mm`` say about positions); a joint
-without a limit of its own (a URDF carries no acceleration limit) needs the option. The limits are resolved before any
-IK runs, so a missing or bad one is refused at once, naming the option.
+without a limit of its own (a URDF carries no acceleration limit) needs the option. The
+limits are resolved before any IK runs, so a missing or bad one is refused at once, naming
+the option.
 """
 
 from __future__ import annotations
