@@ -78,8 +78,13 @@ class PaperReport:
         out.mkdir(parents=True, exist_ok=True)
         table.to_csv(out / f"{self.paper}_{name}.csv", index=False)
 
+    def animation_note(self) -> str:
+        """The note that the animation was not written, and why ("" when it was)."""
+        return f"3-D animation not written ({self.animation_error})" if self.animation_error \
+            else ""
+
     def to_markdown(self) -> str:
-        """The paper's section of ``summary.md``."""
+        """The paper's section of ``summary.md`` (the animation note is said in its header)."""
         lines = [f"## {self.paper}: {self.title}", ""]
         counts = {v: sum(f.verdict == v for f in self.findings) for v in VERDICTS}
         lines.append(", ".join(f"{n} {v}" for v, n in counts.items() if n) or "no findings")
@@ -88,7 +93,7 @@ class PaperReport:
         for f in self.findings:
             cells = (f.item, f.paper, f.ours, f.verdict, f.rule, f.why)
             lines.append("| " + " | ".join(c.replace("|", "\\|") for c in cells) + " |")
-        lines += [""] + [f"- {n}" for n in self.notes]
+        lines += [""] + [f"- {n}" for n in self.notes if n != self.animation_note()]
         if self.figures:
             lines += ["", "Figures: " + ", ".join(f"[{p.name}]({p.name})" for p in self.figures)]
         if self.animation_file is not None:
@@ -127,8 +132,9 @@ def run_paper(paper: str, out: str | Path, quick: bool = False) -> PaperReport:
 def _write_animation(report: PaperReport, out: Path) -> None:
     """``<paper>_animation.html`` of the report's motion (:mod:`scara_opt.view`).
 
-    Without the ``view`` extra (meshcat) the report keeps why (:attr:`PaperReport.
-    animation_error`, said once for all papers in ``summary.md``); nothing else changes.
+    Without the ``view`` extra (meshcat) the report keeps why in its notes and
+    :attr:`PaperReport.animation_error` (said once for all papers in ``summary.md``);
+    nothing else changes.
     """
     if report.animation is None:
         return
@@ -140,6 +146,7 @@ def _write_animation(report: PaperReport, out: Path) -> None:
                                            out / f"{report.paper}_animation.html", title=title)
     except ModuleNotFoundError as exc:  # the view extra (meshcat) is not installed
         report.animation_error = str(exc)
+        report.notes.append(report.animation_note())
 
 
 def reproduce(papers: str | Sequence[str] = "all", out: str | Path = "results",
