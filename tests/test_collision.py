@@ -184,8 +184,10 @@ def test_cell_file_reads_units_and_obstacles(tmp_path):
 
 
 @pytest.mark.parametrize("edit, match", [
-    (("radius = 30", "radius = 0"), "radius must be a finite number > 0"),
-    (("size = [50, 50, 50]", "size = [50, -5, 50]"), r"size\[1\] must be a finite number > 0"),
+    # in the file's unit, with the file's name (issue 38: "-0.005 [m]", no file)
+    (("radius = 30", "radius = 0"), r"cell\.toml.*radius 0 mm: a size must be > 0"),
+    (("size = [50, 50, 50]", "size = [50, -5, 50]"),
+     r"cell\.toml.*size \[50, -5, 50\] mm: a size must be > 0"),
     (("radius = 30", "raduis = 30"), "did you mean 'radius'"),
     (('type = "box"', 'type = "cube"'), "type must be one of"),
     (("length = 400", ""), "needs length"),

@@ -99,7 +99,8 @@ class PathPlan:
         what = (f"{len(self.path)} waypoints, length {self.length:.4g}"
                 if self.path is not None else self.message)
         return (f"PathPlan({self.status.value}: {what}; {self.planner}, "
-                f"{self.time_s * 1e3:.1f} ms, {self.states} states, {self.checks} edges)")
+                f"{self.time_s * 1e3:.1f} ms, {self.states} configurations and "
+                f"{self.checks} edges checked, {self.tree_states} tree states)")
 
 
 def path_length(Q: Array) -> float:
