@@ -293,7 +293,7 @@ def test_cycle_in_an_enclosed_cell_says_why_quintic_is_missing_and_ruckig_slow(
     code, out, _ = _cli(capsys, "cycle", "zavar2024", "--across", "200", "--cell", str(cell),
                         "--json")
     data = json.loads(out)
-    assert data["cell"] == "wall cell" and data["clearance_m"] > 0 and len(data["notes"]) == 2
+    assert data["cell"] == "wall cell" and data["least_clearance_m"] > 0 and len(data["notes"]) == 2
 
 
 def test_a_urdf_without_collision_geometry_plans_from_the_cli(tmp_path, capsys):
@@ -313,7 +313,7 @@ def test_a_urdf_without_collision_geometry_plans_from_the_cli(tmp_path, capsys):
     code, out, err = _cli(capsys, *args, "--radius", "40", "--json")
     assert code == 0, err
     data = json.loads(out)
-    assert data["status"] == "solved" and data["cell"] == "shelf" and data["clearance_m"] > 0
+    assert data["status"] == "solved" and data["cell"] == "shelf" and data["least_clearance_m"] > 0
 
 
 def test_run_a_pick_and_place_program_file(tmp_path, capsys):
@@ -331,7 +331,7 @@ def test_run_a_pick_and_place_program_file(tmp_path, capsys):
     moves = data["moves"]
     assert [m["type"] for m in moves] == ["PTP", "LIN", "LIN", "PTP", "LIN", "LIN"]
     assert sum(m["duration_s"] for m in moves) == pytest.approx(data["duration_s"])
-    assert min(m["clearance_m"] for m in moves) >= 0.002 and data["cell"] == "scara cell"
+    assert min(m["least_clearance_m"] for m in moves) >= 0.002 and data["cell"] == "scara cell"
     for name in ("program.csv", "program.json", "program_ros.yaml"):
         assert (tmp_path / name).is_file()
     loaded = so.load_program(program)

@@ -51,7 +51,9 @@ def cmd_cycle(args: argparse.Namespace) -> int:
                           "down_mm": args.down, "blend_mm": args.blend,
                           "pick_m": res.pick.tolist(),
                           "place_m": res.place.tolist(), "cycle_s": res.durations,
-                          "cell": res.cell, "clearance_m": res.clearance,
+                          "cell": res.cell, "least_clearance_m": res.clearance,
+                          "proven_clearance_m": None if res.cell is None else
+                          traj.check_collisions().clearance,
                           "notes": list(res.notes),
                           "payload_kg": args.payload,
                           "payload_toppra_s": None if loaded is None else loaded.duration,
@@ -69,8 +71,8 @@ def cmd_cycle(args: argparse.Namespace) -> int:
     print(f"  worst limit ratio ({which}, joints exact, tool at 1 kHz): "
           f"{max(float(v.max()) for v in ratios.values()):.4f}")
     if res.cell is not None and res.clearance is not None:
-        print(f"  proven clear of {res.cell!r} ({which}): clearance >= "
-              f"{res.clearance * 1e3:.3f} mm all along")
+        print(f"  proven clear of {res.cell!r} ({which}): "
+              f"{traj.check_collisions().clearance_text()}")
     for note in res.notes:
         print(f"  note: {note}")
     if loaded is not None:

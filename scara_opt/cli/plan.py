@@ -87,7 +87,9 @@ def cmd_plan(args: argparse.Namespace) -> int:
         print(json.dumps({
             "robot": robot.name, "status": "solved", "duration_s": traj.duration,
             "goal": goal_q.tolist(), "q_units": units, "cell": cell,
-            "clearance_m": None if report is None else report.clearance,
+            "least_clearance_m": None if report is None or report.least is None
+            else report.least.distance,
+            "proven_clearance_m": None if report is None else report.clearance,
             "compute_time_s": traj.compute_time_s, "notes": traj.notes,
             "files": [str(f) for f in written]}))
         return 0
@@ -96,8 +98,8 @@ def cmd_plan(args: argparse.Namespace) -> int:
                                                             strict=True))
           + f" in {traj.duration:.4f} s (computed in {traj.compute_time_s * 1e3:.1f} ms)")
     if report is not None:
-        print(f"  proven clear of {cell!r}: clearance >= {report.clearance * 1e3:.3f} mm "
-              f"all along ({report.evaluations} checks)")
+        print(f"  proven clear of {cell!r}: {report.clearance_text()} "
+              f"({report.evaluations} checks)")
     print(f"  {traj.notes}")
     if written:
         print("wrote " + ", ".join(str(f) for f in written))

@@ -59,7 +59,8 @@ def _moves(program: Any, traj: Any) -> list[dict[str, Any]]:
     clearances = traj.move_clearances() if traj.checker is not None else None
     offset = len(program.moves) - len(traj.moves)  # a first PTP without start: the start
     rows = [{"index": i, "type": program.moves[i].kind, "label": program.labels[i],
-             "duration_s": 0.0, "clearance_m": None, "start": True} for i in range(offset)]
+             "duration_s": 0.0, "least_clearance_m": None, "start": True}
+            for i in range(offset)]
     if len(spans) != len(traj.moves):  # allow_flip split a move: no move-by-move account
         return rows
     for k, (t0, t1) in enumerate(spans):
@@ -67,7 +68,7 @@ def _moves(program: Any, traj: Any) -> list[dict[str, Any]]:
         clear = None if clearances is None else float(clearances[k])
         rows.append({"index": i, "type": program.moves[i].kind, "label": program.labels[i],
                      "duration_s": float(t1 - t0),
-                     "clearance_m": None if clear is None or math.isinf(clear) else clear,
+                     "least_clearance_m": None if clear is None or math.isinf(clear) else clear,
                      "start": False})
     return rows
 
@@ -102,11 +103,13 @@ def cmd_run(args: argparse.Namespace) -> int:
         print(json.dumps({
             "program": program.name, "robot": program.robot.name, "status": "solved",
             "duration_s": traj.duration, "compute_time_s": traj.compute_time_s,
-            "cell": cell, "clearance_m": None if report is None else report.clearance,
+            "cell": cell, "least_clearance_m": None if report is None or report.least is None
+            else report.least.distance,
+            "proven_clearance_m": None if report is None else report.clearance,
             "moves": rows, "notes": traj.notes, "files": [str(f) for f in written]}))
         return 0
-    where = (f"; proven clear of {cell!r}: clearance >= {report.clearance * 1e3:.3f} mm all "
-             f"along" if report is not None else "")
+    where = (f"; proven clear of {cell!r}: {report.clearance_text()}"
+             if report is not None else "")
     print(f"solved: {program.name!r} on {program.robot.name}, {len(program.moves)} moves in "
           f"{traj.duration:.4f} s{where} (planned in {traj.compute_time_s * 1e3:.0f} ms)")
     for row in rows:
@@ -114,8 +117,8 @@ def cmd_run(args: argparse.Namespace) -> int:
         if row["start"]:
             print(f"  {name:28s} the start (its goal is where the program begins)")
             continue
-        clear = ("" if row["clearance_m"] is None
-                 else f"  clearance >= {row['clearance_m'] * 1e3:.3f} mm")
+        clear = ("" if row["least_clearance_m"] is None
+                 else f"  least clearance {row['least_clearance_m'] * 1e3:.3f} mm")
         print(f"  {name:28s} {row['duration_s']:8.4f} s{clear}")
     if len(rows) < len(program.moves):
         print(f"  (a move was split by allow_flip: {traj.notes})")

@@ -171,9 +171,10 @@ class MotionTrajectory(Trajectory):
     def move_clearances(self) -> Array:
         """(n,) the least clearance of each move of :meth:`move_spans` to the cell [m].
 
-        A proven lower bound (:meth:`check_collisions` of the trajectory's pieces that
-        cover the move: their knots may reach a little beyond it), in the cell it was
-        planned in; ``inf`` for a move that does not move.
+        Over every pair, found to 0.1 mm (:class:`~scara_opt.collision.continuous.
+        LeastClearance`, of the trajectory's pieces that cover the move: their knots may
+        reach a little beyond it), in the cell it was planned in; ``inf`` for a move that
+        does not move.
 
         Raises:
             InputError: planned without a cell.
@@ -185,8 +186,10 @@ class MotionTrajectory(Trajectory):
                              "clearances; plan it with cell=")
         out = []
         for t0, t1 in self.move_spans():
-            out.append(math.inf if t1 - t0 <= 0 else
-                       collision_report(self.checker, _window(self, t0, t1)).clearance)
+            report = None if t1 - t0 <= 0 else collision_report(self.checker,
+                                                                _window(self, t0, t1))
+            out.append(math.inf if report is None or report.least is None
+                       else report.least.distance)
         return np.array(out)
 
     def check_collisions(self, cell: object = None, robot: Robot | None = None, *,
