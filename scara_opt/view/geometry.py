@@ -29,7 +29,11 @@ LINK_RADIUS = 0.025
 _LINK_RGBA = np.array([0.35, 0.45, 0.6, 1.0])
 _JOINT_RGBA = np.array([0.95, 0.55, 0.15, 1.0])
 _TIP_RGBA = np.array([0.85, 0.1, 0.1, 1.0])
-_OBSTACLE_RGBA = np.array([0.55, 0.55, 0.5, 0.85])
+#: obstacles' colours, one after the other; the table the grid lies on is _TABLE_RGBA
+_OBSTACLE_RGBA = np.array([[0.55, 0.63, 0.5, 0.85], [0.74, 0.6, 0.43, 0.85],
+                           [0.45, 0.6, 0.66, 0.85], [0.58, 0.52, 0.68, 0.85],
+                           [0.72, 0.52, 0.52, 0.85]])
+_TABLE_RGBA = np.array([0.8, 0.79, 0.76, 0.9])
 
 
 def has_visuals(robot: Robot) -> bool:
@@ -93,16 +97,20 @@ def _sticks(robot: Robot) -> pin.GeometryModel:
     return geom
 
 
-def add_obstacles(geom: pin.GeometryModel, cell: Cell) -> pin.GeometryModel:
-    """``geom`` with a cell's obstacles added, fixed in the world (grey; meshes from their file).
+def add_obstacles(geom: pin.GeometryModel, cell: Cell,
+                  table: str | None = None) -> pin.GeometryModel:
+    """``geom`` with a cell's obstacles added, fixed in the world (meshes from their file).
 
-    ``cell``: a :class:`~scara_opt.Cell`. Returns ``geom`` itself.
+    ``cell``: a :class:`~scara_opt.Cell`; ``table``: the name of the one drawn in light grey
+    (the others take the colours of a palette in turn). Returns ``geom`` itself.
     """
+    others = (ob for ob in cell.obstacles if ob.name != table)
+    colour = {ob.name: _OBSTACLE_RGBA[k % len(_OBSTACLE_RGBA)] for k, ob in enumerate(others)}
     for ob in cell.obstacles:
         obj = pin.GeometryObject(f"obstacle_{ob.name}", 0, ob.placement, ob.shape())
         if isinstance(ob, Mesh):
             obj.meshPath = str(ob.path)
             obj.meshScale = np.array(ob.scale)
-        obj.meshColor = _OBSTACLE_RGBA
+        obj.meshColor = colour.get(ob.name, _TABLE_RGBA)
         geom.addGeometryObject(obj)
     return geom

@@ -6,10 +6,14 @@ path) and packs them, base64-encoded, into one HTML page with ``main.min.js`` in
 :class:`RecordingWindow` stands in for the server's window: it keeps the same tree from
 the same commands (msgpack-encoded as meshcat sends them) and :func:`static_html` writes the
 page the same way, through meshcat's ``create_command``, with no server, port or socket.
+scara_opt's own part of the page (``page.js``, ``page.css``: the camera fitted to the window,
+the labels and the control bar) is inlined after it, with its data as JSON.
 """
 
 from __future__ import annotations
 
+import html
+import json
 import warnings
 from pathlib import Path as FilePath
 from typing import Any
@@ -30,7 +34,10 @@ __all__ = ["Animation", "MeshcatVisualizer", "RecordingWindow", "g", "recording_
 
 _PAGE = """<!DOCTYPE html>
 <html>
-<head><meta charset="utf-8"><title>{title}</title></head>
+<head><meta charset="utf-8"><title>{title}</title>
+<style>
+{css}</style>
+</head>
 <body>
 <div id="meshcat-pane"></div>
 <script>
@@ -40,10 +47,11 @@ _PAGE = """<!DOCTYPE html>
 var viewer = new MeshCat.Viewer(document.getElementById("meshcat-pane"));
 {commands}
 </script>
-<style>body {{margin: 0;}} #meshcat-pane {{width: 100vw; height: 100vh; overflow: hidden;}}</style>
+{view}
 </body>
 </html>
 """
+_HERE = FilePath(__file__).parent
 
 
 class RecordingWindow:
@@ -87,8 +95,13 @@ def recording_visualizer() -> meshcat.Visualizer:
     return meshcat.Visualizer.view_into(RecordingWindow(), meshcat.path.Path(("meshcat",)))
 
 
-def static_html(vis: meshcat.Visualizer, title: str = "scara_opt") -> str:
-    """The self-contained HTML page of the recorded scene (meshcat's viewer inlined)."""
+def static_html(vis: meshcat.Visualizer, title: str = "scara_opt",
+                view: dict[str, Any] | None = None) -> str:
+    """The self-contained HTML page of the recorded scene (meshcat's viewer inlined).
+
+    ``view``: the data of scara_opt's part of the page (``SCARA_VIEW`` in ``page.js``);
+    ``None``: meshcat's page alone.
+    """
     commands = []
     for node in walk(vis.window.tree):
         if node.object is not None:
@@ -99,4 +112,11 @@ def static_html(vis: meshcat.Visualizer, title: str = "scara_opt") -> str:
         if node.animation is not None:
             commands.append(create_command(node.animation))
     mainminjs = (FilePath(VIEWER_ROOT) / "main.min.js").read_text(encoding="utf-8")
-    return _PAGE.format(title=title, mainminjs=mainminjs, commands="".join(commands))
+    script = ""
+    if view is not None:  # JSON is JavaScript; "</" would end the script element
+        data = json.dumps(view, separators=(",", ":")).replace("</", "<\\/")
+        script = (f"<script>\nvar SCARA_VIEW = {data};\n"
+                  f"{(_HERE / 'page.js').read_text(encoding='utf-8')}</script>")
+    css = (_HERE / "page.css").read_text(encoding="utf-8")
+    return _PAGE.format(title=html.escape(title), css=css, mainminjs=mainminjs,
+                        commands="".join(commands), view=script)
