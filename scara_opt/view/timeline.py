@@ -2,10 +2,11 @@
 
 A motion planned from moves (a :class:`~scara_opt.MotionTrajectory`) gives one block per
 move on the slider, from its start to its end (``waypoint_times``). In a cell, the instant
-of least clearance is marked: the smallest signed distance of any checked pair, from the
-checker's ``clearance_many`` on the trajectory sampled every :data:`CLEARANCE_DT`, and the
-pair closest there. The checker is the one the trajectory was planned with, else one made
-for the cell; a robot without collision geometry gets a note saying why there is none.
+of least clearance is marked: the smallest signed distance of any pair along the whole
+trajectory, found to 0.1 mm by branch and bound on the proofs' motion bound
+(:func:`scara_opt.collision.continuous.least_clearance`), and the pair there. The checker
+is the one the trajectory was planned with, else one made for the cell; a robot without
+collision geometry gets a note saying why there is none.
 """
 
 from __future__ import annotations
@@ -23,10 +24,7 @@ if TYPE_CHECKING:
     from scara_opt.model.robot import Robot
     from scara_opt.trajectory import JointPath, Trajectory
 
-__all__ = ["CLEARANCE_DT", "Least", "Marks", "Move", "least_clearance", "marks", "moves"]
-
-#: sampling step of the least-clearance search [s]
-CLEARANCE_DT = 0.005
+__all__ = ["Least", "Marks", "Move", "least_clearance", "marks", "moves"]
 
 
 @dataclass(frozen=True)
@@ -73,17 +71,14 @@ def moves(traj: Trajectory) -> tuple[Move, ...]:
 
 
 def least_clearance(checker: CollisionChecker, traj: Trajectory) -> Least | None:
-    """The instant of least clearance of ``traj`` (sampled every :data:`CLEARANCE_DT`).
+    """The instant of least clearance of ``traj`` over every pair, found to 0.1 mm.
 
     ``None`` when the checker has no pair to check.
     """
-    if not checker.npairs:
-        return None
-    t = traj.times(CLEARANCE_DT)
-    Q = traj.evaluate(t)
-    k = int(np.argmin(checker.clearance_many(Q)))
-    closest = checker.clearance(Q[k])
-    return Least(float(t[k]), closest.distance, closest.bodies)
+    from scara_opt.collision.continuous import least_clearance as search
+
+    found = search(checker, traj)
+    return None if found is None else Least(found.at, found.distance, found.bodies)
 
 
 @dataclass(frozen=True)
