@@ -23,8 +23,17 @@ joint frame: Pinocchio's ``oMg``). It is built once per machine like every nativ
 (:mod:`scara_opt.model.compiled`: the cache, the checks, ``SCARA_OPT_NO_COMPILE``), with
 coal's headers and library from the ``pin`` wheel's prefix and Eigen's headers from
 casadi's wheel. Where any piece is missing (no compiler, no headers, a body that is not a
-sphere, box, capsule or cylinder: a mesh), :func:`edge_kernel` returns ``None`` and the
-Python forms run: the same verdicts, slower.
+sphere, box, capsule, cylinder or triangle mesh), :func:`edge_kernel` returns ``None`` and
+the Python forms run: the same verdicts, slower.
+
+**Meshes** (coal's ``BVHModel``: a URDF's ``<collision>`` meshes, a cell's STL fixtures)
+go in with their tree of convex hulls (:mod:`~scara_opt.collision.mesh_bounds`): the
+proofs take the trees' best-first lower bound on the surface distance (microseconds),
+coal's exact BVH distance only where that bound is within the margin; a contact test first
+asks coal's own collision test (trusted where it finds the surfaces meeting), then the
+bounds; a body inside a closed mesh is a contact. For a pair with a mesh, the kernel's
+proofs are as sound as the Python form's but not step for step the same (the Python form
+takes the exact distances): the same verdicts at rest, other counts along a motion.
 """
 
 from __future__ import annotations

@@ -72,11 +72,12 @@ class EdgeProver:
     """States and straight joint edges checked by the conservative rule, with counts.
 
     Distances are cached per configuration (OMPL asks for the same states many times).
-    Where the checker's compiled kernel runs (:mod:`~scara_opt.collision.edge_kernel`: no
-    mesh, a compiler), states and edges are proven in C++ (:class:`~scara_opt.collision.
+    Where the checker's compiled kernel runs (:mod:`~scara_opt.collision.edge_kernel`: a
+    compiler), states and edges are proven in C++ (:class:`~scara_opt.collision.
     edge_kernel.NativeProver`), with the same verdicts and counts as the Python form below
-    (``native=False``, or a mesh): its distances are Python floats, with a few pairs plain
-    loops beat numpy's per-call overhead.
+    (``native=False``, or no compiler) for primitives (for meshes, as sound, other counts):
+    its distances are Python floats, with a few pairs plain loops beat numpy's per-call
+    overhead.
 
     Attributes:
         states: configurations whose distances were all computed (states asked about).
