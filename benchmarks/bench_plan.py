@@ -47,7 +47,6 @@ import warnings
 
 import numpy as np
 import pinocchio as pin
-
 from plan_cells import Bench, benches
 
 import scara_opt as so

@@ -17,8 +17,8 @@ import pytest
 import scara_opt as so
 from scara_opt import interrupt
 from scara_opt.cli import main
-from scara_opt.errors import InputError
 from scara_opt.cli.outputs import STAGING_PREFIX, OutputDir
+from scara_opt.errors import InputError
 
 CIRCLE = ["path", "zavar2024", "--circle", "0.28", "0", "0.05", "-0.07", "-n", "8",
           "--time", "quintic"]
@@ -424,7 +424,8 @@ def test_a_swallowed_interrupt_commits_nothing(tmp_path, capsys, monkeypatch):
     Mutation: ``interrupt.raise_if_received()`` removed from OutputDir.__exit__: table.csv
     was committed, exit 0, and the test failed.
     """
-    monkeypatch.setattr("scara_opt.cli.solvers.cmd_solvers", _interrupt_swallowed_as(None, tmp_path))
+    monkeypatch.setattr("scara_opt.cli.solvers.cmd_solvers",
+                        _interrupt_swallowed_as(None, tmp_path))
     assert cli(capsys, "solvers") == (130, "", "scara-opt: interrupted\n")
     assert list(tmp_path.iterdir()) == []
 

@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 import scara_opt as so
-from scara_opt.collision.edge_kernel import edge_kernel, shape_code
+from scara_opt.collision.edge_kernel import shape_code
 from scara_opt.errors import FallbackWarning
 from scara_opt.planning.ompl_backend import EdgeProver
 from tests.conftest import DATA, pinocchio_collides

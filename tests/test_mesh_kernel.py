@@ -189,8 +189,8 @@ def test_a_body_inside_a_closed_mesh_is_a_contact_as_inside_a_box(tmp_path, capl
 
     Mutation caught: the inside test left out of the kernel's verdict where the surfaces
     are apart (``rest``'s first branch ``false``) -> False for the finely meshed block
-    (768 triangles: its tree's leaves are patches of faces); fails. Mutation caught: every mesh taken as
-    closed (``_closed`` returning True) -> the open block a contact; fails.
+    (768 triangles: its tree's leaves are patches of faces); fails. Mutation caught: every
+    mesh taken as closed (``is_closed`` returning True) -> the open block a contact; fails.
     """
     q = np.zeros(4)
     block = so.Box("block", (1.0, 1.0, 0.6), xyz=(0.0, 0.0, -0.05))

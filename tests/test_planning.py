@@ -533,7 +533,8 @@ def test_the_largest_seed_is_refused_before_any_work():
     Mutation caught: ``SEED_MAX`` not passed to ``check_int`` -> TypeError from OMPL; fails.
     """
     checker = so.CollisionChecker(ROBOT, POST)
-    with pytest.raises(so.InputError, match=r"seed must be an integer in \[0, 18446744073709551614\]"):
+    with pytest.raises(so.InputError,
+                       match=r"seed must be an integer in \[0, 18446744073709551614\]"):
         plan_path(checker, QA, QB, seed=2**64 - 1)
     with pytest.raises(so.InputError, match="seed"):
         so.plan(ROBOT, [so.PTP(QB)], start=QA, cell=checker, seed=2**64 - 1)

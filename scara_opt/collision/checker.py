@@ -302,9 +302,9 @@ class CollisionChecker:
         given_pairs = name_pairs(allowed, "allowed")
         self._allowed, self._skip_apart = given_pairs, skip_apart
         self._check_touching = check_touching
-        for a, b in given_pairs:
-            if a in cell.names and b in cell.names:
-                raise CellError(f"allowed pair ({a!r}, {b!r}) names two obstacles: obstacles "
+        for one, other in given_pairs:
+            if one in cell.names and other in cell.names:
+                raise CellError(f"allowed pair ({one!r}, {other!r}) names two obstacles: obstacles "
                                 "are never checked against each other; an allowed pair is two "
                                 "robot bodies, or a robot body and an obstacle")
         robot_pairs = [p for p in given_pairs if not set(p) & set(cell.names)]
@@ -354,10 +354,10 @@ class CollisionChecker:
                 self.skipped.update(self.always)
                 pairs = [(i, j) for i, j in pairs
                          if (bodies[i].name, bodies[j].name) not in self.always]
-                for (a, b), why in self.always.items():
+                for (one, other), why in self.always.items():
                     level = logging.INFO if "fixed" in why else logging.WARNING
                     log.log(level, "%s and %s are %s: not checked (check_touching=True "
-                            "checks them)", a, b, why)
+                            "checks them)", one, other, why)
         for i, j in pairs:
             model.addCollisionPair(pin.CollisionPair(i, j))
         self.model = model
@@ -468,7 +468,7 @@ class CollisionChecker:
     # ------------------------------------------------------------------ one configuration
     def touching(self, d: Array) -> NDArray[np.bool_]:
         """Which signed distances ``d`` [m] are contacts: below ``margin`` (none: <= 0)."""
-        return d < self.margin if self.margin else d <= 0.0
+        return np.asarray(d < self.margin if self.margin else d <= 0.0, dtype=bool)
 
     def collides(self, q: ArrayLike) -> bool:
         """Whether any checked pair is in contact at ``q`` (nq,): :meth:`touching`.
@@ -526,8 +526,10 @@ class CollisionChecker:
         return Clearance(float(d[k]), full.pair_names[k])
 
     def contacts(self, q: ArrayLike) -> list[Clearance]:
-        """Every checked pair closer than ``margin`` at ``q``, deepest first (the pairs
-        :meth:`collides` finds in contact, by :meth:`distances`)."""
+        """Every checked pair closer than ``margin`` at ``q``, deepest first.
+
+        The pairs :meth:`collides` finds in contact, by :meth:`distances`.
+        """
         if not self.collides(q):
             return []
         d = self.distances(q)
@@ -556,7 +558,7 @@ class CollisionChecker:
         if not self.npairs or not len(Qa):
             return np.zeros(len(Qa), dtype=bool)
         if self._kernel() is None:
-            return self.touching(self.distances_many(Qa)).any(axis=1)
+            return np.asarray(self.touching(self.distances_many(Qa)).any(axis=1), dtype=bool)
         if threads == 1 or len(Qa) < 2 * threads:
             return self._kernel_collides(Qa)
         from concurrent.futures import ThreadPoolExecutor

@@ -507,8 +507,11 @@ def least(s: Array, D: Array, config: Callable[[Array], Array],
     where every pair is computed.
 
     Args:
-        s, D, config, bound, distances: as :func:`prove` (``D`` not shifted); with
-            ``exact``, ``D`` and ``distances`` may be lower bounds on the distances.
+        s: (m,) the first samples' parameters, as :func:`prove`'s.
+        D: (m, npairs) their distances [m], not shifted; with ``exact``, lower bounds.
+        config: as :func:`prove`'s.
+        bound: as :func:`prove`'s.
+        distances: as :func:`prove`'s; with ``exact``, lower bounds.
         tol: the tolerance [m].
         budget: most configurations to evaluate.
         apart: as :func:`prove`'s, with no shift.
@@ -671,8 +674,11 @@ class CollisionReport:
         return 0.0 if self.margin == 0 else self.margin / self.clearance
 
     def clearance_text(self) -> str:
-        """The two numbers in words: ``least clearance 2.247 mm at 0.7469 s (link4-rack),
-        found to 0.1 mm; proven >= 2.147 mm`` (the proven bound alone without ``least``)."""
+        """The two numbers in words, as the command line prints them.
+
+        ``least clearance 2.247 mm at 0.7469 s (link4-rack), found to 0.1 mm; proven >=
+        2.147 mm`` (the proven bound alone without ``least``).
+        """
         if not self.clear:
             return "not clear"
         if self.least is None:

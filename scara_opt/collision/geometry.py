@@ -256,10 +256,10 @@ def _urdf_bodies(robot: Robot, radius: object, missing_mesh: str) -> list[pin.Ge
                     mesh.set("filename", str(found))
     lost: set[str] = set()
     if missing:
-        link, fname = missing[0]
+        first_link, fname = missing[0]
         if missing_mesh == "error":
             raise MeshNotFoundError(
-                fname, f"robot {robot.name!r}, <collision> of link {link!r}",
+                fname, f"robot {robot.name!r}, <collision> of link {first_link!r}",
                 f"{len(missing)} collision mesh(es) missing; install the package that ships "
                 "them, fix the path (relative to the URDF), or pass missing_mesh='capsule' "
                 "to give those links capsules (with radius=)")

@@ -87,9 +87,10 @@ class MeshParts:
 
 def mesh_arrays(shape: object) -> tuple[Array, NDArray[np.int64]]:
     """Vertices (n, 3) [m] and triangles (m, 3) of a coal ``BVHModel``."""
-    V = np.asarray(shape.vertices(), float).reshape(-1, 3)  # type: ignore[attr-defined]
+    V: Array = np.asarray(shape.vertices(), dtype=np.float64)  # type: ignore[attr-defined]
+    V = V.reshape(-1, 3)
     n = int(shape.num_tris)  # type: ignore[attr-defined]
-    T = np.empty((n, 3), np.int64)
+    T: NDArray[np.int64] = np.empty((n, 3), np.int64)
     for i in range(n):
         t = shape.tri_indices(i)  # type: ignore[attr-defined]
         T[i] = t[0], t[1], t[2]

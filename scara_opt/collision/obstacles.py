@@ -221,8 +221,10 @@ class Mesh(Obstacle):
         self._inspect()
 
     def _inspect(self) -> None:
-        """Load the mesh once: refuse an empty one or one metres across (a file in mm read
-        as metres), and say so of an open one (a surface: inside it is no contact).
+        """Load the mesh once: refuse an empty one or one too large, say so of an open one.
+
+        Too large: metres across (a file in mm read as metres). An open mesh is a surface:
+        inside it is no contact.
 
         Raises:
             CellError: unreadable, no triangles, or wider than :data:`MESH_EXTENT`.

@@ -28,7 +28,6 @@ from scara_opt.ik.task import default_q0
 from scara_opt.model.robot import Array, Robot
 from scara_opt.target import Target
 
-
 #: round-off allowed per unit of the lengths (or angles) a certificate adds up: 64 ulps
 ROUND_OFF = 64.0 * float(np.finfo(float).eps)
 

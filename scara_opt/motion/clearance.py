@@ -118,14 +118,19 @@ class CellPlanning:
         self.plans: dict[int, PathPlan] = {}
 
     def start_clock(self) -> None:
-        """Start the time limit, once the compiled kernel is built (its one-off compilation
-        does not count)."""
+        """Start the time limit, once the compiled kernel is built.
+
+        Its one-off compilation does not count.
+        """
         self.checker._kernel()
         self.deadline = time.perf_counter() + self.time_limit
 
     def left(self) -> float:
-        """What is left of the time limit [s] (at least 1 µs: a straight PTP is still
-        proven, and the planner reports no path found within the limit)."""
+        """What is left of the time limit [s], at least 1 µs.
+
+        With none left, a straight PTP is still proven, and the planner reports no path
+        found within the limit.
+        """
         return max(self.deadline - time.perf_counter(), 1e-6)
 
     def check_start(self, q: Array) -> None:
@@ -189,8 +194,11 @@ class CellPlanning:
         return plan is not None and plan.path is not None and len(plan.path) > 2
 
     def prove(self, traj: Trajectory) -> CollisionReport:
-        """The timed section proven clear, or its first contact (no least clearance: the
-        whole trajectory's is found on demand, ``check_collisions()``)."""
+        """The timed section proven clear, or its first contact.
+
+        No least clearance: the whole trajectory's is found on demand,
+        ``check_collisions()``.
+        """
         return collision_report(self.checker, traj, least=False)
 
     def refuse(self, index: int, kind: str, report: CollisionReport, at: float,
