@@ -128,13 +128,15 @@ def _turned(v: ca.SX, ref: ca.SX, lo: ca.SX, hi: ca.SX) -> tuple[ca.SX, ca.SX]:
 
 
 def build_function(robot: Robot, model: ArmModel, name: str) -> ca.Function:
-    """``(R (9,), p (3,), s, q0 (nq,), lo (nq,), hi (nq,)) -> (Q (8 nq,), err (8,),
-    dist (8,))``: every branch turned nearest ``q0``, its FK residual and its distance to
-    ``q0`` (:data:`OUT` where no turn fits the limits); ``Q`` branch after branch."""
+    """``(R (9,), p (3,), s, q0 (nq,), lo (nq,), hi (nq,), tol) -> (Q (8 nq,), err (8,),
+    dist (8,), best)``: every branch turned nearest ``q0``, its FK residual and its
+    distance to ``q0`` (:data:`OUT` where no turn fits the limits), ``Q`` branch after
+    branch; ``best``: the nearest branch within ``tol`` and the limits, -1 if none."""
     Rv = ca.SX.sym("R", 9)  # column after column (numpy: R.ravel(order="F"))
     R = ca.reshape(Rv, 3, 3)
     p, s = ca.SX.sym("p", 3), ca.SX.sym("s")
     q0, lo, hi = (ca.SX.sym(n, robot.nq) for n in ("q0", "lo", "hi"))
+    tol = ca.SX.sym("tol")
     RG, pG = _pose_to_chain(model, R, p, s)
     Qs, errs, dists = [], [], []
     for chain_q in solve_case(model.arm, RG, pG):
@@ -152,11 +154,15 @@ def build_function(robot: Robot, model: ArmModel, name: str) -> ca.Function:
         Qs.append(q)
         errs.append(ca.fmax(ca.norm_2(pq - p), angle))
         dists.append(ca.if_else(fits, ca.norm_2(q - q0), OUT))
-    outputs = [ca.vertcat(*Qs), ca.vertcat(*errs), ca.vertcat(*dists)]
+    best, score = ca.SX(-1), ca.SX(OUT)
+    for k, (e, d) in enumerate(zip(errs, dists, strict=True)):
+        better = (e <= tol) * (d < score)
+        best, score = ca.if_else(better, k, best), ca.if_else(better, d, score)
+    outputs = [ca.vertcat(*Qs), ca.vertcat(*errs), ca.vertcat(*dists), best]
     if hasattr(ca, "cse"):
         outputs = ca.cse(outputs)
-    return ca.Function(name, [Rv, p, s, q0, lo, hi], outputs,
-                       ["R", "p", "s", "q0", "lo", "hi"], ["Q", "err", "dist"])
+    return ca.Function(name, [Rv, p, s, q0, lo, hi, tol], outputs,
+                       ["R", "p", "s", "q0", "lo", "hi", "tol"], ["Q", "err", "dist", "best"])
 
 
 def arm_function(robot: Robot, model: ArmModel, n: int = 1, jit: bool = True) -> ca.Function:
