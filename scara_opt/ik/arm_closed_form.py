@@ -33,6 +33,7 @@ import numpy as np
 from scara_opt.ik import arm_geometry, subproblems
 from scara_opt.ik.arm_geometry import ArmCase, ArmModel
 from scara_opt.ik.subproblems import rot, sp1, sp2, sp3, sp4
+from scara_opt.ik.task import LIMIT_SLACK
 from scara_opt.model import symbolic
 from scara_opt.model.batch_fk import kinematic_key
 from scara_opt.model.buffers import FunctionArrays
@@ -120,11 +121,16 @@ def _pose_to_chain(model: ArmModel, R: ca.SX, p: ca.SX, s: ca.SX) -> tuple[ca.SX
 
 
 def _turned(v: ca.SX, ref: ca.SX, lo: ca.SX, hi: ca.SX) -> tuple[ca.SX, ca.SX]:
-    """``v + 2πm`` nearest ``ref`` within ``[lo, hi]``, and 1 where some ``m`` fits, else 0."""
+    """``v + 2πm`` nearest ``ref`` within ``[lo, hi]``, and 1 where some ``m`` fits, else 0.
+
+    A value beyond a limit by at most ``LIMIT_SLACK`` (round-off of a configuration at the
+    limit) fits, and is put on the limit.
+    """
     turn = 2 * math.pi
-    first, last = ca.ceil((lo - v) / turn), ca.floor((hi - v) / turn)
+    first = ca.ceil((lo - LIMIT_SLACK - v) / turn)
+    last = ca.floor((hi + LIMIT_SLACK - v) / turn)
     m = ca.fmin(ca.fmax(ca.floor((ref - v) / turn + 0.5), first), last)
-    return v + turn * m, first <= last
+    return ca.fmin(ca.fmax(v + turn * m, lo), hi), first <= last
 
 
 def build_function(robot: Robot, model: ArmModel, name: str) -> ca.Function:

@@ -153,8 +153,14 @@ def every_turn(robot: Robot, q: Array) -> list[Array]:
     return [np.array(c) for c in itertools.product(*options)]
 
 
-def _distinct(found: list[Array], q: Array) -> bool:
-    return all(np.abs(q - r).max() > DISTINCT for r in found)
+def _new(found: list[Array], q: Array, periodic: Array) -> bool:
+    """Whether ``q`` differs from every row of ``found`` by more than :data:`DISTINCT` in
+    some joint (revolute joints compared up to whole turns where ``periodic``)."""
+    if not found:
+        return True
+    d = np.abs(np.asarray(found) - q)
+    d = np.where(periodic, np.abs((d + math.pi) % TURN - math.pi), d)
+    return bool((d.max(axis=1) > DISTINCT).all())
 
 
 def all_solutions(robot: Robot, model: ArmModel, target: Target, q_ref: Array, tol: float,
@@ -162,22 +168,23 @@ def all_solutions(robot: Robot, model: ArmModel, target: Target, q_ref: Array, t
                   jit: bool = True) -> tuple[list[Array], str]:
     """Every distinct closed-form solution within the limits, every whole turn, and the route.
 
+    The branches (polished where needed) are told apart up to whole turns, then each one's
+    turns within the limits are listed (:func:`every_turn`).
+
     Returns:
         ``(solutions, route)``: configurations (nq,) each, in no particular order (the
         caller sorts), and :func:`route_label` with the sampling.
     """
     values = held_values(robot, model, fixed, samples)
-    found: list[Array] = []
+    periodic = np.array([k == "revolute" for k in robot.joint_types])
+    reps: list[Array] = []
     for s in values:
         Q, err, dist = branches(robot, model, target, q_ref, float(s), jit)
         for k in np.flatnonzero((dist < OUT) & (err <= POLISH)):
             q = Q[k] if err[k] <= tol else polish(robot, target, Q[k], tol, jit)
-            if q is None:
-                continue
-            for turned in every_turn(robot, q):
-                if _distinct(found, turned):
-                    found.append(turned)
-    return found, route_label(robot, model, values)
+            if q is not None and _new(reps, q, periodic):
+                reps.append(q)
+    return [t for q in reps for t in every_turn(robot, q)], route_label(robot, model, values)
 
 
 def multi_start_solutions(robot: Robot, target: Target, q_ref: Array, tol: float,
@@ -190,15 +197,14 @@ def multi_start_solutions(robot: Robot, target: Target, q_ref: Array, tol: float
     that there are no others.
     """
     rng = np.random.default_rng(seed)
-    found: list[Array] = []
+    periodic = np.array([k == "revolute" for k in robot.joint_types])
+    reps: list[Array] = []
     for start in itertools.chain([q_ref], random_starts(robot, rng, starts - 1)):
         res = lm_search(robot, target, q_ref, [start], tol=tol, max_iter=100, jit=jit,
                         nearest=False)
-        if res.within:
-            for turned in every_turn(robot, res.q):
-                if _distinct(found, turned):
-                    found.append(turned)
-    return found, f"{MULTI_START} ({starts} starts: no closed form serves this arm and target)"
+        if res.within and _new(reps, res.q, periodic):
+            reps.append(res.q)
+    return [t for q in reps for t in every_turn(robot, q)], f"{MULTI_START} ({starts} starts: no closed form serves this arm and target)"
 
 
 def solve_nearest(robot: Robot, target: Target, q_ref: Array, tol: float, jit: bool = True,

@@ -340,6 +340,10 @@ def _global(robot: Robot, ts: list[Target], solver: Solver, method: str, q_start
     q_ref = default_q0(robot) if q_start is None else q_start
     listed = walk.candidates_closed_form(robot, ts, q_ref)
     if listed is None:
+        arm = walk.candidates_arm(robot, ts, q_ref, tol)
+        if arm is not None:
+            return _global_arm(robot, ts, solver, method, q_start, q_ref, threshold, seed, tol,
+                               start, arm)
         Q, valid, kept = walk.candidates_searched(robot, ts, solver, q_start, seed, tol)
         w = walk.least_cost_walk(Q, valid, threshold, weights, q_start)
         if walk.redundant(robot, ts):  # a continuum: the greedy walk unless it jumps more
@@ -386,6 +390,42 @@ def _global(robot: Robot, ts: list[Target], solver: Solver, method: str, q_start
                                           dict(zip(w.jumps, w.forced_by, strict=True))),
         jump_threshold=threshold, method=method, joint_names=tuple(robot.joint_names),
         results=results, time_s=time.perf_counter() - start, branches="global")
+
+
+def _global_arm(robot: Robot, ts: list[Target], solver: Solver, method: str,
+                q_start: Array | None, q_ref: Array, threshold: Array, seed: int | None,
+                tol: float, start: float, arm: tuple[Array, NDArray[np.bool_], str]
+                ) -> JointPath:
+    """The global choice over every solution of a 6R arm's closed form (:func:`_global`).
+
+    A point without any keeps the method's verdict; a chosen candidate the verdict does
+    not confirm within ``tol`` is struck off and the walk chosen again.
+    """
+    Q, valid, route = arm
+    weights = walk.travel_weights(robot)
+    known: dict[int, IKResult] = {}
+    for i in [int(k) for k in np.flatnonzero(~valid.any(axis=1))]:
+        known[i] = solver.solve(robot, ts[i], q0=q_ref, seed=None if seed is None else seed + i,
+                                tol=tol)
+        Q[i, 0], valid[i, 0] = known[i].q, True
+    while True:
+        w = walk.least_cost_walk(Q, valid, threshold, weights, q_start)
+        results = [known.get(i) or judge(robot, t, SolverOutput(q=Q[i, k].copy(), evaluations=1,
+                                                                route=route),
+                                         tol=tol, method="analytic", seed=None, time_s=0.0)
+                   for i, (t, k) in enumerate(zip(ts, w.choice, strict=True))]
+        bad = [i for i, r in enumerate(results) if not r.success and i not in known]
+        if not bad:
+            break
+        for i in bad:
+            valid[i, w.choice[i]] = False
+            if not valid[i].any():
+                known[i] = solver.solve(robot, ts[i], q0=q_ref, seed=None if seed is None
+                                        else seed + i, tol=tol)
+                Q[i, 0], valid[i, 0] = known[i].q, True
+    return _assemble(Q[np.arange(len(ts)), w.choice], results, ts, threshold, method,
+                     robot.joint_names, time.perf_counter() - start, "global",
+                     dict(zip(w.jumps, w.forced_by, strict=True)))
 
 
 def _residuals(robot: Robot, ts: Sequence[Target], Q: Array) -> tuple[Array, Array]:
