@@ -16,7 +16,6 @@ import numpy as np
 import pytest
 
 import scara_opt as so
-from scara_opt.ik import arm_route
 from scara_opt.ik.arm_geometry import arm_model
 from scara_opt.ik.lm_search import lm_search
 from scara_opt.ik.subproblems import rot, sp1, sp2, sp3, sp4
@@ -343,8 +342,8 @@ def test_panda_solutions_over_the_held_joint(panda_arm):
 
 def test_solve_ik_returns_the_nearest_of_every_solution(ur5_arm, panda_arm):
     """``lm`` and ``auto`` on the UR5: the solution nearest ``q0`` of all ik_all lists; on
-    the Panda with ``nearest=False`` the 7th joint stays at ``q0``'s value; every answer
-    within 1e-9.
+    the Panda with ``nearest=False`` the 7th joint stays at ``q0``'s value unless the route
+    says it moved (no branch there); every answer within 1e-9.
 
     Mutation caught: the compiled choice keeping the farthest branch (``d < score`` ->
     ``d > score`` with score starting at 0) -> not the nearest, fails.
@@ -360,7 +359,8 @@ def test_solve_ik_returns_the_nearest_of_every_solution(ur5_arm, panda_arm):
             assert np.linalg.norm(res.q - q0) <= np.linalg.norm(best.q - q0) + 1e-9
         qp, qp0 = rng.uniform(panda_arm.lower, panda_arm.upper, (2, 7))
         res = so.solve_ik(panda_arm, pose(panda_arm, qp), method="lm", q0=qp0, nearest=False)
-        assert res.success and (res.q[6] == qp0[6] or res.route == "")
+        assert res.success
+        assert res.q[6] == qp0[6] or "moved from q0's value" in res.route or res.route == ""
         res = so.solve_ik(panda_arm, pose(panda_arm, qp), q0=qp0)
         assert res.success and res.error <= 1e-9
 

@@ -13,7 +13,7 @@ from typing import Any, ClassVar
 import numpy as np
 from numpy.typing import ArrayLike
 
-from scara_opt.ik.arm_route import SAMPLES, all_solutions, multi_start_solutions, served
+from scara_opt.ik.arm_route import SAMPLES, every_solution, served
 from scara_opt.ik.base import (
     MAX_RESTARTS,
     Solver,
@@ -49,8 +49,9 @@ SCARA_ROUTE = "analytic (SCARA closed form)"
 def ik_all(robot: Robot, target: Target | ArrayLike, q0: ArrayLike | None = None, tol: float = 1e-9,
            fixed: dict[str, float] | None = None, samples: int = SAMPLES,
            seed: int | None = 0) -> list[IKResult]:
-    """Every IK solution within the limits, nearest to ``q0`` first; each result's
-    :attr:`~scara_opt.IKResult.route` says how they were found.
+    """Every IK solution within the limits, nearest to ``q0`` first, its route named.
+
+    Each result's :attr:`~scara_opt.IKResult.route` says how the solutions were found:
 
     * SCARA-type robots (position or yaw targets): the closed form's branches, both elbows
       and every turn of each revolute joint that fits its limits (a ±360° wrist gives
@@ -96,11 +97,8 @@ def ik_all(robot: Robot, target: Target | ArrayLike, q0: ArrayLike | None = None
         sols, route = solve_all(robot, target, q_ref, fixed), SCARA_ROUTE
     else:
         check_fixed(fixed)
-        model = served(robot, target)
-        if model is not None:
-            sols, route = all_solutions(robot, model, target, q_ref, tol, fixed, int(samples))
-        else:
-            sols, route = multi_start_solutions(robot, target, q_ref, tol, seed)
+        sols, route = every_solution(robot, served(robot, target), target, q_ref, tol, fixed,
+                                     int(samples), seed)
     results = []
     for q in sols:
         res = judge(robot, target, SolverOutput(q=q, evaluations=1, route=route), tol=tol,

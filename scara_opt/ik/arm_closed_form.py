@@ -93,8 +93,11 @@ def _spherical(H: Array, P: Array, R: ca.SX, p: ca.SX, case: str) -> list[list[c
 
 
 def solve_case(arm: ArmCase, R: ca.SX, p: ca.SX) -> list[ca.SX]:
-    """The 8 branches (6,) each of the chain ``arm`` for :math:`G = (R, p)`, in the chain's
-    own joint order and signs (``arm.sign`` undone, ``arm.reversed`` read back)."""
+    """The 8 branches (6,) each of the chain ``arm`` for :math:`G = (R, p)`.
+
+    In the chain's own joint order and signs (``arm.sign`` undone, ``arm.reversed`` read
+    back).
+    """
     if arm.reversed:
         R, p = R.T, -R.T @ p
     rows = (_three_parallel(arm.H, arm.P, R, p) if arm.case == arm_geometry.CASES[0]
@@ -133,33 +136,52 @@ def _turned(v: ca.SX, ref: ca.SX, lo: ca.SX, hi: ca.SX) -> tuple[ca.SX, ca.SX]:
     return ca.fmin(ca.fmax(v + turn * m, lo), hi), first <= last
 
 
-def build_function(robot: Robot, model: ArmModel, name: str) -> ca.Function:
-    """``(R (9,), p (3,), s, q0 (nq,), lo (nq,), hi (nq,), tol) -> (Q (8 nq,), err (8,),
-    dist (8,), best)``: every branch turned nearest ``q0``, its FK residual and its
-    distance to ``q0`` (:data:`OUT` where no turn fits the limits), ``Q`` branch after
-    branch; ``best``: the nearest branch within ``tol`` and the limits, -1 if none."""
-    Rv = ca.SX.sym("R", 9)  # column after column (numpy: R.ravel(order="F"))
-    R = ca.reshape(Rv, 3, 3)
-    p, s = ca.SX.sym("p", 3), ca.SX.sym("s")
-    q0, lo, hi = (ca.SX.sym(n, robot.nq) for n in ("q0", "lo", "hi"))
-    tol = ca.SX.sym("tol")
+def _branches(robot: Robot, model: ArmModel, R: ca.SX, p: ca.SX, s: ca.SX, q0: ca.SX,
+              lo: ca.SX, hi: ca.SX) -> list[tuple[ca.SX, ca.SX, ca.SX]]:
+    """Per branch: ``q`` (nq,) turned nearest ``q0``, its FK residual, and whether it fits.
+
+    ``fits`` is 1 where some whole turn of every joint fits the limits, else 0.
+    """
     RG, pG = _pose_to_chain(model, R, p, s)
-    Qs, errs, dists = [], [], []
+    out = []
     for chain_q in solve_case(model.arm, RG, pG):
-        parts = []
-        for k in range(robot.nq):
-            parts.append(s if k == model.held else chain_q[model.joints.index(k)])
         q, fits = ca.SX.zeros(robot.nq), ca.SX(1)
-        for k, v in enumerate(parts):
+        for k in range(robot.nq):
+            v = s if k == model.held else chain_q[model.joints.index(k)]
             turned, ok = _turned(v, q0[k], lo[k], hi[k])
             q[k] = turned
             fits = fits * ok
         _, pq, Rq = symbolic.chain_walk(robot.chain, robot.tip_placement, q)
         frob = ca.norm_fro(Rq - R)
         angle = 2 * ca.asin(ca.fmin(frob / (2 * math.sqrt(2)), 1.0))
-        Qs.append(q)
-        errs.append(ca.fmax(ca.norm_2(pq - p), angle))
-        dists.append(ca.if_else(fits, ca.norm_2(q - q0), OUT))
+        out.append((q, ca.fmax(ca.norm_2(pq - p), angle), fits))
+    return out
+
+
+def _symbols(nq: int) -> tuple[ca.SX, ...]:
+    """The inputs ``R`` (9,), ``p``, ``s``, ``q0``, ``lo``, ``hi``, ``tol``."""
+    return (ca.SX.sym("R", 9), ca.SX.sym("p", 3), ca.SX.sym("s"),
+            *(ca.SX.sym(n, nq) for n in ("q0", "lo", "hi")), ca.SX.sym("tol"))
+
+
+_IN = ["R", "p", "s", "q0", "lo", "hi", "tol"]
+
+
+def build_function(robot: Robot, model: ArmModel, name: str) -> ca.Function:
+    """The closed form of ``model`` as one Function, every branch checked by the FK.
+
+    ``(R (9,), p (3,), s, q0 (nq,), lo (nq,), hi (nq,), tol) -> (Q (8 nq,), err (8,),
+    dist (8,), best)``: every branch turned nearest ``q0``, its FK residual and its
+    distance to ``q0`` (:data:`OUT` where no turn fits the limits), ``Q`` branch after
+    branch; ``best``: the nearest branch within ``tol`` and the limits, -1 if none.
+    ``R`` column after column (numpy: ``R.ravel(order="F")``).
+    """
+    ins = _symbols(robot.nq)
+    Rv, p, s, q0, lo, hi, tol = ins
+    rows = _branches(robot, model, ca.reshape(Rv, 3, 3), p, s, q0, lo, hi)
+    Qs = [q for q, _, _ in rows]
+    errs = [e for _, e, _ in rows]
+    dists = [ca.if_else(fits, ca.norm_2(q - q0), OUT) for q, _, fits in rows]
     best, score = ca.SX(-1), ca.SX(OUT)
     for k, (e, d) in enumerate(zip(errs, dists, strict=True)):
         better = (e <= tol) * (d < score)
@@ -167,8 +189,88 @@ def build_function(robot: Robot, model: ArmModel, name: str) -> ca.Function:
     outputs = [ca.vertcat(*Qs), ca.vertcat(*errs), ca.vertcat(*dists), best]
     if hasattr(ca, "cse"):
         outputs = ca.cse(outputs)
-    return ca.Function(name, [Rv, p, s, q0, lo, hi, tol], outputs,
-                       ["R", "p", "s", "q0", "lo", "hi", "tol"], ["Q", "err", "dist", "best"])
+    return ca.Function(name, list(ins), outputs, _IN, ["Q", "err", "dist", "best"])
+
+
+#: Gauss–Newton steps of :func:`build_slide` over the held joint
+SLIDE_STEPS = 6
+#: the largest step of the held joint in one of them [rad]
+SLIDE_STEP = 0.5
+
+
+def build_slide(robot: Robot, model: ArmModel, branch: int, name: str) -> ca.Function:
+    r"""Along one branch of a 7R arm, the held joint moved to the solution nearest ``q0``.
+
+    The branch's solutions as the held joint :math:`s` varies form a curve :math:`q(s)`;
+    :data:`SLIDE_STEPS` safeguarded Gauss–Newton steps on
+    :math:`\tfrac12 \|W (q(s) - q_0)\|^2` (``W``: the inverse joint ranges, the fast
+    solver's scaling), :math:`Δs = -g / h` with :math:`g = (W^2 (q - q_0)) · q'`,
+    :math:`h = \|W q'\|^2`, at most :data:`SLIDE_STEP`, within the held joint's limits; a
+    step is kept only where the new point is a solution within ``tol`` and the limits
+    and nearer, else the next tries a quarter of it.
+
+    ``(R, p, s, q0, lo, hi, tol, w (nq,)) -> (q (nq,), err, held)``: the point reached (its
+    residual; ``held`` its held joint's value).
+    """
+    ins = _symbols(robot.nq)
+    Rv, p, s, q0, lo, hi, tol = ins
+    w = ca.SX.sym("w", robot.nq)
+    R = ca.reshape(Rv, 3, 3)
+    sym = ca.SX.sym("t")
+    q_t, e_t, fits_t = _branches(robot, model, R, p, sym, q0, lo, hi)[branch]
+    at = ca.Function("at", [sym, Rv, p, q0, lo, hi],
+                     [q_t, ca.jacobian(q_t, sym), e_t, fits_t])
+    held = model.held
+    if held is None:
+        raise ValueError("build_slide serves a 7R arm with a held joint")
+    h_lo, h_hi = lo[held], hi[held]
+    q, dq, e, _ = at(s, Rv, p, q0, lo, hi)
+    f = 0.5 * ca.sumsqr(w * (q - q0))
+    scale = ca.SX(1.0)
+    for _ in range(SLIDE_STEPS):
+        g = ca.dot(w * w * (q - q0), dq)
+        h = ca.sumsqr(w * dq) + 1e-12
+        step = ca.fmin(ca.fmax(-scale * g / h, -SLIDE_STEP), SLIDE_STEP)
+        s_new = ca.fmin(ca.fmax(s + step, h_lo), h_hi)
+        q_new, dq_new, e_new, fits_new = at(s_new, Rv, p, q0, lo, hi)
+        f_new = 0.5 * ca.sumsqr(w * (q_new - q0))
+        ok = (e_new <= tol) * fits_new * (f_new < f)
+        s, e, f = (ca.if_else(ok, a, b) for a, b in ((s_new, s), (e_new, e), (f_new, f)))
+        q = ca.if_else(ok, q_new, q)
+        dq = ca.if_else(ok, dq_new, dq)
+        scale = ca.if_else(ok, 1.0, 0.25 * scale)
+    outputs = [q, e, s]
+    if hasattr(ca, "cse"):
+        outputs = ca.cse(outputs)
+    return ca.Function(name, [*ins, w], outputs, [*_IN, "w"], ["q", "err", "held"])
+
+
+def slide_arrays(robot: Robot, model: ArmModel, branch: int,
+                 jit: bool = True) -> FunctionArrays:
+    """This thread's arrays for :func:`build_slide` of ``branch`` (limits, weights filled in).
+
+    Compiled once per machine and kept, as :func:`arm_function`.
+    """
+    cache: dict[tuple, FunctionArrays] = robot.__dict__.setdefault("_arm_slides", {})
+    key = (branch, jit, threading.get_ident())
+    f = cache.get(key)
+    if f is None:
+        funcs: dict[tuple, ca.Function] = robot.__dict__.setdefault("_arm_slide_functions", {})
+        if (branch, jit) not in funcs:
+            key_k = kinematic_key(robot)
+            name = f"scara_opt_arm_slide{branch}_{key_k[:12]}"
+
+            def build() -> ca.Function:
+                return build_slide(robot, model, branch, name)
+
+            funcs[(branch, jit)] = compiled(name, f"{key_k} slide {branch} {_CODE}", build) \
+                if jit else build()
+        f = cache[key] = FunctionArrays(funcs[(branch, jit)], 1)
+        f.arg["lo"][:] = robot.lower
+        f.arg["hi"][:] = robot.upper
+        span = robot.upper - robot.lower
+        f.arg["w"][:] = 1.0 / np.where(np.isfinite(span), span, 1.0)
+    return f
 
 
 def arm_function(robot: Robot, model: ArmModel, n: int = 1, jit: bool = True) -> ca.Function:

@@ -105,8 +105,8 @@ def screw_axes(robot: Robot) -> tuple[Array, Array, Array] | None:
     data = robot.model.createData()
     pin.forwardKinematics(robot.model, data, np.zeros(robot.model.nq))
     H = np.array([data.oMi[j.index + 1].rotation @ j.axis for j in robot.chain])
-    O = np.array([data.oMi[j.index + 1].translation for j in robot.chain])
-    return H / np.linalg.norm(H, axis=1, keepdims=True), O, robot.fk(np.zeros(robot.nq))
+    Pt = np.array([data.oMi[j.index + 1].translation for j in robot.chain])
+    return H / np.linalg.norm(H, axis=1, keepdims=True), Pt, robot.fk(np.zeros(robot.nq))
 
 
 def _parallel(a: Array, b: Array) -> bool:
@@ -131,38 +131,38 @@ def _align(H: Array, sign: Array, i: int, ref: int) -> None:
         sign[i] = -sign[i]
 
 
-def _case_of(H: Array, O: Array) -> tuple[str, Array, Array] | None:
+def _case_of(H: Array, Pt: Array) -> tuple[str, Array, Array] | None:
     """The case of a 6R chain read forwards, its points moved, and the signs; or ``None``."""
-    H, O, sign = H.copy(), O.copy(), np.ones(6)
+    H, Pt, sign = H.copy(), Pt.copy(), np.ones(6)
     par = [[_parallel(H[i], H[j]) for j in range(6)] for i in range(6)]
-    c56 = _meet(H[4], O[4], H[5], O[5])
+    c56 = _meet(H[4], Pt[4], H[5], Pt[5])
     if par[1][2] and par[2][3] and c56 is not None and not par[0][1] and not par[1][4]:
-        O[4] = O[5] = c56
+        Pt[4] = Pt[5] = c56
         _align(H, sign, 2, 1)
         _align(H, sign, 3, 1)
-        return CASES[0], H, O
-    c45 = _meet(H[3], O[3], H[4], O[4])
+        return CASES[0], H, Pt
+    c45 = _meet(H[3], Pt[3], H[4], Pt[4])
     if c45 is None or c56 is None or np.linalg.norm(c45 - c56) > GEOMETRY_TOL:
         return None
-    O[3] = O[4] = O[5] = c56
-    c12 = _meet(H[0], O[0], H[1], O[1])
+    Pt[3] = Pt[4] = Pt[5] = c56
+    c12 = _meet(H[0], Pt[0], H[1], Pt[1])
     if c12 is not None:
-        O[0] = O[1] = c12
-        return CASES[1], H, O
+        Pt[0] = Pt[1] = c12
+        return CASES[1], H, Pt
     if par[1][2] and not par[0][1]:
         _align(H, sign, 2, 1)
-        return CASES[2], H, O
+        return CASES[2], H, Pt
     return None
 
 
-def arm_case(H: Array, O: Array) -> ArmCase | None:
+def arm_case(H: Array, Pt: Array) -> ArmCase | None:
     """The :class:`ArmCase` of a 6R chain (axes (6, 3), points (6, 3)), forwards or backwards.
 
     ``None`` when neither reading is one of :data:`CASES` (see the module docstring).
     """
     for backwards in (False, True):
-        Hc, Oc = (-H[::-1], O[::-1]) if backwards else (H, O)
-        found = _case_of(Hc, Oc)
+        Hc, Pc = (-H[::-1], Pt[::-1]) if backwards else (H, Pt)
+        found = _case_of(Hc, Pc)
         if found is not None:
             case, Hs, Os = found
             sign = np.sign(np.einsum("ij,ij->i", Hs, Hc))
@@ -187,14 +187,14 @@ def _arm_model(robot: Robot) -> ArmModel | None:
     axes = screw_axes(robot)
     if axes is None or robot.nq not in (6, 7):
         return None
-    H, O, M = axes
+    H, Pt, M = axes
     if robot.nq == 6:
-        arm = arm_case(H, O)
+        arm = arm_case(H, Pt)
         return None if arm is None else ArmModel(arm, M, tuple(range(6)), None,
                                                  np.zeros(3), np.zeros(3))
     for held in (6, 0):
         keep = [k for k in range(7) if k != held]
-        arm = arm_case(H[keep], O[keep])
+        arm = arm_case(H[keep], Pt[keep])
         if arm is not None:
-            return ArmModel(arm, M, tuple(keep), held, H[held], O[held])
+            return ArmModel(arm, M, tuple(keep), held, H[held], Pt[held])
     return None

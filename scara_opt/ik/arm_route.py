@@ -27,22 +27,28 @@ import math
 
 import numpy as np
 
-from scara_opt.ik.arm_closed_form import OUT, arm_arrays
+from scara_opt.ik.arm_closed_form import OUT, SLIDE_STEPS, arm_arrays, slide_arrays
 from scara_opt.ik.arm_geometry import ArmModel, arm_model
+from scara_opt.ik.lm_functions import limits
 from scara_opt.ik.lm_search import lm_search, random_starts
 from scara_opt.ik.result import SolverOutput
 from scara_opt.ik.turns import TURN
 from scara_opt.model.robot import Array, Robot
 from scara_opt.target import Target
 
-#: a branch whose residual is within this [m, rad] (and above tol) is polished by LM
-POLISH = 1e-6
+#: a branch whose residual is within this [m, rad] (and above tol) is polished by LM: the
+#: closed form's round-off near a singularity reaches 1e-2 (a UR5 with the wrist 6e-7 rad
+#: and the elbow 1e-4 rad from singular: 0.008 and 0.029), a branch that does not exist
+#: misses by more, typically (a polish that converges is a solution all the same)
+POLISH = 0.05
 #: LM iterations of a polish (a branch within POLISH converges in 2-4)
 POLISH_ITER = 30
 #: solutions closer than this in every joint are the same [rad]
 DISTINCT = 1e-6
 #: values of a 7R arm's held joint that ik_all samples by default
 SAMPLES = 32
+#: the step [rad] of solve_ik's scan of the held joint where q0's value reaches no branch
+SCAN_STEP = 0.5
 #: starts of the multi-start route (q0 first, then seeded uniform ones)
 MULTI_STARTS = 32
 MULTI_START = "multi-start"
@@ -86,42 +92,83 @@ def _evaluate(robot: Robot, model: ArmModel, target: Target, q_ref: Array, s: fl
 
 def branches(robot: Robot, model: ArmModel, target: Target, q_ref: Array, s: float = 0.0,
              jit: bool = True) -> tuple[Array, Array, Array]:
-    """The 8 branches (8, nq) turned nearest ``q_ref``, their residuals (8,) and distances
-    (8,) to ``q_ref`` (``OUT`` where a joint's limits fit no turn); ``s``: the held value."""
+    """The 8 branches (8, nq) turned nearest ``q_ref``, residuals (8,), distances (8,).
+
+    The distance to ``q_ref`` is ``OUT`` where a joint's limits fit no turn; ``s``: the
+    held joint's value (7R arms).
+    """
     res = _evaluate(robot, model, target, q_ref, s, 0.0, jit)
     return res["Q"][0].reshape(8, robot.nq).copy(), res["err"][0].copy(), res["dist"][0].copy()
 
 
-def polish(robot: Robot, target: Target, q: Array, tol: float, jit: bool = True) -> Array | None:
-    """``q`` taken to within ``tol`` by the fast solver (minimum-norm steps), or ``None``."""
+def polish(robot: Robot, target: Target, q: Array, tol: float, jit: bool = True,
+           held: int | None = None) -> Array | None:
+    """``q`` taken to within ``tol`` by the fast solver (minimum-norm steps), or ``None``.
+
+    Joint ``held`` keeps its value (both its bounds set to it: the solver's box holds it).
+    """
+    box = limits(robot)[0]
+    if held is not None:
+        box = box.copy()
+        box[held] = box[robot.nq + held] = q[held]
     found = lm_search(robot, target, q, [q], tol=tol, max_iter=POLISH_ITER, jit=jit,
-                      nearest=False)
+                      box=box, nearest=False)
     return found.q if found.within else None
 
 
 def nearest_solution(robot: Robot, model: ArmModel, target: Target, q_ref: Array, tol: float,
-                     jit: bool = True) -> tuple[Array, bool] | None:
+                     jit: bool = True) -> tuple[Array, int, bool] | None:
     """The closed-form solution nearest ``q_ref`` within the limits, or ``None``.
 
-    A 7R arm's held joint keeps ``q_ref``'s value. Where no branch is within ``tol``, the
-    nearest one within :data:`POLISH` is polished (``None`` if that fails too).
+    A 7R arm's held joint keeps ``q_ref``'s value; where no branch reaches the pose
+    there, it moves outward in steps of :data:`SCAN_STEP` either way (within its limits)
+    to the first value where one does. Where no branch is within ``tol``, the nearest one within
+    :data:`POLISH` is polished (``None`` if that fails too).
 
     Returns:
-        ``(q, polished)``: the solution (nq,), each joint at its whole turn nearest
-        ``q_ref`` unless ``polished``.
+        ``(q, branch, scanned)``: the solution (nq,); its branch (each joint at its whole
+        turn nearest ``q_ref``), or -1 where it was polished (its turns as the polish left
+        them); whether the held joint came from the scan.
     """
     s = 0.0 if model.held is None else float(q_ref[model.held])
     res = _evaluate(robot, model, target, q_ref, s, tol, jit)
     best = int(res["best"][0, 0])
     nq = robot.nq
     if best >= 0:  # the compiled choice: the nearest branch within tol and the limits
-        return res["Q"][0, best * nq:(best + 1) * nq].copy(), False
-    Q, err, dist = res["Q"][0].reshape(8, nq).copy(), res["err"][0], res["dist"][0]
+        return res["Q"][0, best * nq:(best + 1) * nq].copy(), best, False
+    Q, err, dist = res["Q"][0].reshape(8, nq).copy(), res["err"][0].copy(), res["dist"][0].copy()
+    if model.held is not None:
+        found = _scan(robot, model, target, q_ref, tol, jit)
+        if found is not None:
+            return (*found, True)
     near = (dist < OUT) & (err <= POLISH)
     for k in np.argsort(np.where(near, dist, np.inf))[:int(near.sum())]:
         q = polish(robot, target, Q[k], tol, jit)
         if q is not None:
-            return q, True
+            return q, -1, False
+    return None
+
+
+def _scan(robot: Robot, model: ArmModel, target: Target, q_ref: Array, tol: float,
+          jit: bool) -> tuple[Array, int] | None:
+    """The nearest solution at the first held value, outward from ``q_ref``'s, that has one.
+
+    In steps of :data:`SCAN_STEP` either way within the held joint's limits; ``None``
+    where no value reaches the pose.
+    """
+    k = model.held
+    if k is None:  # pragma: no cover - called for 7R arms only
+        return None
+    lo, hi = robot.sampling_lower[k], robot.sampling_upper[k]
+    s0 = float(q_ref[k])
+    for m in range(1, int((hi - lo) / SCAN_STEP) + 2):
+        for s in (s0 + m * SCAN_STEP, s0 - m * SCAN_STEP):
+            if not lo <= s <= hi:
+                continue
+            res = _evaluate(robot, model, target, q_ref, s, tol, jit)
+            best = int(res["best"][0, 0])
+            if best >= 0:
+                return res["Q"][0, best * robot.nq:(best + 1) * robot.nq].copy(), best
     return None
 
 
@@ -154,8 +201,11 @@ def every_turn(robot: Robot, q: Array) -> list[Array]:
 
 
 def _new(found: list[Array], q: Array, periodic: Array) -> bool:
-    """Whether ``q`` differs from every row of ``found`` by more than :data:`DISTINCT` in
-    some joint (revolute joints compared up to whole turns where ``periodic``)."""
+    """Whether ``q`` differs from every row of ``found`` (up to turns where ``periodic``).
+
+    By more than :data:`DISTINCT` in some joint; revolute joints compared up to whole
+    turns.
+    """
     if not found:
         return True
     d = np.abs(np.asarray(found) - q)
@@ -181,10 +231,28 @@ def all_solutions(robot: Robot, model: ArmModel, target: Target, q_ref: Array, t
     for s in values:
         Q, err, dist = branches(robot, model, target, q_ref, float(s), jit)
         for k in np.flatnonzero((dist < OUT) & (err <= POLISH)):
-            q = Q[k] if err[k] <= tol else polish(robot, target, Q[k], tol, jit)
+            q = Q[k] if err[k] <= tol else polish(robot, target, Q[k], tol, jit, model.held)
             if q is not None and _new(reps, q, periodic):
                 reps.append(q)
     return [t for q in reps for t in every_turn(robot, q)], route_label(robot, model, values)
+
+
+def every_solution(robot: Robot, model: ArmModel | None, target: Target, q_ref: Array,
+                   tol: float, fixed: dict[str, float] | None = None, samples: int = SAMPLES,
+                   seed: int | None = 0) -> tuple[list[Array], str]:
+    """:func:`all_solutions` where the closed form serves, else :func:`multi_start_solutions`.
+
+    Where the closed form finds none (a pose at a singularity, where its branches are a
+    continuum and its round-off largest, or out of reach), the multi-start runs too, and
+    the route says so.
+    """
+    if model is None:
+        return multi_start_solutions(robot, target, q_ref, tol, seed)
+    sols, route = all_solutions(robot, model, target, q_ref, tol, fixed, samples)
+    if sols or (fixed and model.held is not None):
+        return sols, route
+    sols, multi = multi_start_solutions(robot, target, q_ref, tol, seed)
+    return sols, f"{multi}; the closed form ({route}) found none"
 
 
 def multi_start_solutions(robot: Robot, target: Target, q_ref: Array, tol: float,
@@ -204,17 +272,19 @@ def multi_start_solutions(robot: Robot, target: Target, q_ref: Array, tol: float
                         nearest=False)
         if res.within and _new(reps, res.q, periodic):
             reps.append(res.q)
-    return [t for q in reps for t in every_turn(robot, q)], f"{MULTI_START} ({starts} starts: no closed form serves this arm and target)"
+    route = f"{MULTI_START} ({starts} starts: no closed form serves this arm and target)"
+    return [t for q in reps for t in every_turn(robot, q)], route
 
 
 def solve_nearest(robot: Robot, target: Target, q_ref: Array, tol: float, jit: bool = True,
-                  nearest: bool = True, max_iter: int = 100) -> SolverOutput | None:
+                  nearest: bool = True) -> SolverOutput | None:
     """``solve_ik``'s arm route: the closed-form solution nearest ``q_ref``, or ``None``.
 
     ``None`` where the closed form does not serve the robot and target, or finds no
     solution within the limits (the caller's multi-start goes on). On a 7R arm the held
-    joint keeps ``q_ref``'s value; with ``nearest`` the fast solver then slides from that
-    solution to the one nearest ``q_ref`` on its branch (:mod:`~scara_opt.ik.lm`).
+    joint starts at ``q_ref``'s value; with ``nearest`` it then moves along the branch to
+    the solution nearest ``q_ref`` (:func:`~scara_opt.ik.arm_closed_form.build_slide`:
+    range-scaled distance, as the fast solver's slide).
     """
     model = served(robot, target)
     if model is None:
@@ -222,15 +292,27 @@ def solve_nearest(robot: Robot, target: Target, q_ref: Array, tol: float, jit: b
     found_q = nearest_solution(robot, model, target, q_ref, tol, jit)
     if found_q is None:
         return None
-    q, polished = found_q
-    label = robot.__dict__.get("_arm_route_label")
-    if label is None:
-        label = robot.__dict__["_arm_route_label"] = route_label(robot, model)
-    if model.held is None or not nearest:  # the compiled choice took each nearest turn
-        return SolverOutput(q=q, evaluations=1, route=label, turned=not polished)
-    found = lm_search(robot, target, q_ref, [q], tol=tol, max_iter=max_iter, jit=jit)
-    if not found.within:  # pragma: no cover - the start is a solution: the slide keeps one
-        return SolverOutput(q=q, evaluations=1, route=label)
-    return SolverOutput(q=found.q, iterations=found.iterations,
-                        evaluations=found.evaluations + 1,
-                        route=label + ", then slid to the solution nearest q0")
+    q, branch, scanned = found_q
+    labels = robot.__dict__.get("_arm_route_labels")
+    if labels is None:
+        labels = robot.__dict__["_arm_route_labels"] = (
+            route_label(robot, model),
+            route_label(robot, model).replace(
+                "held at q0's value", f"moved from q0's value in steps of {SCAN_STEP:g} rad to "
+                "the first that reaches the pose"))
+    label = labels[scanned]
+    if model.held is None or not nearest or branch < 0:
+        return SolverOutput(q=q, evaluations=1, route=label, turned=branch >= 0)
+    f = slide_arrays(robot, model, branch, jit)
+    arg = f.arg
+    arg["R"][0] = target.rotation.ravel(order="F")  # type: ignore[union-attr]
+    arg["p"][0] = target.position
+    arg["s"][0] = q[model.held]
+    arg["q0"][0] = q_ref
+    arg["tol"][0] = tol
+    f()
+    res = f.res
+    if not res["err"][0, 0] <= tol:  # pragma: no cover - every step kept is within tol
+        return SolverOutput(q=q, evaluations=1, route=label, turned=True)
+    return SolverOutput(q=res["q"][0].copy(), evaluations=1 + SLIDE_STEPS, turned=True,
+                        route=label + ", then slid along its branch to the solution nearest q0")

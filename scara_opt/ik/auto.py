@@ -129,8 +129,7 @@ class AutoSolver(Solver):
         box, q_default = limits(robot)
         q_ref = q_default if q0 is None else q0
         if opts["analytic"] and target.rotation is not None:  # a 6R/7R arm's closed form
-            out = solve_nearest(robot, target, q_ref, tol, bool(opts["jit"]),
-                                max_iter=int(opts["max_iter"]))
+            out = solve_nearest(robot, target, q_ref, tol, bool(opts["jit"]))
             if out is not None:
                 return out
         starts = chain([q_ref], closed_form_starts(robot, target, q_ref),

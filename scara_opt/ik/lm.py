@@ -116,7 +116,7 @@ class LevenbergMarquardtSolver(Solver):
         opts = self.options
         if opts["analytic"] and target.rotation is not None:  # a 6R/7R arm's closed form
             out = solve_nearest(robot, target, q_ref, tol, bool(opts["jit"]),
-                                bool(opts["nearest"]), int(opts["max_iter"]))
+                                bool(opts["nearest"]))
             if out is not None:
                 return out
         starts = chain([q_ref], random_starts(robot, rng, int(self.options["restarts"])))

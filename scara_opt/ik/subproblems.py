@@ -68,8 +68,10 @@ def sp4(h: Vec, p: Vec, k: Vec, d: ca.SX | float) -> tuple[ca.SX, ca.SX]:
 
 
 def sp3(p1: Vec, p2: Vec, k: Vec, d: ca.SX | float) -> tuple[ca.SX, ca.SX]:
-    r"""The two θ with :math:`\|R(k, θ) p_1 - p_2\| = d`: SP4 of
-    :math:`p_2^T R(k, θ) p_1 = (\|p_1\|^2 + \|p_2\|^2 - d^2) / 2`."""
+    r"""The two θ with :math:`\|R(k, θ) p_1 - p_2\| = d`.
+
+    SP4 of :math:`p_2^T R(k, θ) p_1 = (\|p_1\|^2 + \|p_2\|^2 - d^2) / 2`.
+    """
     p1, p2 = _sx(p1), _sx(p2)
     return sp4(p2, p1, k, (ca.dot(p1, p1) + ca.dot(p2, p2) - d * d) / 2)
 

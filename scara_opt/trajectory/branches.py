@@ -4,9 +4,10 @@ Every point of the path has several IK solutions (elbow branches, wrist turns, t
 shoulder's ±2π turns of an arm). :func:`candidates_closed_form` lists all of them at once
 on SCARA-type robots (the closed form's branches and every whole turn within the limits),
 :func:`candidates_arm` on the 6R arms a closed form serves (full poses: every branch and
-turn, up to 8 × 2⁵ a point on a UR); :func:`candidates_searched` collects, on other robots, the distinct solutions a seeded
-multi-start finds, each point's solves also continuing every solution of the point before
-(so every track, the greedy walk's first, is followed). :func:`least_cost_walk` then picks
+turn, up to 8 × 2⁵ a point on a UR); :func:`candidates_searched` collects, on other
+robots, the distinct solutions a seeded multi-start finds, each point's solves also
+continuing every solution of the point before (so every track, the greedy walk's first,
+is followed). :func:`least_cost_walk` then picks
 one solution per point by a shortest-path search over the layered graph (SciPy's
 Dijkstra): a step where some joint moves more than its jump threshold is a *jump* (the
 threshold is a hard limit: the fewest jumps first), and among the walks with the fewest
