@@ -441,3 +441,20 @@ def test_the_layered_walk_equals_dijkstra():
         assert (len(a.jumps), a.start_jump) == (len(b.jumps), b.start_jump)
         assert abs(a.travel - b.travel) <= 1e-9
         assert a.forced_by == b.forced_by or a.jumps != b.jumps
+
+
+def test_a_pose_at_two_singularities_and_the_limits_is_solved(ur5_arm):
+    """A UR5 pose with three joints at +2π (their limit), the wrist 6e-7 rad and the elbow
+    1e-4 rad from singular: the closed form's round-off there is 0.008-0.03, its branches
+    are polished to 1e-9; ``solve_ik`` and ``ik_all`` both reach it.
+
+    Mutation caught: the polish gate back at 1e-6 (``POLISH``) -> ik_all's closed form
+    finds none (the multi-start's safety net then answers: the route says so), fails.
+    """
+    q = np.array([0.573557052, TURN, TURN - 1.1933e-4, 6.20198943, TURN - 1e-8, -6.28325e-7])
+    t = pose(ur5_arm, q)
+    sols = so.ik_all(ur5_arm, t)
+    assert sols and all(r.error <= 1e-9 for r in sols)
+    assert sols[0].route == "analytic (three_parallel_two_intersecting)"
+    res = so.solve_ik(ur5_arm, t, q0=np.zeros(6))
+    assert res.success and res.route.startswith("analytic")
