@@ -124,17 +124,30 @@ def test_subproblems_solve_their_equations():
 # ------------------------------------------------------------------ cases read from the model
 
 
+def _wrist_offset(dx: float) -> so.Robot:
+    """tests/data's UR5 with its last joint's origin moved ``dx`` [m] sideways (along x of
+    the 5th joint's frame): the 5th and 6th axes then miss each other by ``dx``."""
+    text = (DATA / "ur5_dh.urdf").read_text()
+    m = re.search(r'<joint name="wrist_3".*?<origin xyz="([^"]+)"', text, re.S)
+    assert m is not None, "the URDF's layout changed"
+    x, y, z = (float(v) for v in m.group(1).split())
+    moved = text.replace(m.group(0), m.group(0).replace(m.group(1), f"{x + dx} {y} {z}"))
+    return so.Robot(moved, tip="tool", name=f"ur5_offset_{round(dx * 1e9)}nm")
+
+
 def test_the_cases_of_the_published_arms(ur5_arm, panda_arm, arm6):
     """UR5: three parallel axes and two meeting; the Panda with its last joint held: a
-    spherical wrist read backwards; arm6 (a prismatic joint): not served.
+    spherical wrist read backwards; arm6 (a prismatic joint) and a UR5 whose wrist axes
+    miss by 5 cm (no case either way round): not served.
 
-    Mutation caught: ``_meet``'s distance test dropped (every pair "meets": arm6 or the
-    Panda read as another case) -> fails.
+    Mutation caught: ``_meet``'s distance test dropped (lines that miss "meet") -> the
+    offset UR5 read as a UR, fails.
     """
     assert arm_model(ur5_arm).label == "three_parallel_two_intersecting"
     m = arm_model(panda_arm)
     assert m.label == "spherical_two_intersecting, read backwards" and m.held == 6
     assert arm_model(arm6) is None
+    assert arm_model(_wrist_offset(0.05)) is None
 
 
 # ------------------------------------------------------------------ every branch
@@ -197,13 +210,14 @@ def test_the_branches_are_what_a_dense_multi_start_finds(ur5_arm):
 def test_near_singularities_no_branch_is_lost(ur5_arm, kind):
     """Near the UR5's singularities (wrist q5 -> 0, elbow stretched q3 -> 0, the wrist
     centre near the base axis), 1e-3 to 1e-6 away: every solution a dense multi-start
-    finds is among ik_all's, each of ik_all's within 1e-9.
+    finds is among ik_all's, each of ik_all's within 1e-9; at the singularity itself
+    (a continuum of solutions there), the closed form still answers within 1e-9.
 
-    Mutation caught: the polish of branches above tol removed (``err[k] <= tol`` kept
-    only) -> a branch near the singularity lost, fails.
+    Mutation caught: ``DISTINCT`` (arm_route) 1e-6 -> 1e-4 (the elbow's two branches
+    1e-5 from stretched told as one) -> a branch the multi-start finds is lost, fails.
     """
     rng = np.random.default_rng({"wrist": 1, "elbow": 2, "shoulder": 3}[kind])
-    for i, eps in enumerate([1e-3, 1e-4, 1e-5, 1e-6]):
+    for i, eps in enumerate([1e-3, 1e-4, 1e-5, 1e-6, 0.0]):
         q = rng.uniform(-2.5, 2.5, 6)
         if kind == "wrist":
             q[4] = eps
@@ -213,7 +227,10 @@ def test_near_singularities_no_branch_is_lost(ur5_arm, kind):
             q = _shoulder_singular(ur5_arm, q, eps)
         t = pose(ur5_arm, q)
         sols = so.ik_all(ur5_arm, t)
-        assert all(residual(ur5_arm, t, r.q) <= 1e-9 for r in sols)
+        assert sols and all(residual(ur5_arm, t, r.q) <= 1e-9 for r in sols)
+        assert sols[0].route.startswith("analytic"), sols[0].route
+        if eps == 0.0:
+            continue
         mine = distinct([r.q for r in sols])
         assert covered([q], mine, 1e-5)
         theirs = dense(ur5_arm, t, 200, seed=i)
@@ -241,10 +258,9 @@ def test_at_joint_limits_no_branch_is_lost(ur5_arm):
     at or 1e-9 inside a limit keep every branch a dense multi-start finds within them, and
     none outside.
 
-    Mutation caught: the limit check in ``_turned`` made strict for ``first <= last``
-    -> ``first < last`` (a branch exactly one turn wide is dropped) -> fails... and the
-    distance test of ``arm_closed_form`` ignored (``OUT`` never set) -> q outside the
-    limits returned, fails.
+    Mutation caught: the fit test in ``_turned`` made strict (``first <= last`` ->
+    ``first < last``: a joint where exactly one turn fits counts as not fitting) -> the
+    branches are lost (the multi-start's net answers instead: its route), fails.
     """
     tight = ur5_arm.with_limits(**{n: (-1.2, 1.2) for n in ur5_arm.joint_names[:2]},
                                 **{ur5_arm.joint_names[2]: (-2.5, 2.5)},
@@ -258,6 +274,7 @@ def test_at_joint_limits_no_branch_is_lost(ur5_arm):
         t = pose(tight, q)
         sols = so.ik_all(tight, t)
         S = [r.q for r in sols]
+        assert sols[0].route.startswith("analytic"), sols[0].route
         assert all(tight.within_limits(s) for s in S)
         assert covered([q], S, 1e-7)
         theirs = dense(tight, t, 200, seed=i)
@@ -343,12 +360,15 @@ def test_panda_solutions_over_the_held_joint(panda_arm):
 def test_solve_ik_returns_the_nearest_of_every_solution(ur5_arm, panda_arm):
     """``lm`` and ``auto`` on the UR5: the solution nearest ``q0`` of all ik_all lists; on
     the Panda with ``nearest=False`` the 7th joint stays at ``q0``'s value unless the route
-    says it moved (no branch there); every answer within 1e-9.
+    says it moved (no branch there), and the default's slide along the branch ends no
+    farther from ``q0`` (range-scaled) than that start; every answer within 1e-9.
 
-    Mutation caught: the compiled choice keeping the farthest branch (``d < score`` ->
-    ``d > score`` with score starting at 0) -> not the nearest, fails.
+    Mutations caught: the compiled choice keeping the farthest branch (``d < score`` ->
+    ``d > score``) -> not the nearest, fails; the slide keeping steps that move away
+    (``f_new < f`` -> ``f_new > f`` in ``build_slide``) -> farther, fails.
     """
     rng = np.random.default_rng(9)
+    slides = 0
     for _ in range(20):
         q, q0 = rng.uniform(-np.pi, np.pi, (2, 6))
         t = pose(ur5_arm, q)
@@ -361,8 +381,16 @@ def test_solve_ik_returns_the_nearest_of_every_solution(ur5_arm, panda_arm):
         res = so.solve_ik(panda_arm, pose(panda_arm, qp), method="lm", q0=qp0, nearest=False)
         assert res.success
         assert res.q[6] == qp0[6] or "moved from q0's value" in res.route or res.route == ""
+        slid = so.solve_ik(panda_arm, pose(panda_arm, qp), method="lm", q0=qp0)
+        assert slid.success and slid.error <= 1e-9
+        if "slid along its branch" in slid.route:  # never farther than where it started
+            span = panda_arm.upper - panda_arm.lower
+            assert np.linalg.norm((slid.q - qp0) / span) <= np.linalg.norm(
+                (res.q - qp0) / span) + 1e-12
+            slides += 1
         res = so.solve_ik(panda_arm, pose(panda_arm, qp), q0=qp0)
         assert res.success and res.error <= 1e-9
+    assert slides >= 10
 
 
 def test_a_geometry_a_hair_off_is_polished(ur5_arm):
@@ -373,14 +401,7 @@ def test_a_geometry_a_hair_off_is_polished(ur5_arm):
     Mutation caught: the polish skipped in ``all_solutions`` (``q = Q[k]`` always) ->
     residuals above tol, fails.
     """
-    text = (DATA / "ur5_dh.urdf").read_text()
-    # the last link's DH 'd' row shifted by 3e-8 along the wrist: the axes no longer meet
-    m = re.search(r'<joint name="wrist_3".*?<origin xyz="([^"]+)"', text, re.S)
-    if m is None:
-        pytest.skip("the URDF's layout changed")
-    x, y, z = (float(v) for v in m.group(1).split())
-    off = text.replace(m.group(0), m.group(0).replace(m.group(1), f"{x + 3e-8} {y} {z}"))
-    bent = so.Robot(off, tip="tool", name="ur5_bent")
+    bent = _wrist_offset(3e-8)
     assert arm_model(bent) is not None
     q = np.array([0.4, -0.7, 1.1, -0.3, 0.8, 0.5])
     t = pose(bent, q)
@@ -398,8 +419,9 @@ def test_ik_path_never_travels_more_than_a_sampled_sequence(ur5_arm):
     sampled configurations' own sequence (fewest jumps first, then travel); with
     ``jump_threshold=inf`` (travel alone) its travel is never more.
 
-    Mutation caught: the arm's candidates not used (``candidates_arm`` returning None:
-    the multi-start's) -> more travel than the sampled sequence on some, fails.
+    Mutation caught: the state before (``candidates_arm`` returning None and ``auto``'s
+    ``analytic`` default False: the descent's multi-start) -> 9.86 s of weighted travel
+    against the sampled sequence's 9.07 on one, fails.
     """
     w = walk.travel_weights(ur5_arm)
     thr = np.full(6, np.pi / 2)
