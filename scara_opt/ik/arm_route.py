@@ -27,7 +27,13 @@ import math
 
 import numpy as np
 
-from scara_opt.ik.arm_closed_form import OUT, SLIDE_STEPS, arm_arrays, slide_arrays
+from scara_opt.ik.arm_closed_form import (
+    BRANCHES,
+    OUT,
+    SLIDE_STEPS,
+    arm_arrays,
+    slide_arrays,
+)
 from scara_opt.ik.arm_geometry import ArmModel, arm_model
 from scara_opt.ik.lm_functions import limits
 from scara_opt.ik.lm_search import lm_search, random_starts
@@ -316,3 +322,19 @@ def solve_nearest(robot: Robot, target: Target, q_ref: Array, tol: float, jit: b
         return SolverOutput(q=q, evaluations=1, route=label, turned=True)
     return SolverOutput(q=res["q"][0].copy(), evaluations=1 + SLIDE_STEPS, turned=True,
                         route=label + ", then slid along its branch to the solution nearest q0")
+
+
+def prepare_arm(robot: Robot, kind: str, jit: bool = True, nearest: bool = True) -> None:
+    """Build (or load) the arm route's compiled Functions before a timed solve.
+
+    For full poses on an arm the closed form serves: the closed form, and on a 7R arm
+    with ``nearest`` the slide of each branch (compiling them is a one-off of some
+    seconds per machine and arm; loading them from the cache well under a millisecond).
+    """
+    model = arm_model(robot) if kind == "rotation" else None
+    if model is None:
+        return
+    arm_arrays(robot, model, 1, jit)
+    if model.held is not None and nearest:
+        for branch in range(BRANCHES):
+            slide_arrays(robot, model, branch, jit)

@@ -146,7 +146,8 @@ class AutoSolver(Solver):
         IPOPT's NLPs are built only when a target first needs them (their build time is
         then reported as setup, not search time).
         """
-        LevenbergMarquardtSolver(jit=self.options["jit"]).prepare(robot, kind)
+        LevenbergMarquardtSolver(jit=self.options["jit"],
+                                 analytic=self.options["analytic"]).prepare(robot, kind)
 
     def _fallback(self, robot: Robot, target: Target, q0: Array | None,
                  rng: np.random.Generator, tol: float, found: Search) -> SolverOutput:

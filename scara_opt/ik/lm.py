@@ -57,7 +57,7 @@ from typing import Any, ClassVar
 
 import numpy as np
 
-from scara_opt.ik.arm_route import solve_nearest
+from scara_opt.ik.arm_route import prepare_arm, solve_nearest
 from scara_opt.ik.base import Solver, SolverOutput, check_flag
 from scara_opt.ik.lm_functions import limits, phase_arrays
 from scara_opt.ik.lm_search import check_budget, lm_search, random_starts, search_output
@@ -106,8 +106,14 @@ class LevenbergMarquardtSolver(Solver):
         check_flag("analytic", self.options["analytic"])
 
     def prepare(self, robot: Robot, kind: str) -> None:
-        """Build the phases' Functions and this thread's arrays (cached on the robot)."""
+        """Build the phases' Functions and this thread's arrays (cached on the robot).
+
+        And the arm route's closed form where it serves
+        (:func:`~scara_opt.ik.arm_route.prepare_arm`).
+        """
         phase_arrays(robot, kind, 1, bool(self.options["jit"]))
+        if self.options["analytic"]:
+            prepare_arm(robot, kind, bool(self.options["jit"]), bool(self.options["nearest"]))
 
     def _solve(self, robot: Robot, target: Target, q0: Array | None,
                rng: np.random.Generator, tol: float) -> SolverOutput:
