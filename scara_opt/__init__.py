@@ -26,14 +26,15 @@ _EXPORTS = {
                      "JointLimitError", "MoveError", "RobotNotFoundError", "ScaraOptError",
                      "SolverOptionError", "TargetError", "TrajectoryError", "UnknownSolverError",
                      "URDFError", "CellError", "CollisionError", "MeshNotFoundError",
-                     "MoveCollisionError", "NoPathFoundError", "UnknownBodyError"),
+                     "MoveCollisionError", "NoPathFoundError", "ProgramError",
+                     "UnknownBodyError"),
                     "scara_opt.errors"),
     **dict.fromkeys(("Box", "Capsule", "Cell", "CollisionChecker", "Cylinder", "Mesh",
                      "Sphere", "load_cell"), "scara_opt.collision"),
     **dict.fromkeys(("CompilingWarning", "FallbackWarning", "NativeCodeWarning",
                      "ScaraOptWarning"), "scara_opt.errors"),
-    **dict.fromkeys(("CIRC", "LIN", "PTP", "MotionTrajectory", "ToolLimits", "cycle_time",
-                     "plan"), "scara_opt.motion"),
+    **dict.fromkeys(("CIRC", "LIN", "PTP", "MotionTrajectory", "Program", "ToolLimits",
+                     "cycle_time", "load_program", "plan"), "scara_opt.motion"),
     **dict.fromkeys(("IKResult", "Reason", "Status", "get_solver", "ik_all", "register_solver",
                      "solve_ik", "solvers"), "scara_opt.ik"),
     **dict.fromkeys(("BatchResult", "solve_many"), "scara_opt.ik.lm_batch"),
@@ -61,7 +62,7 @@ __all__ = [
     "Trajectory", "TrajectoryError", "UnknownSolverError", "URDFError", "Workspace", "workspace",
     "Box", "Capsule", "Cell", "CellError", "CollisionChecker", "CollisionError", "Cylinder",
     "load_cell", "Mesh", "MeshNotFoundError", "MoveCollisionError", "NoPathFoundError",
-    "Sphere", "UnknownBodyError",
+    "Sphere", "UnknownBodyError", "load_program", "Program", "ProgramError",
     "CompilingWarning", "FallbackWarning", "NativeCodeWarning", "ScaraOptWarning",
 ]
 
@@ -107,6 +108,7 @@ if TYPE_CHECKING:  # for type checkers and IDEs: the same names, imported eagerl
         MoveCollisionError,
         MoveError,
         NoPathFoundError,
+        ProgramError,
         RobotNotFoundError,
         ScaraOptError,
         SolverOptionError,
@@ -129,7 +131,16 @@ if TYPE_CHECKING:  # for type checkers and IDEs: the same names, imported eagerl
     )
     from scara_opt.ik.lm_batch import BatchResult, solve_many
     from scara_opt.model import Robot, list_robots, load_robot
-    from scara_opt.motion import CIRC, LIN, PTP, MotionTrajectory, ToolLimits, cycle_time
+    from scara_opt.motion import (
+        CIRC,
+        LIN,
+        PTP,
+        MotionTrajectory,
+        Program,
+        ToolLimits,
+        cycle_time,
+        load_program,
+    )
     from scara_opt.motion.plan import plan  # mypy reads motion's `plan` as the submodule
     from scara_opt.target import Target
     from scara_opt.trajectory import (

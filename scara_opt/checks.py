@@ -25,6 +25,8 @@ import math
 import numbers
 from collections.abc import Iterator
 from contextlib import contextmanager
+from os import PathLike
+from pathlib import Path
 from typing import Any, TypeGuard
 
 import numpy as np
@@ -155,18 +157,51 @@ def check_real(name: str, value: object, low: float = -math.inf, high: float = m
     return v
 
 
-def check_int(name: str, value: object, least: int, *, error: type[Exception] = InputError,
-              ) -> int:
-    """``value`` as an int >= ``least`` (Python or numpy integer; not bool, not float).
+def check_int(name: str, value: object, least: int, most: int | None = None, *,
+              error: type[Exception] = InputError) -> int:
+    """``value`` as an int in [``least``, ``most``] (Python or numpy integer; not bool, float).
 
     Raises:
-        InputError: names ``name``, the value and the least value.
+        InputError: names ``name``, the value and the range.
     """
     if (not isinstance(value, (int, np.integer)) or isinstance(value, (bool, np.bool_))
-            or value < least):
-        kind = "a positive integer" if least == 1 else f"an integer >= {least}"
+            or value < least or (most is not None and value > most)):
+        kind = ("a positive integer" if least == 1 else f"an integer >= {least}"
+                ) if most is None else f"an integer in [{least}, {most}]"
         raise error(f"{name} must be {kind}; got {describe(value)}")
     return int(value)
+
+
+def check_path(name: str, value: object, error: type[Exception] = InputError) -> Path:
+    """``value`` as a Path: a str or ``os.PathLike``, not empty, without a NUL byte.
+
+    Raises:
+        InputError: (or ``error``) names ``name`` and what it got.
+    """
+    if not isinstance(value, (str, PathLike)):
+        raise error(f"{name} must be a path (a str or pathlib.Path); got {describe(value)}")
+    text = str(value)
+    if not text:
+        raise error(f"{name} is an empty path; give a file name")
+    if "\0" in text:
+        raise error(f"{name} {text!r} contains a NUL byte, which no file name can hold; "
+                    "pass a plain path")
+    return Path(text)
+
+
+def check_text(name: str, value: object, error: type[Exception] = InputError) -> str:
+    """``value`` as a name: a non-empty str of printable characters (no NUL, no newline).
+
+    Raises:
+        InputError: (or ``error``) names ``name`` and what it got.
+    """
+    if not isinstance(value, str) or not value:
+        raise error(f"{name} must be a non-empty str; got {describe(value)}")
+    if not value.isprintable():
+        bad = next(c for c in value if not c.isprintable())
+        raise error(f"{name} {value!r} holds the control character {bad!r}; use printable "
+                    "characters")
+    return value
 
 
 def check_flag(name: str, value: object) -> bool:

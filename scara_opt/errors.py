@@ -134,6 +134,15 @@ class CellError(InputError):
     """
 
 
+class ProgramError(InputError):
+    """A program file (TOML moves, :func:`scara_opt.load_program`) is malformed.
+
+    Raised for a file that is not valid TOML, an unknown or misspelt key or move type, a
+    missing goal, a value that is not a number in the file's units or is out of range, or
+    no robot to run it on; the message names the file, the move and the key.
+    """
+
+
 class MeshNotFoundError(CellError):
     """A mesh file named by an obstacle or a robot's ``<collision>`` cannot be found.
 

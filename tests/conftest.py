@@ -105,26 +105,39 @@ def c_compiler():
     return found if isinstance(found, compiled.Toolchain) else None
 
 
-def pinocchio_collides(checker, Q):
-    """(n,) bool: each row of Q in contact, or closer than the checker's margin, by
-    Pinocchio's own calls on the checker's model (``computeCollisions``; with a margin,
-    ``computeDistances``): the dense checks' reference, independent of scara_opt's compiled
-    kernel (collision/edge_kernel.cpp), which the checker's batches may use.
+def pinocchio_distances(checker, Q):
+    """(n, npairs) signed distances [m] of the checker's pairs at each row of Q, by
+    Pinocchio's own ``computeDistances`` on the checker's model, every GJK started afresh
+    (Pinocchio's requests carry the last guess over by default): the dense checks'
+    reference, independent of scara_opt's compiled kernel (collision/edge_kernel.cpp).
     """
+    import warnings
+
     import pinocchio as pin
 
     model, gmodel = checker.robot.model, checker.model
     data, gdata = model.createData(), pin.GeometryData(gmodel)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", DeprecationWarning)
+        for req in gdata.distanceRequests:
+            req.enable_cached_gjk_guess = False
     Q = np.atleast_2d(np.asarray(Q, float))
-    if not checker.margin:
-        return np.array([pin.computeCollisions(model, data, gmodel, gdata, q, True)
-                         for q in Q], dtype=bool)
-    out = np.zeros(len(Q), dtype=bool)
+    out = np.empty((len(Q), len(gmodel.collisionPairs)))
     for i, q in enumerate(Q):
         pin.computeDistances(model, data, gmodel, gdata, q)
-        out[i] = min((r.min_distance for r in gdata.distanceResults), default=1.0) < \
-            checker.margin
+        out[i] = [r.min_distance for r in gdata.distanceResults]
     return out
+
+
+def pinocchio_collides(checker, Q):
+    """(n,) bool: each row of Q in contact (a signed distance <= 0), or closer than the
+    checker's margin, by :func:`pinocchio_distances` (not ``computeCollisions``, whose
+    boolean test can miss a deep overlap).
+    """
+    D = pinocchio_distances(checker, Q)
+    if not D.shape[1]:
+        return np.zeros(len(D), dtype=bool)
+    return (D < checker.margin).any(axis=1) if checker.margin else (D <= 0).any(axis=1)
 
 
 def dense_first_contact(checker, qa, qb, step=1e-3):

@@ -117,6 +117,27 @@ def test_no_certificate_within_tol_of_a_reachable_target(name):
     assert checked >= 2000
 
 
+@pytest.mark.parametrize("name", ROBOTS)
+def test_no_certificate_at_the_smallest_tols(name):
+    """Targets within 0.99 tol of edge configurations at tol 1e-15 to 1e-13 (the API takes
+    any tol > 0): no certificate, the round-off of the FK the solvers are judged by included
+    (nguyen, d4 at its upper limit, a target 8.9e-16 m from FK(q) was "1.041e-15 m" out of
+    the height range at tol 1e-15).
+
+    Mutation caught: the height certificate without its round-off margin (``dz > tol``, as
+    before) -> nguyen certified; fails.
+    """
+    robot = load(name)
+    rng = np.random.default_rng(31)
+    for tol in (1e-15, 1e-14, 1e-13):
+        for q in edge_configurations(robot, 400, rng):
+            for t in near_targets(robot, q, tol, rng):
+                if residual(robot, t, q) > tol:  # round-off in the test's own construction
+                    continue
+                cert = certify(robot, t, tol)
+                assert cert is None, (tol, q.tolist(), t, cert)
+
+
 METHOD_OPTIONS = {"ipopt": {"restarts": 3}, "lm": {"restarts": 3},
                   "auto": {"restarts": 3, "ipopt_restarts": 3},
                   "sfla": {"population": 20, "iterations": 3, "memeplexes": 2},

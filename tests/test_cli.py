@@ -25,8 +25,9 @@ def test_robots_lists_every_bundled_robot_with_limits_and_source():
             "paper's text: venue, doi.") in out.stdout
 
 
-@pytest.mark.parametrize("command", ["robots", "solvers", "fk", "ik", "compare", "path", "cycle",
-                                     "plan", "workspace", "reproduce"])
+@pytest.mark.parametrize("command", ["robots", "solvers", "doctor", "cache", "fk", "ik",
+                                     "compare", "path", "cycle", "plan", "run", "workspace",
+                                     "reproduce"])
 def test_help_everywhere(command):
     """Every subcommand answers --help with exit code 0."""
     out = run(command, "--help")
@@ -175,21 +176,22 @@ def test_path_solves_times_and_writes(tmp_path, timing):
 
 
 def test_path_html_writes_the_animation_in_out(tmp_path):
-    """path --html NAME writes a meshcat page of the timed path inside --out, listed with the
-    other files; a NAME with a folder or without .html is bad input (exit 2, one line).
+    """path --html writes a meshcat page of the timed path inside --out as path.html,
+    listed with the other files: a flag, as on plan, cycle and run (issue 38: it took a
+    file name on path and was a flag elsewhere); a file name after it is a usage error.
 
     Mutation caught: the --html branch of cmd_path not writing the page.
     """
     out = run("path", "zavar2024", "--circle", "280", "0", "50", "-70", "--mm", "-n", "12",
-              "--out", str(tmp_path), "--html", "circle.html")
+              "--out", str(tmp_path), "--html")
     assert out.returncode == 0, out.stderr
-    page = tmp_path / "circle.html"
+    page = tmp_path / "path.html"
     assert page.is_file() and "new MeshCat.Viewer" in page.read_text()
     assert str(page) in out.stdout
-    for bad in ("sub/circle.html", "circle.png"):
-        out = run("path", "zavar2024", "--circle", "280", "0", "50", "-70", "--mm", "-n", "12",
-                  "--out", str(tmp_path / "other"), "--html", bad)
-        assert out.returncode == 2 and out.stderr.count("\n") == 1 and ".html" in out.stderr
+    out = run("path", "zavar2024", "--circle", "280", "0", "50", "-70", "--mm", "-n", "12",
+              "--out", str(tmp_path / "other"), "--html", "circle.html")
+    assert out.returncode == 2 and out.stderr.count("\n") == 1
+    assert "unrecognized arguments: circle.html" in out.stderr
 
 
 def test_workspace_and_reproduce(tmp_path):

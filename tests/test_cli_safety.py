@@ -18,7 +18,7 @@ import scara_opt as so
 from scara_opt import interrupt
 from scara_opt.cli import main
 from scara_opt.errors import InputError
-from scara_opt.outputs import STAGING_PREFIX, OutputDir
+from scara_opt.cli.outputs import STAGING_PREFIX, OutputDir
 
 CIRCLE = ["path", "zavar2024", "--circle", "0.28", "0", "0.05", "-0.07", "-n", "8",
           "--time", "quintic"]
@@ -323,7 +323,7 @@ def test_workers_bounded(tmp_path, capsys):
     """--workers beyond MAX_WORKERS is a usage error (found by the property test: a huge
     count ended in ProcessPoolExecutor's OverflowError).
 
-    Mutation: the ``high`` check in cli_args.int_at_least removed: OverflowError, test failed.
+    Mutation: the ``high`` check in cli.args.int_at_least removed: OverflowError, test failed.
     """
     code, _, err = cli(capsys, "compare", "zavar2024", "--target", "0.3", "0", "-0.07",
                        "--workers", "99999999999999999999999", "--out", str(tmp_path))
@@ -413,7 +413,7 @@ def test_an_interrupt_turned_into_another_error_is_reported_as_interrupt(capsys,
     Mutation: interrupt.watch()'s ``if _WATCH.received: raise KeyboardInterrupt`` removed:
     the TypeError escaped main() and the test failed.
     """
-    monkeypatch.setattr("scara_opt.cli.cmd_solvers", _interrupt_swallowed_as(TypeError))
+    monkeypatch.setattr("scara_opt.cli.solvers.cmd_solvers", _interrupt_swallowed_as(TypeError))
     assert cli(capsys, "solvers") == (130, "", "scara-opt: interrupted\n")
 
 
@@ -424,7 +424,7 @@ def test_a_swallowed_interrupt_commits_nothing(tmp_path, capsys, monkeypatch):
     Mutation: ``interrupt.raise_if_received()`` removed from OutputDir.__exit__: table.csv
     was committed, exit 0, and the test failed.
     """
-    monkeypatch.setattr("scara_opt.cli.cmd_solvers", _interrupt_swallowed_as(None, tmp_path))
+    monkeypatch.setattr("scara_opt.cli.solvers.cmd_solvers", _interrupt_swallowed_as(None, tmp_path))
     assert cli(capsys, "solvers") == (130, "", "scara-opt: interrupted\n")
     assert list(tmp_path.iterdir()) == []
 

@@ -98,11 +98,11 @@ def test_the_cli_finishes_on_a_real_dask_cluster_with_the_serial_numbers(cluster
 def test_the_cli_closes_its_dask_client(cluster):
     """The command line's dask client is closed when compare ends, even by an error.
 
-    Mutation caught: ``client.close()`` removed from ``cli._executor`` -> status "running".
+    Mutation caught: ``client.close()`` removed from ``cli.compare._executor`` -> status "running".
     """
     import argparse
 
-    from scara_opt.cli import _executor
+    from scara_opt.cli.compare import _executor
 
     args = argparse.Namespace(dask=cluster.scheduler_address, workers=1)
     with pytest.raises(ZeroDivisionError), _executor(args) as executor:

@@ -11,7 +11,7 @@ import pytest
 
 import scara_opt as so
 from scara_opt.collision.continuous import VelocityBound, prove_segment
-from tests.conftest import dense_first_contact, pinocchio_collides
+from tests.conftest import DATA, dense_first_contact, pinocchio_collides
 
 THIN = so.Cell([so.Box("plate", (0.004, 0.5, 0.4), xyz=(0.28, 0.05, -0.05), rpy=(0, 0, 0.3)),
                 so.Cylinder("post", 0.01, 0.4, xyz=(0.15, -0.25, 0.0))])
@@ -235,3 +235,126 @@ def test_height_gaps_agree_with_a_dense_check():
             traj = so.time_parameterize(np.array([qa, qb]), robot)
             assert traj.check_collisions(checker).clear
     assert proven > 30
+
+
+# ---------------------------------------------------------------------------- clearances
+def _plate_under_link1():
+    """zavar2024 and a 2 mm plate 0.5 mm under link1 (left out of the checks: apart)."""
+    from scara_opt.collision.bound import height_range
+    from scara_opt.collision.geometry import robot_geometry
+
+    robot = so.load_robot("zavar2024")
+    body = robot_geometry(robot).bodies[0]
+    lowest = height_range(robot, body, robot.yaw_axis)[0]
+    plate = so.Box("plate", (0.3, 0.3, 0.002), xyz=(0.2, 0.0, lowest - 0.0005 - 0.001))
+    return robot, so.CollisionChecker(robot, so.Cell([plate]))
+
+
+def test_a_reported_clearance_covers_the_pairs_left_out():
+    """A plate 0.5 mm under link1, out of the checks as never within reach: clearance(q)
+    says 0.500 mm link1-plate (was 150 mm link1-link4), the plan's report proves no more
+    than 0.5 mm and finds 0.5 mm, and a segment's proof claims no more either.
+
+    Mutation caught: ``clearance`` over the checked pairs only (``self`` for
+    ``self.everything``) -> 35 mm; fails. Mutation caught: ``_every_pair`` returning the
+    proof unchanged -> the short segment's proof claims 35 mm; fails.
+    """
+    robot, checker = _plate_under_link1()
+    assert ("link1", "plate") in checker.apart and ("link1", "plate") not in checker.pair_names
+    c = checker.clearance(np.zeros(4))
+    assert c.bodies == ("link1", "plate") and abs(c.distance - 0.0005) < 1e-9
+    assert abs(checker.clearance_many(np.zeros((2, 4)))[0] - 0.0005) < 1e-9
+    short = prove_segment(checker, np.zeros(4), np.array([0.01, 0.0, 0.0, 0.0]))
+    assert short.clear and short.clearance <= 0.0005 + 1e-12  # its checked pairs: >= 35 mm
+    traj = so.plan(robot, [so.PTP([0.5, 0.5, 0.01, 0.2])], start=np.zeros(4), cell=checker)
+    report = traj.check_collisions()
+    assert report.clear and report.clearance <= 0.0005 + 1e-12
+    assert abs(report.least.distance - 0.0005) < 1e-9 and report.least.bodies == c.bodies
+
+
+def _planned(seed, n):
+    robot = so.load_robot("zavar2024")
+    cell = so.load_cell(DATA.parent.parent / "examples" / "scara_cell.toml")
+    checker = so.CollisionChecker(robot, cell)
+    rng = np.random.default_rng(seed)
+    out = []
+    while len(out) < n:
+        a, b = rng.uniform(robot.lower, robot.upper, (2, 4))
+        if min(checker.clearance(a).distance, checker.clearance(b).distance) < 1e-3:
+            continue
+        try:
+            out.append(so.plan(robot, [so.PTP(b)], start=a, cell=checker, seed=seed))
+        except so.ScaraOptError:
+            continue
+    return checker, out
+
+
+def test_least_clearance_is_found_to_its_tolerance():
+    """Eight trajectories planned in the example cell: the least clearance lies within 0.1
+    mm of a 20,000-sample dense minimum, and the proven bound is never above it.
+
+    Mutation caught: the bound of an interval without its motion term (``(Dlo + Dhi) / 2``)
+    -> the proven bound above the dense minimum; fails.
+    """
+    checker, trajs = _planned(4, 8)
+    tol = 1e-4
+    for traj in trajs:
+        rep = traj.check_collisions()
+        t = np.linspace(0.0, traj.duration, 20001)
+        dense = checker.clearance_many(traj.evaluate(t))
+        c = rep.least
+        assert c.converged and c.tolerance == tol
+        assert c.lower <= dense.min() + 1e-12 and rep.clearance <= dense.min() + 1e-12
+        assert c.distance - c.lower <= tol + 1e-12
+        assert abs(c.distance - dense.min()) <= tol
+        assert "least clearance" in repr(rep) and "proven >=" in repr(rep)
+
+
+def test_the_least_clearance_does_not_depend_on_the_margin_asked():
+    """The same trajectory checked by its own checker and by a 2 mm checker: the same least
+    clearance (to the tolerance), where the proof's bound alone said 2.010 and 0.048 mm.
+
+    Mutation caught: ``least_clearance`` run on the checker's pairs shifted by its margin
+    (``D - checker.margin``) -> the 2 mm checker's value 2 mm lower; fails.
+    """
+    checker, (traj,) = _planned(7, 1)
+    own = traj.check_collisions()
+    margin = own.least.distance / 2
+    wide = traj.check_collisions(checker.with_margin(margin))
+    assert wide.clear and wide.margin == margin and own.margin == 0.0
+    assert abs(wide.least.distance - own.least.distance) <= 1e-4
+
+
+def test_least_bounds_random_lipschitz_functions():
+    """``least`` on 300 random sums of sines with known slopes, 2-6 "pairs" each, to 0.1 mm
+    and to 30 mm: the proven bound never above the dense minimum, the value found within the
+    tolerance of it.
+
+    Mutation caught: the least found not updated at midpoints (``Dm[i, j] < best`` never)
+    -> the value off by more than the tolerance; fails. Mutation caught: an interval closed
+    when its bound is within twice the tolerance (``best - 2 * tol``) -> fails.
+    """
+    from scara_opt.collision.continuous import least
+
+    rng = np.random.default_rng(0)
+    grid = np.linspace(0.0, 1.0, 200_001)
+    for _ in range(300):
+        k = int(rng.integers(2, 7))
+        c, a = rng.uniform(0.0, 0.2, k), rng.uniform(0.0, 0.1, (k, 3))
+        w, phi = rng.uniform(1.0, 40.0, (k, 3)), rng.uniform(0, 6.3, (k, 3))
+        slope = (a * w).sum(axis=1)
+
+        def dist(s, cols=None, c=c, a=a, w=w, phi=phi):
+            d = c[:, None] + (a[:, :, None] * np.sin(w[:, :, None] * s + phi[:, :, None])
+                              ).sum(axis=1)
+            return (d.T if cols is None else d[cols].T)
+
+        s0 = np.linspace(0.0, 1.0, 5)
+        true = dist(grid).min()
+        for tol in (1e-4, 0.03):
+            value, at, pair, lower, ok, _ = least(
+                s0, dist(s0), lambda s: s[:, None],
+                lambda lo, hi, slope=slope: np.outer(hi - lo, slope),
+                lambda Q, cols, d=dist: d(Q[:, 0], cols), tol)
+            assert ok and lower <= true + 1e-12 and value - true <= tol + 1e-12
+            assert value - lower <= tol + 1e-12

@@ -7,6 +7,7 @@ import importlib.util
 import io
 import os
 import re
+import shlex
 import subprocess
 import sys
 import textwrap
@@ -14,10 +15,9 @@ from pathlib import Path
 
 import pytest
 
+from tests import doc_blocks
 from tests.conftest import ROOT
-
-GUIDES = ["index.md", "getting-started.md", "own-robot.md", "ik-methods.md", "time-optimal.md",
-          "motion.md", "planning.md", "native-code.md"]
+from tests.doc_blocks import PAGES, output_matches
 
 
 def _roles():
@@ -26,44 +26,6 @@ def _roles():
     module = importlib.util.module_from_spec(spec)
     spec.loader.exec_module(module)
     return module
-
-
-_NUMBER = r"[-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?"
-
-
-def _tokens(line: str) -> list[str]:
-    """Numbers and single non-space characters of a printed line."""
-    return re.findall(rf"{_NUMBER}|\S", line)
-
-
-def _same_number(shown: str, got: str) -> bool:
-    """``got`` is what ``shown`` prints as, within its printed rounding; round-off (at most
-    1e-9 in magnitude) shows as any other round-off."""
-    e, a = float(shown), float(got)
-    if abs(e) <= 1e-9:
-        return abs(a) <= 1e-9
-    mantissa, _, exponent = shown.lower().partition("e")
-    decimals = len(mantissa.partition(".")[2])
-    step = 10.0 ** (int(exponent or 0) - decimals)
-    return abs(a - e) <= 0.5 * step * 1.001 + 1e-12 * abs(e)
-
-
-def output_matches(shown: str, printed: str) -> bool:
-    """Whether ``printed`` is the output a guide ``shown``: line by line, the same text, the
-    same numbers to their printed rounding; ``…`` ends a line's comparison (a time)."""
-    want, got = shown.strip().splitlines(), printed.strip().splitlines()
-    if len(want) != len(got):
-        return False
-    for w, g in zip(want, got, strict=True):
-        cut = "…" in w
-        wt, gt = _tokens(w.split("…")[0]), _tokens(g)
-        if (len(gt) < len(wt)) if cut else (len(gt) != len(wt)):
-            return False
-        for x, y in zip(wt, gt[: len(wt)], strict=True):
-            numeric = re.fullmatch(_NUMBER, x) and re.fullmatch(_NUMBER, y)
-            if not (_same_number(x, y) if numeric else x == y):
-                return False
-    return True
 
 
 def test_output_matching_rules():
@@ -78,54 +40,144 @@ def test_output_matching_rules():
     assert not output_matches("a\nb", "a")
 
 
-@pytest.mark.parametrize("page", GUIDES)
-def test_every_guide_code_block_runs_and_prints_what_it_shows(page, monkeypatch):
-    """Each guide's Python blocks run in order, from the repository root, as printed; a
-    block that prints is followed by a ``text`` block showing its output, which must match
-    (:func:`output_matches`).
+def _page_commands() -> list[tuple[str, str, int | None]]:
+    """(page, command, exit code stated) of every bash block and inline command, each once."""
+    seen: dict[str, tuple[str, str, int | None]] = {}
+    for page in PAGES:
+        text = (ROOT / page).read_text()
+        found = [c for b in doc_blocks.blocks(text) if b.lang == "bash"
+                 for c in doc_blocks.commands(b.code)]
+        found += [(c, None) for c in doc_blocks.inline_commands(text) if _is_command(c)]
+        for command, code in found:
+            seen.setdefault(command, (page, command, code))
+    return list(seen.values())
+
+
+def _is_command(text: str) -> bool:
+    """An inline ``scara-opt ...`` that is a whole command (it parses), not a name."""
+    from scara_opt.cli.app import UsageError, build_parser
+
+    words = shlex.split(text.split("|")[0])
+    try:
+        build_parser().parse_args(words[1:])
+    except (UsageError, SystemExit):
+        if any(w.startswith("--") for w in words):  # options: meant to run, and broken
+            return True
+        return False
+    return True
+
+
+def _console_commands() -> list[tuple[str, str, str]]:
+    """(page, command, shown output) of every ``console`` block."""
+    return [(page, command, shown) for page in PAGES
+            for b in doc_blocks.blocks((ROOT / page).read_text()) if b.lang == "console"
+            for command, shown in doc_blocks.console(b.code)]
+
+
+@pytest.mark.parametrize("page", PAGES)
+def test_every_python_block_runs_and_prints_what_it_shows(page, tmp_path, monkeypatch):
+    """Each page's Python blocks run in order, in a scratch folder holding examples/ and
+    robots/, as printed; a block that prints is followed by a ``text`` block showing its
+    output, which must match (:func:`output_matches`).
 
     Mutations caught: the getting-started IK target moved out of reach (prints
-    ``unreachable``, the guide shows ``solved``); a guide block whose output is not shown.
+    ``unreachable``, the guide shows ``solved``); a guide block whose output is not shown;
+    the README's dask block with its placeholder scheduler address (issue 38: not every
+    block ran).
     """
-    monkeypatch.chdir(ROOT)
-    text = (ROOT / "docs" / page).read_text()
+    monkeypatch.chdir(doc_blocks.scratch(tmp_path))
+    text = (ROOT / page).read_text()
     scope: dict = {}
-    pattern = r"```python\n(.*?)```(?:\s*(?:It prints:)?\s*```text\n(.*?)```)?"
-    for k, (code, shown) in enumerate(re.findall(pattern, text, re.S)):
-        out = io.StringIO()
-        with contextlib.redirect_stdout(out):
-            exec(compile(code, f"docs/{page} block {k + 1}", "exec"), scope)  # noqa: S102
-        printed = out.getvalue()
-        if printed.strip() or shown:
-            assert shown, f"docs/{page} block {k + 1} prints but shows no output:\n{printed}"
-            assert output_matches(shown, printed), (
-                f"docs/{page} block {k + 1} shows:\n{shown}\nbut prints:\n{printed}")
+    for k, block in enumerate(b for b in doc_blocks.blocks(text) if b.lang == "python"):
+        printed = doc_blocks.run_python(block, scope, f"{page} python block {k + 1}")
+        if printed.strip() or block.shown:
+            assert block.shown, f"{page}:{block.line} prints but shows no output:\n{printed}"
+            assert output_matches(block.shown, printed), (
+                f"{page}:{block.line} shows:\n{block.shown}\nbut prints:\n{printed}\n"
+                f"(python -m tests.doc_blocks {page} --write refreshes it)")
 
 
-def test_readme_quickstart_runs_without_a_flip(monkeypatch):
+@pytest.mark.parametrize("page, command, code", _page_commands(),
+                         ids=lambda v: v if isinstance(v, str) and " " in v else "")
+def test_every_command_of_the_docs_runs(page, command, code, tmp_path):
+    """Each command of a bash block or of the prose runs in a shell, in a scratch folder,
+    and exits 0 (or the code it states); install, build and serve commands are named in
+    doc_blocks.NOT_RUN with the reason.
+
+    Mutation caught: docs/planning.md's plan command (issue 38: it exited 2, "the start is in
+    collision: link2 and column 53.205 mm deep"); the README's ``path --html circle.html``
+    (a flag now) -> exit 2; each fails.
+    """
+    if (why := doc_blocks.not_run(command)) is not None:
+        pytest.skip(f"not run here: {why}")
+    assert command.startswith("scara-opt "), (
+        f"{page}: {command!r} is neither a scara-opt command nor in doc_blocks.NOT_RUN")
+    run = doc_blocks.run_command(command, doc_blocks.scratch(tmp_path))
+    assert run.returncode == (code or 0), f"{page}: {command}\n{run.stdout}\n{run.stderr}"
+
+
+@pytest.mark.parametrize("page, command, shown", _console_commands(),
+                         ids=lambda v: v if isinstance(v, str) and " " in v else "")
+def test_every_console_command_prints_what_it_shows(page, command, shown, tmp_path):
+    """Each ``$ command`` of a console block prints what the page shows after it (stdout
+    then stderr, :func:`output_matches`).
+
+    Mutation caught: a changed figure in docs/planning.md's ``scara-opt run`` output -> the
+    line differs, fails.
+    """
+    run = doc_blocks.run_command(command, doc_blocks.scratch(tmp_path))
+    printed = run.stdout + run.stderr
+    assert output_matches(shown, printed), (
+        f"{page}: $ {command}\nshows:\n{shown}\nprints:\n{printed}\n(python -m "
+        f"tests.doc_blocks {page} --write refreshes it)")
+
+
+@pytest.mark.parametrize("page", PAGES)
+def test_every_toml_block_loads_as_what_it_is(page, tmp_path):
+    """A page's TOML blocks load: a cell snippet as a cell, a robot snippet as a robot, a
+    program snippet as a program (relative paths from examples/).
+
+    Mutation caught: docs/planning.md's cell snippet with ``allowed = [["link4", "nest"]]``
+    and no obstacle named nest (issue 38: copied as shown it raised UnknownBodyError when a
+    checker was built) -> fails.
+    """
+    import scara_opt as so
+
+    for block in doc_blocks.blocks((ROOT / page).read_text()):
+        if block.lang != "toml":
+            continue
+        loaded = doc_blocks.load_toml_block(block.code, tmp_path)
+        if isinstance(loaded, so.Cell):  # its allowed pairs name bodies that exist
+            so.CollisionChecker(so.load_robot("zavar2024"), loaded)
+
+
+def test_the_harness_fails_a_wrong_shown_output(tmp_path, monkeypatch):
+    """A shown output that is wrong fails: a number off by more than its rounding, a line
+    too many; ``--write`` replaces a wrong line and keeps a matching one with its cut.
+
+    Mutation caught: output_matches ignoring the line count -> the extra line passes, fails.
+    """
+    assert not output_matches("1.906 [0.99480318]", "1.918 [0.99480318]")
+    assert not output_matches("a\nb", "a\nb\nc")
+    assert doc_blocks._merged("kept 1.90 …\nold 3\n", "kept 1.904 s\nold 4\n") == \
+        "kept 1.90 …\nold 4\n"
+
+
+def test_readme_quickstart_runs_without_a_flip(tmp_path, monkeypatch):
     """The README's quickstart runs as printed; its timed path has no jump (no elbow flip)
     and is not waved through with allow_jumps (issue: the demo flipped the elbow).
 
     Mutation: ``arc = circle`` in the README -> time_parameterize refuses the jump, fails.
     """
-    monkeypatch.chdir(ROOT)
+    monkeypatch.chdir(doc_blocks.scratch(tmp_path))
     blocks = re.findall(r"```python\n(.*?)```", (ROOT / "README.md").read_text(), re.S)
     code = next(b for b in blocks if "time_parameterize" in b and "ik_path" in b)
     assert "allow_jumps" not in code
     scope: dict = {}
-    exec(compile(code, "README quickstart", "exec"), scope)  # noqa: S102
+    with contextlib.redirect_stdout(io.StringIO()):
+        exec(compile(code, "README quickstart", "exec"), scope)  # noqa: S102
     assert scope["path"].ok and scope["path"].jumps == ()
     assert max(r.max() for r in scope["traj"].check_limits().values()) <= 1.0
-
-
-def test_readme_full_pose_block_runs(monkeypatch):
-    """The README's full-pose snippet (fk_se3 -> Target -> solve_ik) solves."""
-    monkeypatch.chdir(ROOT)
-    blocks = re.findall(r"```python\n(.*?)```", (ROOT / "README.md").read_text(), re.S)
-    code = next(b for b in blocks if "fk_se3" in b)
-    scope: dict = {"so": __import__("scara_opt")}
-    exec(compile(code, "README full pose", "exec"), scope)  # noqa: S102
-    assert scope["res"].success
 
 
 def test_sphinx_roles_become_checked_cross_references():

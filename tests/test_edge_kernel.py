@@ -5,14 +5,13 @@ from __future__ import annotations
 import math
 
 import numpy as np
-import pinocchio as pin
 import pytest
 
 import scara_opt as so
 from scara_opt.collision.edge_kernel import edge_kernel, shape_code
 from scara_opt.errors import FallbackWarning
 from scara_opt.planning.ompl_backend import EdgeProver
-from tests.conftest import DATA
+from tests.conftest import DATA, pinocchio_collides
 
 SCARA = so.load_robot("zavar2024")
 TABLE = so.Cell([so.Box("table", (0.9, 0.9, 0.02), xyz=(0.1, 0.0, -0.14)),
@@ -67,27 +66,25 @@ def test_kernel_distances_are_pinocchios(checker):
     assert np.abs(checker.pair_distances(Q, np.array(cols)) - ref[:, cols]).max() < 1e-6
 
 
-def test_kernel_contacts_are_pinocchios(checker):
+def test_kernel_contacts_are_coals_fresh_distances(checker):
     """Contact tests of 4,000 random configurations (about a fifth in contact), the kernel's
-    loop of coal's contact functors against Pinocchio's ``computeCollisions`` one by one and
-    (no margin) ``collides_many`` through its pool: the same answer for every configuration.
+    loop against each pair's signed distance from Pinocchio's ``computeDistances`` with
+    fresh GJK starts (``pinocchio_collides``), one by one, and ``collides_many`` in one and
+    two threads: the same answer for every configuration.
 
     Mutation caught: the loop stopping after the first pair (``p < 1``): contacts of the
     other pairs missed. Mutation caught: the answer of the last pair kept instead of any
     (``hit = touching(p)`` without the early exit, ``|=`` dropped): contacts lost.
+    Mutation caught: the balls' radii halved in ``holding_ball`` (pairs skipped that touch).
     """
     robot = checker.robot
     rng = np.random.default_rng(9)
     Q = rng.uniform(robot.lower, robot.upper, (4000, robot.nq))
     ours = checker._kernel().collides(Q)
     assert ours.dtype == bool and 0.05 < ours.mean() < 0.95
-    data, gdata, _ = checker._data()  # Pinocchio's call, no margin (the kernel has none)
-    one_by_one = np.array([pin.computeCollisions(robot.model, data, checker.model, gdata, q,
-                                                 True) for q in Q[:1000]])
-    assert np.array_equal(ours[:1000], one_by_one)
-    if not checker.margin:  # the pool (and the kernel, when collides_many takes it)
-        assert np.array_equal(ours, checker.collides_many(Q, threads=2))
-        assert np.array_equal(ours, checker.collides_many(Q))
+    assert np.array_equal(ours[:1000], pinocchio_collides(checker, Q[:1000]))
+    assert np.array_equal(ours, checker.collides_many(Q, threads=2))
+    assert np.array_equal(ours, checker.collides_many(Q))
 
 
 def test_native_edges_agree_with_the_python_form(checker):
@@ -148,21 +145,23 @@ def test_native_plans_are_the_python_forms():
     assert (native.states, native.checks) == (python.states, python.checks)
 
 
-def test_meshes_keep_the_python_form(tmp_path):
-    """A cell with a mesh obstacle has no kernel (coal's meshes are not passed to C++): the
-    checker's batch distances and the prover run Pinocchio's calls, and say so by
-    ``_kernel() is None``.
+def test_meshes_go_through_the_kernel(tmp_path):
+    """A cell with a mesh obstacle (an open, one-triangle wedge) runs the compiled kernel
+    too: the prover is native, and the kernel's reported distances are the Python form's
+    (coal's own BVH distance) to 1e-9 m.
+
+    Mutation caught: ``shape_code`` not knowing meshes (as before) -> no kernel; fails.
     """
     stl = tmp_path / "wedge.stl"
     stl.write_text("solid w\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 0.1 0 0\n"
                    "vertex 0 0.1 0\nendloop\nendfacet\nendsolid w\n")
     cell = so.Cell([so.Mesh("wedge", stl, xyz=(0.3, 0.0, -0.05))])
     checker = so.CollisionChecker(SCARA, cell)
-    assert shape_code(checker.model.geometryObjects[-1].geometry) is None
-    assert edge_kernel(checker, 0.0) is None and checker._kernel() is None
-    assert EdgeProver(checker)._native is None
-    q = np.array([0.0, 0.3, 0.02, 0.0])
-    assert checker.distances_many(q[None])[0] == pytest.approx(checker.distances(q))
+    assert shape_code(checker.model.geometryObjects[-1].geometry)[0] == 4
+    assert checker._kernel() is not None and EdgeProver(checker)._native is not None
+    Q = np.random.default_rng(2).uniform(SCARA.lower, SCARA.upper, (200, 4))
+    python = checker._python_distances(Q, None, "exact")
+    assert np.abs(checker.distances_many(Q) - python).max() < 1e-9
 
 
 def test_compiled_path_proofs_are_the_python_forms(checker, monkeypatch):

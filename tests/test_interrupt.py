@@ -17,7 +17,7 @@ CONSOLE = """
 import sys
 {hook}
 sys.argv = ["scara-opt", *{argv!r}]
-from scara_opt.console import main
+from scara_opt.cli.console import main
 main()
 """
 
@@ -29,7 +29,7 @@ def _run(code: str, **kw) -> subprocess.CompletedProcess[str]:
 
 
 def test_ctrl_c_while_the_command_line_loads_is_one_line():
-    """A SIGINT while scara_opt.cli is being imported (numpy, pandas...: the first tenths of
+    """A SIGINT while scara_opt.cli.app is being imported (numpy, pandas...: the first tenths of
     a second after start) gave an 11-33-line traceback; now ``scara-opt: interrupted``, 130.
 
     Mutation caught: console.main importing the CLI outside its try -> traceback; fails.
@@ -38,7 +38,7 @@ def test_ctrl_c_while_the_command_line_loads_is_one_line():
 import signal
 class Hook:  # Ctrl-C at the moment the command line's modules start loading
     def find_spec(self, name, path, target=None):
-        if name == "scara_opt.cli":
+        if name == "scara_opt.cli.app":
             signal.raise_signal(signal.SIGINT)
 sys.meta_path.insert(0, Hook())
 """

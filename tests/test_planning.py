@@ -9,7 +9,7 @@ import pytest
 
 import scara_opt as so
 from scara_opt.planning import PlanStatus, plan_path
-from tests.conftest import dense_first_contact, pinocchio_collides
+from tests.conftest import DATA, dense_first_contact, pinocchio_collides
 
 ROBOT = so.load_robot("zavar2024")
 POST = so.Cell([so.Cylinder("post", 0.03, 0.4, xyz=(0.3, 0.15, 0.0))])
@@ -126,10 +126,65 @@ def test_start_goal_and_time_limit_errors():
             plan_path(checker, QA, QB, time_limit=bad)
     with pytest.raises(so.CollisionError, match="start is in collision"):
         so.plan(ROBOT, [so.PTP(QB)], start=inside, cell=POST)
-    with pytest.raises(so.MoveCollisionError, match="move 0: PTP the goal is in collision"):
+    with pytest.raises(so.MoveCollisionError, match="move 0: PTP: the goal is in collision"):
         so.plan(ROBOT, [so.PTP(inside)], start=QA, cell=POST)
     with pytest.raises(so.InputError, match="time_limit"):
         so.plan(ROBOT, [so.PTP(QB)], start=QA, cell=POST, time_limit=0)
+
+
+def _just_clear(checker, gap):
+    """A configuration between QA and the post whose clearance is in (0, gap] [m]."""
+    inside = np.array([0.4636, 0.0, 0.0, 0.0])
+    lo, hi = QA.copy(), inside
+    for _ in range(80):
+        mid = (lo + hi) / 2
+        d = checker.clearance(mid).distance
+        if 0 < d <= gap:
+            return mid
+        lo, hi = (mid, hi) if d > 0 else (lo, mid)
+    raise AssertionError("no configuration found")  # pragma: no cover
+
+
+def test_a_start_too_close_for_a_proof_is_named_not_timed_out():
+    """A start 1 µm from the post: clear (``collides`` is False), but closer than the 0.01
+    mm a proof needs: refused at once naming the start, the bodies and the gap, never "no
+    path found within the time limit ... give more time".
+
+    Mutation caught: ``check_provable`` doing nothing -> NO_PATH after the time limit,
+    "RRTConnect grew 0 states"; fails.
+    """
+    checker = so.CollisionChecker(ROBOT, POST)
+    q = _just_clear(checker, 2e-6)
+    assert not checker.collides(q)
+    with pytest.raises(so.CollisionError, match=r"start is 0\.00\d+ mm from contact \(link\d "
+                                                r"and post\).* at least .* mm farther"):
+        plan_path(checker, q, QB, time_limit=0.3)
+    with pytest.raises(so.CollisionError, match="goal is"):
+        so.plan(ROBOT, [so.PTP(q)], start=QB, cell=checker, time_limit=0.3)
+
+
+def test_compiling_the_kernel_does_not_count_against_the_time_limit(monkeypatch):
+    """The first query on a cold cache (the kernel's build simulated by a 1.5 s pause in
+    ``edge_kernel``): solved within a 1 s limit, with the same path as a warm query.
+
+    Mutation caught: the clock started before the prover is built (as before) -> NO_PATH
+    (or another path) on the cold query; fails.
+    """
+    import time as clock
+
+    from scara_opt.planning import ompl_backend
+
+    warm = plan_path(so.CollisionChecker(ROBOT, POST), QA, QB, seed=5, time_limit=1.0)
+    real = ompl_backend.EdgeProver.__init__
+
+    def slow(self, *args, **kwargs):
+        clock.sleep(1.5)
+        real(self, *args, **kwargs)
+
+    monkeypatch.setattr(ompl_backend.EdgeProver, "__init__", slow)
+    cold = plan_path(so.CollisionChecker(ROBOT, POST), QA, QB, seed=5, time_limit=1.0)
+    assert cold.success and np.array_equal(cold.path, warm.path)
+    assert cold.time_s < 1.5
 
 
 def test_ptp_in_a_cell_is_timed_and_proven_clear_again():
@@ -423,3 +478,120 @@ def test_the_simplifier_shortens_every_path_and_keeps_it_clear():
         assert short.length <= 0.8 * raw.length
         assert np.array_equal(short.path[0], QA) and np.array_equal(short.path[-1], QB)
         assert dense_clear(checker, short.path)
+
+
+def _close_pass():
+    """zavar2024 in the example cell, and a PTP whose plan at no margin passes 0.44 mm from
+    the column (seed 0 of random clear pairs)."""
+    cell = so.load_cell(DATA.parent.parent / "examples" / "scara_cell.toml")
+    checker = so.CollisionChecker(ROBOT, cell)
+    rng = np.random.default_rng(0)
+    while True:
+        a, b = rng.uniform(ROBOT.lower, ROBOT.upper, (2, 4))
+        if min(checker.clearance(a).distance, checker.clearance(b).distance) > 1e-4:
+            return cell, checker, a, b
+
+
+def test_a_margin_asked_for_is_kept_on_every_route():
+    """margin=2 mm on every route that takes it: plan with a checker (which has none) and
+    with a Cell, cycle_time with a checker, check_collisions of a Trajectory and of a
+    MotionTrajectory; each keeps or reports against 2 mm, and the planned move stays 2 mm
+    clear by a dense check; margin= without a cell is refused.
+
+    Mutation caught: ``make_checker`` keeping a checker's own margin (as before) -> the
+    plan with a checker passes within 0.44 mm of the column; fails. Mutation caught:
+    ``in_cell`` accepting a margin without a cell -> no error; fails.
+    """
+    cell, checker, a, b = _close_pass()
+    loose = so.plan(ROBOT, [so.PTP(b)], start=a, cell=checker)
+    assert loose.check_collisions().least.distance < 0.002  # the symptom without a margin
+    wide = so.CollisionChecker(ROBOT, cell, margin=0.002)
+    for route in (checker, cell):
+        traj = so.plan(ROBOT, [so.PTP(b)], start=a, cell=route, margin=0.002)
+        assert traj.checker.margin == 0.002
+        report = traj.check_collisions()
+        assert report.clear and report.margin == 0.002 and report.least.distance >= 0.002
+        assert dense_clear_trajectory(wide, traj)
+    res = so.cycle_time(ROBOT, across=0.2, cell=checker, margin=0.002)
+    assert res.trajectory.checker.margin == 0.002
+    timed = so.time_parameterize(np.array([a, b]), ROBOT)
+    assert timed.check_collisions(checker, margin=0.002).margin == 0.002
+    assert timed.check_collisions(cell, ROBOT, margin=0.002).margin == 0.002
+    assert loose.check_collisions(margin=0.002).margin == 0.002
+    assert loose.check_collisions().margin == 0.0
+    with pytest.raises(so.InputError, match="margin"):
+        so.plan(ROBOT, [so.PTP(b)], start=a, margin=0.002)
+    with pytest.raises(so.InputError, match="margin"):
+        so.cycle_time(ROBOT, margin=0.002)
+
+
+def test_the_largest_seed_is_refused_before_any_work():
+    """seed=2**64-1 (OMPL's seed + 1 would not fit in its unsigned 64 bits) is an InputError
+    naming the range even where the straight segment is blocked (it was a TypeError from
+    OMPL), and the largest seed it takes plans.
+
+    Mutation caught: ``SEED_MAX`` not passed to ``check_int`` -> TypeError from OMPL; fails.
+    """
+    checker = so.CollisionChecker(ROBOT, POST)
+    with pytest.raises(so.InputError, match=r"seed must be an integer in \[0, 18446744073709551614\]"):
+        plan_path(checker, QA, QB, seed=2**64 - 1)
+    with pytest.raises(so.InputError, match="seed"):
+        so.plan(ROBOT, [so.PTP(QB)], start=QA, cell=checker, seed=2**64 - 1)
+    assert plan_path(checker, QA, QB, seed=2**64 - 2).success
+
+
+class _Clock:
+    """A stand-in for ``time``: ``perf_counter`` advances ``step`` s at every call."""
+
+    def __init__(self, step):
+        self.now, self.step = 0.0, step
+
+    def perf_counter(self):
+        self.now += self.step
+        return self.now
+
+
+def test_the_simplifier_stops_at_the_time_limit(monkeypatch):
+    """With a clock that runs 20 ms at each reading, a 1 s limit ends the simplifier part way: the
+    path is the shortest proven by then (every edge proven, the dense check clear), and the
+    plan says the simplifier was stopped.
+
+    Mutation caught: ``EdgeProver.edge`` ignoring its deadline (the simplifier unbounded,
+    as before) -> no edge answered late, the message says nothing; fails.
+    """
+    from scara_opt.planning import ompl_backend
+
+    checker = so.CollisionChecker(ROBOT, POST)
+    monkeypatch.setattr(ompl_backend, "time", _Clock(0.02))
+    res = plan_path(checker, QA, QB, seed=3, time_limit=1.0)
+    assert res.success and "stopped at the time limit" in res.message
+    assert dense_clear(checker, res.path)
+    monkeypatch.undo()
+    free = plan_path(checker, QA, QB, seed=3, time_limit=1.0)
+    assert "stopped at the time limit" not in free.message
+
+
+def test_a_program_past_its_time_limit_is_timed_the_way_proven_by_construction(monkeypatch):
+    """so.plan whose clock runs out while the planned PTP is timed: no more spline tries
+    after the first (the time limit bounds the whole call), the section stops at each
+    waypoint, proven clear (the dense check agrees), and its note says why.
+
+    Mutation caught: ``timed_clear`` trying every spline whatever the time -> the note says
+    "attempt"; fails.
+    """
+    from scara_opt.motion import clearance
+
+    checker = so.CollisionChecker(ROBOT, POST)
+    real = clearance.CellPlanning.joints
+
+    def joints(self, *args):
+        path = real(self, *args)
+        self.deadline = -math.inf  # as if the planning had used the whole limit
+        return path
+
+    monkeypatch.setattr(clearance.CellPlanning, "joints", joints)
+    monkeypatch.setattr(clearance.CellPlanning, "_spline_clear", lambda self, rows, limits:
+                        None)  # the first spline is not proven: a retry would follow
+    traj = so.plan(ROBOT, [so.PTP(QB)], start=QA, cell=checker, time_limit=1.0)
+    assert "stopping at each waypoint (the time limit was reached)" in traj.notes
+    assert dense_clear_trajectory(checker, traj)

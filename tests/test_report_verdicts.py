@@ -99,15 +99,27 @@ def test_claim_of_reach_rule():
 
 
 def test_reach_and_order_rules():
-    """The numeric rules: both reach, both miss by as much, rankings, ratios."""
+    """The numeric rules: both reach, both miss by as much, rankings, ratios; a difference
+    says which side ours is on (issue 38: "80x faster" and "25x smaller error" both read
+    "differs", as failures).
+
+    Mutations caught: reach_claims' sides swapped (``BETTER if median_error < paper_error
+    / 10`` -> ``>``) and ratio_within's (``(ratio < 1) == smaller_is_better`` -> ``!=``):
+    each fails.
+    """
     assert rules.reach_claims(True, 0.9, 1e-9, 1e-12)[0] == rules.MATCHED
-    assert rules.reach_claims(True, 0.4, 1e-5, 1e-12)[0] == rules.DIFFERS
+    assert rules.reach_claims(True, 0.4, 1e-5, 1e-12)[0] == rules.WORSE  # we miss, it reaches
+    assert rules.reach_claims(False, 0.9, 1e-9, 3e-3)[0] == rules.BETTER  # we reach, it misses
     assert rules.reach_claims(False, 0.0, 2e-3, 3e-3)[0] == rules.MATCHED
-    assert rules.reach_claims(False, 0.0, 0.3, 3e-3)[0] == rules.DIFFERS  # a far worse miss
+    assert rules.reach_claims(False, 0.0, 0.3, 3e-3)[0] == rules.WORSE  # a far worse miss
+    assert rules.reach_claims(False, 0.0, 1e-4, 3e-3)[0] == rules.BETTER  # 30x smaller
     assert rules.same_order(["a", "b"], ["a", "b"], ranked=True)[0] == rules.MATCHED
     assert rules.same_order(["a", "b"], ["a", "b"], ranked=False)[0] == rules.DIFFERS
     assert rules.best_is("ca", "ca", 0.2)[0] == rules.DIFFERS
     assert rules.ratio_within(1.5, 1.0, 2.0)[0] == rules.MATCHED
+    assert rules.ratio_within(0.01, 1.0, 2.0)[0] == rules.BETTER  # 100x faster
+    assert rules.ratio_within(5.0, 1.0, 2.0)[0] == rules.WORSE
+    assert rules.ratio_within(5.0, 1.0, 2.0, smaller_is_better=False)[0] == rules.BETTER
     assert rules.within(1.0, 1.0 + 2e-9, 1e-9)[0] == rules.DIFFERS
 
 

@@ -21,8 +21,9 @@ A cell file states its units, like a robot file, and lists its obstacles::
     rpy = [0, 0, 0]             # optional
 
 A mesh's ``file`` is relative to the cell file, its coordinates in ``length_unit`` times
-``scale``. Unknown or misspelt keys, a missing size, a size <= 0 and duplicate names are
-refused with :class:`~scara_opt.errors.CellError` naming the obstacle and the key.
+``scale`` (one number, or one per axis). Unknown or misspelt keys, a missing size, a size
+<= 0 (quoted in the file's unit) and duplicate names are refused with
+:class:`~scara_opt.errors.CellError` naming the obstacle and the key.
 """
 
 from __future__ import annotations
@@ -30,7 +31,7 @@ from __future__ import annotations
 from collections.abc import Iterable
 from pathlib import Path
 
-from scara_opt.checks import describe
+from scara_opt.checks import check_path, check_text, describe
 from scara_opt.collision.geometry import name_pairs
 from scara_opt.collision.obstacles import Box, Capsule, Cylinder, Mesh, Obstacle, Sphere
 from scara_opt.errors import CellError, InputError
@@ -83,6 +84,12 @@ class Cell:
             raise
         except InputError as exc:
             raise CellError(str(exc)) from None
+        for a, b in pairs:
+            if a in seen and b in seen:
+                raise CellError(f"allowed pair ({a!r}, {b!r}) names two obstacles: obstacles "
+                                "are never checked against each other; an allowed pair is a "
+                                "robot link or body and an obstacle")
+        check_text("the cell's name", name, CellError)
         self.obstacles: tuple[Obstacle, ...] = items
         self.allowed: tuple[tuple[str, str], ...] = pairs
         self.name = name
@@ -104,7 +111,8 @@ class Cell:
 
     def __repr__(self) -> str:
         listed = ", ".join(self.names[:6]) + (", ..." if len(self) > 6 else "")
-        return f"Cell({self.name!r}: {len(self)} obstacles [{listed}])"
+        count = f"{len(self)} obstacle{'' if len(self) == 1 else 's'}"
+        return f"Cell({self.name!r}: {count} [{listed}])"
 
     @classmethod
     def from_toml(cls, path: str | Path) -> Cell:
@@ -116,7 +124,16 @@ def _number(entry: dict, key: str, where: str) -> float:
     value = entry.get(key)
     if isinstance(value, bool) or not isinstance(value, (int, float)):
         raise CellError(f"{where}: {key} must be a number; got {describe(value)}")
-    return float(value)
+    return _float(value, key, where)
+
+
+def _float(value: int | float, key: str, where: str) -> float:
+    """``value`` as a float, or CellError for an integer beyond any float."""
+    try:
+        return float(value)
+    except OverflowError:
+        raise CellError(f"{where}: {key} {describe(value)} is too large for any size or "
+                        "position; give its real value") from None
 
 
 def _triple(entry: dict, key: str, where: str, unit: float,
@@ -126,11 +143,12 @@ def _triple(entry: dict, key: str, where: str, unit: float,
     if (not isinstance(value, list) or len(value) != 3
             or not all(isinstance(v, (int, float)) and not isinstance(v, bool) for v in value)):
         raise CellError(f"{where}: {key} must be a list of 3 numbers; got {describe(value)}")
-    x, y, z = (float(v) * unit for v in value)
+    x, y, z = (_float(v, key, where) * unit for v in value)
     return x, y, z
 
 
-def _obstacle(entry: object, i: int, L: float, A: float, folder: Path, where: str) -> Obstacle:
+def _obstacle(entry: object, i: int, L: float, A: float, folder: Path, where: str,
+              unit: str = "m") -> Obstacle:
     """One ``[[obstacles]]`` entry, in SI units."""
     at = f"{where}: obstacles entry {i + 1}"
     if not isinstance(entry, dict):
@@ -140,13 +158,22 @@ def _obstacle(entry: object, i: int, L: float, A: float, folder: Path, where: st
         raise CellError(f"{at} needs a name = \"...\" (a non-empty string)")
     at = f"{where}: obstacle {name!r}"
     kind = entry.get("type")
-    if kind not in OBSTACLE_KEYS:
+    if kind not in OBSTACLE_KEYS:  # a misspelt "type" key first gets its "did you mean"
+        check_keys(entry, ("name", "type", "xyz", "rpy",
+                           *dict.fromkeys(k for keys in OBSTACLE_KEYS.values() for k in keys)),
+                   at, CellError)
         raise CellError(f"{at}: type must be one of {', '.join(OBSTACLE_KEYS)}; got "
                         f"{describe(kind)}")
     check_keys(entry, ("name", "type", "xyz", "rpy", *OBSTACLE_KEYS[kind]), at, CellError)
     missing = [k for k in OBSTACLE_KEYS[kind] if k not in entry and k != "scale"]
     if missing:
         raise CellError(f"{at}: a {kind} needs {', '.join(missing)}")
+    for key in ("size", "radius", "length"):  # checked in the file's own units
+        values = entry.get(key)
+        for v in values if isinstance(values, list) else [values]:
+            if isinstance(v, (int, float)) and not isinstance(v, bool) and not v > 0:
+                raise CellError(f"{at}: {key} {values} {unit}: a size must be > 0; give its "
+                                "real size (a flat plate is a thin box)")
     xyz = _triple(entry, "xyz", at, L, [0, 0, 0])
     rpy = _triple(entry, "rpy", at, A, [0, 0, 0])
     if kind == "box":
@@ -160,7 +187,10 @@ def _obstacle(entry: object, i: int, L: float, A: float, folder: Path, where: st
     file = entry["file"]
     if not isinstance(file, str):
         raise CellError(f"{at}: file must be a path (a string); got {describe(file)}")
-    return Mesh(name, folder / file, _triple(entry, "scale", at, L, [1, 1, 1]), xyz=xyz,
+    scale = entry.get("scale", 1.0)
+    if isinstance(scale, (int, float)) and not isinstance(scale, bool):  # one for all axes
+        scale = [scale] * 3
+    return Mesh(name, folder / file, _triple({"scale": scale}, "scale", at, L), xyz=xyz,
                 rpy=rpy)
 
 
@@ -172,9 +202,7 @@ def load_cell(path: str | Path) -> Cell:
             missing size, a size <= 0, duplicate names, a bad ``allowed`` entry.
         MeshNotFoundError: a mesh file that cannot be found.
     """
-    if not isinstance(path, (str, Path)):
-        raise CellError(f"a cell file path must be a str or Path; got {describe(path)}")
-    path = Path(path)
+    path = check_path("a cell file path", path, CellError)
     where = f"cell file {str(path)!r}"
     data = read_toml(path, where, "a TOML cell file", CellError)
     check_keys(data, CELL_KEYS, where, CellError)
@@ -185,7 +213,7 @@ def load_cell(path: str | Path) -> Cell:
     entries = data.get("obstacles", [])
     if not isinstance(entries, list):
         raise CellError(f"{where}: obstacles must be [[obstacles]] tables")
-    obstacles = [_obstacle(e, i, LENGTH_UNITS[lu], ANGLE_UNITS[au], path.parent, where)
+    obstacles = [_obstacle(e, i, LENGTH_UNITS[lu], ANGLE_UNITS[au], path.parent, where, lu)
                  for i, e in enumerate(entries)]
     allowed = data.get("allowed", [])
     if not isinstance(allowed, list):

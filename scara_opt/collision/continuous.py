@@ -44,8 +44,9 @@ if TYPE_CHECKING:
 Array = NDArray[np.float64]
 Index = NDArray[np.intp]
 
-__all__ = ["CollisionReport", "Contact", "Proof", "VelocityBound", "check_path", "check_trajectory",
-           "collision_report", "deepest", "prove", "prove_segment"]
+__all__ = ["CollisionReport", "Contact", "LeastClearance", "Proof", "VelocityBound", "check_path",
+           "check_trajectory", "collision_report", "deepest", "least", "least_clearance",
+           "prove", "prove_segment"]
 
 #: an interval whose motion bound is below this [m] and still not proven is not clear
 RESOLUTION = 1e-9
@@ -55,6 +56,9 @@ TIME_TOL = 1e-4
 
 #: at most this many configurations are checked in one proof (then: not proven)
 MAX_EVALUATIONS = 200_000
+
+#: the least clearance of a trajectory is found to within this [m] (:func:`least_clearance`)
+LEAST_TOL = 1e-4
 
 
 # ---------------------------------------------------------------------------- the proof
@@ -90,8 +94,12 @@ class Proof:
     Attributes:
         clear: the whole motion is proven clear (every pair farther than the margin).
         contact: the first place not proven clear (``None`` when clear).
-        clearance: a proven lower bound on every pair's distance over the motion [m]
-            (``inf`` when there is nothing to check); meaningful when ``clear``.
+        clearance: a proven lower bound on every pair's distance over the motion [m]: the
+            checked pairs and those the checker leaves out as never within reach
+            (:attr:`~scara_opt.collision.checker.CollisionChecker.apart`, by their least
+            gap); ``inf`` when there is nothing to check; meaningful when ``clear``. Not
+            the least clearance (see :func:`least_clearance`): the proof stops as soon as
+            every pair is proven farther than the margin.
         evaluations: configurations whose distances were computed.
     """
 
@@ -220,7 +228,7 @@ def prove_segment(checker: CollisionChecker, qa: ArrayLike, qb: ArrayLike, *,
     def bound(lo: Array, hi: Array) -> Array:
         return np.outer(hi - lo, M)
 
-    D = checker.distances_many(np.array([q0, q1]))
+    D = checker.pair_distances(np.array([q0, q1]), None, "rest")
     gaps = checker.gaps
     apart: Callable[..., Array] | None = None
     if gaps is not None:
@@ -237,7 +245,14 @@ def prove_segment(checker: CollisionChecker, qa: ArrayLike, qb: ArrayLike, *,
 
     p = prove(np.array([0.0, 1.0]), D, config, bound, checker.pair_distances,
               checker.pair_names, margin=checker.margin, locate=locate, tol=1e-6, apart=apart)
-    return replace(p, evaluations=p.evaluations + 2)
+    return _every_pair(checker, replace(p, evaluations=p.evaluations + 2))
+
+
+def _every_pair(checker: CollisionChecker, proof: Proof) -> Proof:
+    """``proof`` with its clearance over the checker's apart pairs too (their least gap)."""
+    if proof.clear and checker.apart:
+        return replace(proof, clearance=min(proof.clearance, checker.least_apart))
+    return proof
 
 
 # ---------------------------------------------------------------------------- trajectories
@@ -382,7 +397,7 @@ def check_path(checker: CollisionChecker, path: PPoly, *, locate: bool = False) 
             MAX_EVALUATIONS)
         evals += len(x)
         if clear:
-            return Proof(True, None, spare, evals)
+            return _every_pair(checker, Proof(True, None, spare, evals))
         return Proof(False, Contact(at, checker.pair_names[pair], dist, touching), -math.inf,
                      evals)
 
@@ -395,7 +410,7 @@ def check_path(checker: CollisionChecker, path: PPoly, *, locate: bool = False) 
 def _prove_curve(checker: CollisionChecker, t: Array, evaluate: Callable[[Array], Array],
                  vel: VelocityBound, locate: bool, tol: float) -> Proof:
     """:func:`prove` over a curve from the samples ``t``, its speed bounded by ``vel``."""
-    D = checker.distances_many(evaluate(t))
+    D = checker.pair_distances(evaluate(t), None, "rest")
     W = checker.weights
     seen: list = [None, None]
 
@@ -410,23 +425,25 @@ def _prove_curve(checker: CollisionChecker, t: Array, evaluate: Callable[[Array]
     p = prove(t, D, evaluate, bound, checker.pair_distances, checker.pair_names,
               margin=checker.margin, locate=locate, tol=tol,
               apart=_trajectory_gaps(checker, speeds))
-    return replace(p, evaluations=p.evaluations + len(t))
+    return _every_pair(checker, replace(p, evaluations=p.evaluations + len(t)))
 
 
-def _trajectory_gaps(checker: CollisionChecker, vel: Callable[[Array, Array], Array]
-                     ) -> Callable[..., Array] | None:
+def _trajectory_gaps(checker: CollisionChecker, vel: Callable[[Array, Array], Array],
+                     shift: float | None = None) -> Callable[..., Array] | None:
     """A SCARA's height gaps over trajectory intervals (None for other robots).
 
     On ``[t0, t1]`` each joint stays within ``(q0 + q1)/2 ± v̄ (t1 - t0)/2`` (it cannot go
     farther at speed ``v̄`` and still reach both ends); the gaps are affine in ``q``, so their
-    least over that box bounds them.
+    least over that box bounds them (less ``shift``, default the proofs' margin and
+    tolerance).
     """
     gaps = checker.gaps
     if gaps is None:
         return None
     A, a, b = gaps
     Ap, An = np.maximum(A, 0.0), np.minimum(A, 0.0)
-    shift = checker.margin + DISTANCE_TOL
+    if shift is None:
+        shift = checker.margin + DISTANCE_TOL
 
     def apart(lo: Array, hi: Array, Qlo: Array, Qhi: Array) -> Array:
         half = vel(lo, hi) * ((hi - lo) / 2)[:, None]
@@ -437,6 +454,156 @@ def _trajectory_gaps(checker: CollisionChecker, vel: Callable[[Array, Array], Ar
         return np.maximum(low + a, b - high) - shift
 
     return apart
+
+
+# ---------------------------------------------------------------------------- least clearance
+@dataclass(frozen=True)
+class LeastClearance:
+    """The least clearance of a motion over every pair, found to a stated tolerance.
+
+    ``distance`` is a sampled value (the motion does come this close) and ``lower`` a
+    proven lower bound over the whole motion (the bound of the module docstring), with
+    ``distance - lower <= tolerance`` when ``converged``: the true least clearance lies
+    between them.
+
+    Attributes:
+        distance: the least signed distance found [m], at ``at``.
+        at: when [s] (or the path parameter).
+        bodies: the pair there, ``(robot body, other body)``.
+        lower: proven: no pair comes closer than this anywhere along the motion [m].
+        tolerance: the tolerance it was found to [m].
+        converged: ``distance - lower <= tolerance`` (else the evaluation budget ran out).
+        evaluations: configurations whose distances were computed.
+    """
+
+    distance: float
+    at: float
+    bodies: tuple[str, str]
+    lower: float
+    tolerance: float
+    converged: bool
+    evaluations: int
+
+    def __repr__(self) -> str:
+        within = (f"to {self.tolerance * 1e3:g} mm" if self.converged else
+                  f"not to {self.tolerance * 1e3:g} mm: the budget ran out")
+        return (f"LeastClearance({self.distance * 1e3:.3f} mm at {self.at:.4f} s, "
+                f"{'-'.join(self.bodies)}, found {within}; proven >= "
+                f"{self.lower * 1e3:.3f} mm)")
+
+
+def least(s: Array, D: Array, config: Callable[[Array], Array],
+          bound: Callable[[Array, Array], Array],
+          distances: Callable[[Array, Index | None], Array], tol: float, *,
+          budget: int = MAX_EVALUATIONS, apart: Callable[..., Array] | None = None,
+          exact: Callable[[Array, Index | None], Array] | None = None
+          ) -> tuple[float, float, int, float, bool, int]:
+    """The least signed distance over a motion, by branch and bound on its intervals.
+
+    On an interval each pair's distance is at least :math:`(d_a + d_b - M)/2` (the rule of
+    the module docstring, any sign) and at least its height gap (``apart``); an interval
+    whose least pair bound is within ``tol`` of the least distance sampled so far cannot
+    hold anything ``tol`` closer, and is closed; the others are split at their middle,
+    where every pair is computed.
+
+    Args:
+        s, D, config, bound, distances: as :func:`prove` (``D`` not shifted); with
+            ``exact``, ``D`` and ``distances`` may be lower bounds on the distances.
+        tol: the tolerance [m].
+        budget: most configurations to evaluate.
+        apart: as :func:`prove`'s, with no shift.
+        exact: the exact distances, where ``distances`` gives bounds (a mesh's tree of
+            hulls): asked only where a bound is below the least found so far, which only
+            an exact value may set.
+
+    Returns:
+        ``(distance, at, pair, lower, converged, evaluations)``.
+    """
+    s = np.asarray(s, float)
+    D = np.asarray(D, float)
+    if exact is not None:
+        D = _exact_where_low(s, config(s), D, math.inf, exact)
+    k = np.unravel_index(int(np.argmin(D)), D.shape)
+    best, at, pair = float(D[k]), float(s[k[0]]), int(k[1])
+    Q = config(s)
+    lo, hi, Dlo, Dhi, Qlo, Qhi = s[:-1], s[1:], D[:-1], D[1:], Q[:-1], Q[1:]
+    lower, evals = best, 0
+    while lo.size:
+        fine = (Dlo + Dhi - bound(lo, hi)) / 2
+        if apart is not None:
+            fine = np.maximum(fine, apart(lo, hi, Qlo, Qhi))
+        least_bound = fine.min(axis=1)
+        done = least_bound >= best - tol
+        if done.any():
+            lower = min(lower, float(least_bound[done].min()))
+        rest = ~done
+        if not rest.any():
+            break
+        if evals + int(rest.sum()) > budget:
+            return best, at, pair, min(lower, float(least_bound[rest].min())), False, evals
+        lo, hi, Dlo, Dhi, Qlo, Qhi = (x[rest] for x in (lo, hi, Dlo, Dhi, Qlo, Qhi))
+        mid = (lo + hi) / 2
+        Qm = config(mid)
+        Dm = distances(Qm, None)
+        if exact is not None:
+            Dm = _exact_where_low(mid, Qm, Dm, best, exact)
+        evals += mid.size
+        i, j = np.unravel_index(int(np.argmin(Dm)), Dm.shape)
+        if Dm[i, j] < best:
+            best, at, pair = float(Dm[i, j]), float(mid[i]), int(j)
+        lo, hi = np.concatenate([lo, mid]), np.concatenate([mid, hi])
+        Dlo, Dhi = np.concatenate([Dlo, Dm]), np.concatenate([Dm, Dhi])
+        Qlo, Qhi = np.concatenate([Qlo, Qm]), np.concatenate([Qm, Qhi])
+    return best, at, pair, min(lower, best), True, evals
+
+
+def _exact_where_low(s: Array, Q: Array, D: Array, best: float,
+                     exact: Callable[[Array, Index | None], Array]) -> Array:
+    """``D`` (k, npairs) bounds with the exact values where a bound is below ``best``."""
+    low = D < best
+    out = D.copy()
+    for r in np.flatnonzero(low.any(axis=1)):
+        cols = np.flatnonzero(low[r])
+        out[r, cols] = exact(Q[r:r + 1], cols)[0]
+    return out
+
+
+def least_clearance(checker: CollisionChecker, traj: Trajectory, tol: float = LEAST_TOL, *,
+                    samples: int = 32) -> LeastClearance | None:
+    """The least clearance of a timed trajectory over every pair, to within ``tol`` [m].
+
+    Every pair the checker reports on (:attr:`~scara_opt.collision.checker.
+    CollisionChecker.everything`: its apart pairs too), whatever its margin; by
+    :func:`least` from ``samples`` uniform intervals and the waypoint times. ``None`` when
+    there is no pair.
+    """
+    full = checker.everything
+    if not full.npairs:
+        return None
+    T = traj.duration
+    t = np.unique(np.concatenate([np.linspace(0.0, T, samples + 1),
+                                  np.clip(traj.waypoint_times, 0.0, T)]))
+    vel, W = VelocityBound(traj), full.weights
+    seen: list = [None, None]
+
+    def speeds(lo: Array, hi: Array) -> Array:
+        if seen[0] is not lo:
+            seen[0], seen[1] = lo, vel(lo, hi)
+        return seen[1]
+
+    def bound(lo: Array, hi: Array) -> Array:
+        return (hi - lo)[:, None] * (speeds(lo, hi) @ W.T)
+
+    meshy = full._meshes.any  # bounds first, exact values where they may be the least
+
+    def exact(Q: Array, cols: Index | None) -> Array:
+        return full.pair_distances(Q, cols, "exact")
+
+    D = full.pair_distances(traj.evaluate(t), None, "bound" if meshy else "exact")
+    d, at, pair, lower, ok, evals = least(t, D, traj.evaluate, bound, full.pair_distances, tol,
+                                          apart=_trajectory_gaps(full, speeds, 0.0),
+                                          exact=exact if meshy else None)
+    return LeastClearance(d, at, full.pair_names[pair], lower, tol, ok, evals + len(t))
 
 
 def deepest(checker: CollisionChecker, traj: Trajectory, contact: Contact, dt: float = 1e-3
@@ -462,6 +629,11 @@ def deepest(checker: CollisionChecker, traj: Trajectory, contact: Contact, dt: f
 class CollisionReport:
     """A trajectory proven clear of its cell, or its first contact.
 
+    Two numbers for a clear trajectory, not to be confused: ``least`` is how close it
+    comes to the cell (the least clearance over every pair along the whole trajectory,
+    found to a stated tolerance: :func:`least_clearance`), ``clearance`` what is proven
+    (no pair comes closer anywhere; with ``least`` it is ``least.lower``).
+
     Attributes:
         clear: proven clear (every pair farther than the margin all along).
         time: when the first contact begins [s], to :data:`TIME_TOL` (``None`` when clear).
@@ -469,10 +641,13 @@ class CollisionReport:
         depth: the deepest overlap of that pair during that contact [m], sampled at 1 kHz
             (0 for a contact that is only not proven: grazing).
         touching: the bodies really touch (not only a part not proven clear).
-        clearance: a proven lower bound on the clearance over the whole trajectory [m]
-            (``inf``: nothing to check; ``-inf`` when not clear).
+        clearance: a proven lower bound on the clearance over the whole trajectory, every
+            pair [m] (``inf``: nothing to check; ``-inf`` when not clear).
         margin: the clearance that was required [m].
-        evaluations: configurations whose distances were computed.
+        evaluations: configurations whose distances were computed (the least clearance's
+            search included).
+        least: the least clearance found (``None``: not asked for, not clear, or nothing
+            to check).
     """
 
     clear: bool
@@ -483,6 +658,7 @@ class CollisionReport:
     clearance: float
     margin: float
     evaluations: int
+    least: LeastClearance | None = None
 
     @property
     def ratio(self) -> float:
@@ -496,19 +672,38 @@ class CollisionReport:
 
     def __repr__(self) -> str:
         if self.clear:
-            return (f"CollisionReport(clear: clearance >= {self.clearance * 1e3:.3f} mm proven, "
-                    f"{self.evaluations} checks)")
+            if self.least is None:
+                return (f"CollisionReport(clear: proven >= {self.clearance * 1e3:.3f} mm from "
+                        f"every pair, {self.evaluations} checks)")
+            c = self.least
+            within = (f"to {c.tolerance * 1e3:g} mm" if c.converged
+                      else f"not to {c.tolerance * 1e3:g} mm (budget)")
+            return (f"CollisionReport(clear: least clearance {c.distance * 1e3:.3f} mm at "
+                    f"{c.at:.4f} s, {'-'.join(c.bodies)}, found {within}; proven >= "
+                    f"{self.clearance * 1e3:.3f} mm; {self.evaluations} checks)")
         what = f"{self.depth * 1e3:.3f} mm deep" if self.touching else "not proven clear"
         return (f"CollisionReport(first contact at {self.time or 0.0:.4f} s: "
                 f"{'-'.join(self.bodies or ())}, {what}; {self.evaluations} checks)")
 
 
-def collision_report(checker: CollisionChecker, traj: Trajectory) -> CollisionReport:
-    """:func:`check_trajectory` with the first contact located and its depth measured."""
+def collision_report(checker: CollisionChecker, traj: Trajectory, *, least: bool = True,
+                     tol: float = LEAST_TOL) -> CollisionReport:
+    """:func:`check_trajectory` with the first contact located and its depth measured.
+
+    Args:
+        checker: the robot in its cell.
+        traj: the trajectory.
+        least: when clear, also find the least clearance (:func:`least_clearance`).
+        tol: its tolerance [m].
+    """
     p = check_trajectory(checker, traj, locate=True)
     if p.clear:
-        return CollisionReport(True, None, None, 0.0, False, p.clearance, checker.margin,
-                               p.evaluations)
+        found = least_clearance(checker, traj, tol) if least else None
+        if found is None:
+            return CollisionReport(True, None, None, 0.0, False, p.clearance, checker.margin,
+                                   p.evaluations)
+        return CollisionReport(True, None, None, 0.0, False, max(found.lower, p.clearance),
+                               checker.margin, p.evaluations + found.evaluations, found)
     c = p.contact
     if c is None:  # pragma: no cover - prove() names the contact of every proof not clear
         raise RuntimeError("a proof that is not clear names no contact")
@@ -517,24 +712,28 @@ def collision_report(checker: CollisionChecker, traj: Trajectory) -> CollisionRe
                            checker.margin, p.evaluations)
 
 
-def make_checker(cell: object, robot: Robot | None, margin: float, nq: int
+def make_checker(cell: object, robot: Robot | None, margin: float | None, nq: int
                  ) -> CollisionChecker:
     """A checker from a Cell and a robot, or the checker given (for a trajectory of ``nq``).
 
+    ``margin`` [m]: ``None`` keeps a checker's own (0 for a Cell); any other value is used,
+    with a checker too (:meth:`~scara_opt.collision.checker.CollisionChecker.with_margin`).
+
     Raises:
-        InputError: neither a Cell nor a checker, no robot with a Cell, another joint count.
+        InputError: neither a Cell nor a checker, no robot with a Cell, another joint count,
+            a bad margin.
     """
     from scara_opt.checks import describe
     from scara_opt.collision.cell import Cell
     from scara_opt.errors import InputError
 
     if isinstance(cell, CollisionChecker):
-        checker = cell
+        checker = cell if margin is None else cell.with_margin(margin)
     elif isinstance(cell, Cell):
         if robot is None:
             raise InputError("check_collisions(cell) needs the robot: pass robot= (or a "
                              "CollisionChecker(robot, cell))")
-        checker = CollisionChecker(robot, cell, margin=margin)
+        checker = CollisionChecker(robot, cell, margin=0.0 if margin is None else margin)
     else:
         raise InputError(f"cell must be a scara_opt.Cell or a CollisionChecker; got "
                          f"{describe(cell)}")

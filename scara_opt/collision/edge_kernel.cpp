@@ -10,9 +10,14 @@
  * tests/test_edge_kernel.py holds it to the Python forms and to Pinocchio.
  *
  * Shapes: 0 sphere (r), 1 box (x, y, z full sides), 2 capsule (r, length),
- * 3 cylinder (r, length); nothing else (edge_kernel.py keeps the Python forms then). */
+ * 3 cylinder (r, length), 4 a triangle mesh (edge_kernel_add_mesh: coal's BVH for its
+ * exact surface distance, the convex pieces covering it for the proofs' lower bound, its
+ * hull and triangles for the inside test of a closed mesh; scara_opt.collision.mesh_bounds
+ * gives the argument); nothing else (edge_kernel.py keeps the Python forms then). */
+#include <coal/BVH/BVH_model.h>
 #include <coal/collision.h>
 #include <coal/distance.h>
+#include <coal/shape/convex.h>
 #include <coal/shape/geometric_shapes.h>
 
 #include <algorithm>
@@ -22,6 +27,13 @@
 #include <map>
 #include <memory>
 #include <vector>
+
+/* hulls farther apart than this (beyond the proofs' shift) [m] are the bound: nearer,
+ * the pieces (measured on the UR5's meshes in benchmarks/bench_plan.py) */
+const double HULL_NEAR = 0.01;
+
+/* what lower() takes off a convex distance [m]: twice GJK's tolerance */
+const double SLACK = 2e-6;
 
 typedef long long int casadi_int; /* casadi's default; edge_kernel.py checks the size */
 typedef int (*casadi_function)(const double **arg, double **res, casadi_int *iw, double *w,
@@ -43,6 +55,30 @@ void set_placement(coal::Transform3s &tf, const double *x) {
     tf.setTranslation(coal::Vec3s(x[9], x[10], x[11]));
 }
 
+/* A convex part of a body and the ball holding it (centre in the body's frame, radius). */
+struct Part {
+    std::shared_ptr<coal::CollisionGeometry> shape;
+    double ball[4];
+};
+
+/* A pair of nodes of two bodies' trees of hulls, and a lower bound on their distance
+ * (measured: their hulls' convex distance; else their parent's, or their balls'). */
+struct OpenPair {
+    double bound;
+    int i, j;
+    bool measured;
+};
+
+/* A mesh body's tree of hulls, triangles and hull's half-spaces (mesh_bounds.MeshParts). */
+struct Mesh {
+    std::vector<Part> nodes;      /* depth first, the root (the mesh's hull) first */
+    std::vector<int> children;    /* 2 per node; -1: a leaf */
+    std::vector<coal::Vec3s> V;
+    std::vector<int> T;           /* 3 per triangle */
+    std::vector<double> hull;     /* 4 per half-space: n . x + c <= 0 inside */
+    bool closed = false;
+};
+
 struct Kernel {
     int nq = 0, nmoving = 0;
     casadi_function fk = nullptr;   /* q -> 12 numbers per moving body: R row-major, p */
@@ -52,16 +88,25 @@ struct Kernel {
     std::vector<coal::Transform3s> tf;
     std::vector<int> slot;          /* a body's row in the Function's output, or -1: fixed */
     std::vector<int> first, second; /* the pairs' bodies */
-    double shift = 0.0;
-    /* per pair, as Pinocchio's GeometryData: coal's functor, its request (the GJK guess
-     * cached from the pair's last call) and result */
+    double shift = 0.0, margin = 0.0;
+    /* per body: a ball holding it, centre in its own frame and radius (4 numbers); a point
+     * of it (3 numbers: a primitive's centre, a mesh's vertex); its mesh or -1 */
+    std::vector<double> balls, inner;
+    std::vector<int> mesh_of;
+    std::vector<Mesh> meshes;
+    std::vector<int> ptype;         /* a primitive body's type, and its parameters (3) */
+    std::vector<double> prim;
+    /* per pair: coal's functor, its request (a fresh GJK start at every call: a warm start
+     * carried from an earlier query changes no answer) and result */
     std::vector<coal::ComputeDistance> functors;
     std::vector<coal::DistanceRequest> requests;
     std::vector<coal::DistanceResult> results;
-    /* and for contact tests, as Pinocchio's computeCollisions */
+    std::vector<char> meshy;        /* the pair has a mesh */
+    /* and for a pair with a mesh, coal's collision test, started afresh */
     std::vector<coal::ComputeCollision> colliders;
     std::vector<coal::CollisionRequest> contact_requests;
     std::vector<coal::CollisionResult> contact_results;
+    std::vector<std::vector<Part>> lone; /* a primitive body as its own single part */
 
     void place(const double *config) {
         const double *arg[1] = {config};
@@ -71,21 +116,190 @@ struct Kernel {
             if (slot[g] >= 0) set_placement(tf[g], &placed[12 * slot[g]]);
     }
 
-    double raw(int k) { /* the pair's signed distance [m] at the placed configuration */
+    double raw(int k) { /* coal's signed distance [m] of the pair (a mesh: its surface) */
         coal::DistanceResult &result = results[k];
         result.clear();
         functors[k](tf[first[k]], tf[second[k]], requests[k], result);
         return result.min_distance;
     }
 
-    double distance(int k) { return raw(k) - shift; }
+    /* The surface distance of a pair with a mesh, coal's BVH distance, no lower than the
+     * deepest the two balls allow (coal returns -DBL_MAX for a capsule lying in a face). */
+    double surface(int k) {
+        const double d = raw(k);
+        const double deepest = -(balls[4 * first[k] + 3] + balls[4 * second[k] + 3]);
+        return std::isnan(d) || d < deepest ? deepest : d;
+    }
 
-    bool touching(int k) { /* the pair in contact at the placed configuration */
+    /* Whether the point x (world) lies inside mesh m placed at t: inside its hull's
+     * half-spaces, and a winding number of magnitude > 1/2 over its triangles. */
+    bool contains(int m, const coal::Transform3s &t, const coal::Vec3s &x) const {
+        const Mesh &mesh = meshes[m];
+        const coal::Vec3s p = t.inverseTransform(x);
+        for (size_t f = 0; f < mesh.hull.size(); f += 4)
+            if (mesh.hull[f] * p[0] + mesh.hull[f + 1] * p[1] + mesh.hull[f + 2] * p[2]
+                + mesh.hull[f + 3] > 1e-12) return false;
+        double total = 0.0;
+        for (size_t i = 0; i < mesh.T.size(); i += 3) {
+            const coal::Vec3s a = mesh.V[mesh.T[i]] - p, b = mesh.V[mesh.T[i + 1]] - p,
+                              c = mesh.V[mesh.T[i + 2]] - p;
+            const double la = a.norm(), lb = b.norm(), lc = c.norm();
+            const double num = a.dot(b.cross(c));
+            const double den = la * lb * lc + a.dot(b) * lc + a.dot(c) * lb + b.dot(c) * la;
+            total += 2.0 * std::atan2(num, den);
+        }
+        return std::abs(total / (4.0 * 3.14159265358979323846)) > 0.5;
+    }
+
+    /* Whether one body of the pair lies wholly inside the other, a closed mesh (a body
+     * with no point on its surface: one point of it tells). */
+    bool inside(int k) const {
+        const int a = first[k], b = second[k];
+        for (int r = 0; r < 2; ++r) {
+            const int outer = r ? a : b, body = r ? b : a;
+            const int m = mesh_of[outer];
+            if (m < 0 || !meshes[m].closed) continue;
+            const double *x = &inner[3 * body];
+            if (contains(m, tf[outer], tf[body].transform(coal::Vec3s(x[0], x[1], x[2]))))
+                return true;
+        }
+        return false;
+    }
+
+    /* Whether the pair's meshes intersect: coal's collision test (its BVH, stopping at the
+     * first pair of triangles that meet). Trusted when it says yes only: it can miss. */
+    bool meet(int k) {
         coal::CollisionResult &result = contact_results[k];
         result.clear();
         colliders[k](tf[first[k]], tf[second[k]], contact_requests[k], result);
         return result.isCollision();
     }
+
+    /* The pair's signed distance [m], as reported (CollisionChecker.distances): coal's;
+     * with a mesh, its surface distance, 0 where it is positive but coal's collision test
+     * finds the surfaces meeting (meet()), and negated when one body lies inside a closed
+     * mesh (it is then at least that deep). */
+    double exact(int k) {
+        if (!meshy[k]) return raw(k);
+        const double d = surface(k);
+        if (d > 0 && meet(k)) return 0.0;
+        return d > 0 && inside(k) ? -d : d;
+    }
+
+    /* Node i of body g's tree (a primitive: its one node, itself); its children. */
+    const Part &node(int g, int i) const {
+        return mesh_of[g] >= 0 ? meshes[mesh_of[g]].nodes[i] : lone[g][0];
+    }
+    bool leaf(int g, int i) const {
+        return mesh_of[g] < 0 || meshes[mesh_of[g]].children[2 * i] < 0;
+    }
+    int child(int g, int i, int c) const { return meshes[mesh_of[g]].children[2 * i + c]; }
+
+    /* The convex distance [m] of node i of body a and node j of body b (GJK). */
+    double nodes_apart(int a, int i, int b, int j) {
+        coal::DistanceResult result;
+        return coal::distance(node(a, i).shape.get(), tf[a], node(b, j).shape.get(), tf[b],
+                              part_request, result);
+    }
+
+    /* A lower bound [m] on the pair's surface distance, by branch and bound down the two
+     * trees of hulls (mesh_bounds): a pair of nodes' hull distance bounds every pair of
+     * their triangles from below. Best first: the pair of nodes with the least bound is
+     * split (the one of larger ball; its children get their parent's bound, or their
+     * balls' distance where larger, until measured). It stops with the least bound of the
+     * open node pairs when that is a pair of leaves (their exact convex distance: the
+     * least over the whole surface's cover), above HULL_NEAR beyond the shift (far enough
+     * for any proof), or above `enough`. Less SLACK: GJK's distance of two hulls is exact
+     * to its tolerance, 1e-6 m (it came out 6e-8 m above coal's BVH distance). */
+    double lower(int k, double enough = std::numeric_limits<double>::infinity()) {
+        const int a = first[k], b = second[k];
+        const double far = HULL_NEAR + shift;
+        auto later = [](const OpenPair &x, const OpenPair &y) { return x.bound > y.bound; };
+        heap.clear();
+        const double root = nodes_apart(a, 0, b, 0);
+        hulls_meet = root <= 0;
+        heap.push_back({root, 0, 0, true});
+        for (;;) {
+            std::pop_heap(heap.begin(), heap.end(), later);
+            const OpenPair top = heap.back();
+            heap.pop_back();
+            if (!top.measured) {
+                heap.push_back({std::max(top.bound, nodes_apart(a, top.i, b, top.j)), top.i,
+                                top.j, true});
+                std::push_heap(heap.begin(), heap.end(), later);
+                continue;
+            }
+            const bool la = leaf(a, top.i), lb = leaf(b, top.j);
+            if ((la && lb) || top.bound > far || top.bound > enough) return top.bound - SLACK;
+            const bool split_a = !la && (lb || node(a, top.i).ball[3] >= node(b, top.j).ball[3]);
+            for (int c = 0; c < 2; ++c) {
+                const int i = split_a ? child(a, top.i, c) : top.i;
+                const int j = split_a ? top.j : child(b, top.j, c);
+                const Part &x = node(a, i), &y = node(b, j);
+                const coal::Vec3s cx = tf[a].transform(coal::Vec3s(x.ball[0], x.ball[1], x.ball[2]));
+                const coal::Vec3s cy = tf[b].transform(coal::Vec3s(y.ball[0], y.ball[1], y.ball[2]));
+                const double balls_gap = (cx - cy).norm() - x.ball[3] - y.ball[3];
+                heap.push_back({std::max(top.bound, balls_gap), i, j, false});
+                std::push_heap(heap.begin(), heap.end(), later);
+            }
+        }
+    }
+
+    /* What a proof takes as the pair's distance [m] (a lower bound on it, outside a
+     * solid): coal's distance; with a mesh, lower() where it is above the shift, else the
+     * exact surface distance. */
+    double bound(int k) {
+        if (!meshy[k]) return raw(k);
+        const double lb = lower(k);
+        if (lb > shift) return lb;
+        return lb <= 0 && meet(k) ? std::min(lb, 0.0) : surface(k);
+    }
+
+    double distance(int k) { return bound(k) - shift; }
+
+    /* What a proof takes at a configuration it starts from (a state, a first sample):
+     * bound(), and a contact (-1 m) where a body lies inside a closed mesh. */
+    double at_rest(int k) {
+        const double d = bound(k);
+        return meshy[k] && hulls_meet && inside(k) ? std::min(d, 0.0) - 1.0 : d;
+    }
+
+    /* A lower bound [m] on the pair's distance at the placed configuration: the distance
+     * of the two balls holding its bodies (no coal call). */
+    double balls_apart(int k) const {
+        const double *ba = &balls[4 * first[k]], *bb = &balls[4 * second[k]];
+        const coal::Transform3s &ta = tf[first[k]], &tb = tf[second[k]];
+        const coal::Vec3s wa = ta.transform(coal::Vec3s(ba[0], ba[1], ba[2]));
+        const coal::Vec3s wb = tb.transform(coal::Vec3s(bb[0], bb[1], bb[2]));
+        return (wa - wb).norm() - ba[3] - bb[3];
+    }
+
+    bool within(double d) const { return margin > 0 ? d < margin : d <= 0; }
+
+    /* Whether the pair is in contact at the placed configuration: closer than the margin
+     * (with none: a signed distance <= 0), decided by exact() itself, in two stages that
+     * collides() takes over all pairs in turn: quick() finds a contact by coal's own
+     * tests (a primitive pair's distance; meshes that meet), rest() settles the others
+     * (a mesh's hull bound farther than the margin, else its surface distance; and no
+     * body inside a closed mesh). A pair whose holding balls are farther apart than the
+     * margin is free, nor inside one another. */
+    bool touching(int k) {
+        if (balls_apart(k) > margin) return false;
+        return quick(k) || (meshy[k] && rest(k));
+    }
+
+    bool quick(int k) { return meshy[k] ? meet(k) : within(raw(k)); }
+
+    bool rest(int k) {
+        if (lower(k, margin) > margin) return hulls_meet && inside(k);
+        const double d = surface(k);
+        return within(d) || (d > 0 && inside(k));
+    }
+
+    std::vector<OpenPair> heap;     /* lower()'s open pairs of nodes */
+    bool hulls_meet = true;         /* the last lower()'s: the two hulls overlap (only then
+                                     * can one body lie inside the other) */
+    coal::DistanceRequest part_request;
 };
 
 std::shared_ptr<coal::CollisionGeometry> shape(int type, const double *p) {
@@ -111,11 +325,24 @@ extern "C" {
 
 int edge_kernel_casadi_int_size(void) { return (int)sizeof(casadi_int); }
 
+/* The ball holding a shape, in its own frame: centre (3) and radius (4 numbers). */
+void holding_ball(int type, const double *p, double *out) {
+    out[0] = out[1] = out[2] = 0.0;
+    switch (type) {
+    case 0: out[3] = p[0]; break;
+    case 1: out[3] = 0.5 * std::sqrt(p[0] * p[0] + p[1] * p[1] + p[2] * p[2]); break;
+    case 2: out[3] = p[0] + 0.5 * p[1]; break;
+    default: out[3] = std::sqrt(p[0] * p[0] + 0.25 * p[1] * p[1]); break;
+    }
+}
+
 /* A kernel for nbodies bodies (types, params 3 each, fixed world placements 12 each for
- * slot -1) and npairs pairs; fk: the casadi entry, its work sizes; shift: margin + tol. */
+ * slot -1); type 4 a mesh, given by edge_kernel_add_mesh before edge_kernel_pairs. fk: the
+ * casadi entry, its work sizes; shift: margin + tol for the proofs, margin: the clearance
+ * a contact test asks for [m]. */
 void *edge_kernel_new(int nq, void *fk, int sz_iw, int sz_w, int nmoving, int nbodies,
                       const int *types, const double *params, const double *fixed,
-                      const int *slot, int npairs, const int *pairs, double shift) {
+                      const int *slot, double shift, double margin) {
     auto *k = new Kernel();
     k->nq = nq;
     k->nmoving = nmoving;
@@ -125,57 +352,136 @@ void *edge_kernel_new(int nq, void *fk, int sz_iw, int sz_w, int nmoving, int nb
     k->placed.assign(12 * (nmoving > 0 ? nmoving : 1), 0.0);
     k->q.assign(nq, 0.0);
     k->shift = shift;
+    k->margin = margin;
+    k->balls.assign(4 * (size_t)nbodies, 0.0);
+    k->inner.assign(3 * (size_t)nbodies, 0.0);
+    k->mesh_of.assign(nbodies, -1);
+    k->lone.resize(nbodies);
+    k->ptype.assign(types, types + nbodies);
+    k->prim.assign(params, params + 3 * (size_t)nbodies);
+    k->part_request.gjk_initial_guess = coal::GJKInitialGuess::DefaultGuess;
     for (int g = 0; g < nbodies; ++g) {
         auto s = shape(types[g], params + 3 * g);
-        if (!s) { delete k; return nullptr; }
+        if (!s && types[g] != 4) { delete k; return nullptr; }
+        if (s) {
+            holding_ball(types[g], params + 3 * g, &k->balls[4 * (size_t)g]);
+            k->lone[g].push_back({s, {0.0, 0.0, 0.0, k->balls[4 * (size_t)g + 3]}});
+        }
         k->shapes.push_back(s);
         k->slot.push_back(slot[g]);
         k->tf.emplace_back();
         set_placement(k->tf.back(), fixed + 12 * g);
     }
+    return k;
+}
+
+/* Body g's mesh (mesh_bounds.MeshParts): nv vertices V (3 each), nt triangles T (3 each),
+ * nn nodes of its tree of hulls (counts[2 i], counts[2 i + 1]: a node's points and
+ * triangles, taken in turn from points (3 each) and tris (3 each, into its own points);
+ * children: 2 per node, -1 for a leaf), balls (4 per node), the mesh's ball (4), nh
+ * half-spaces of its hull (4 each), closed, a point of it (3). Returns 0 on success. */
+int edge_kernel_add_mesh(void *kernel, int g, int nv, const double *V, int nt, const int *T,
+                         int nn, const int *counts, const double *points, const int *tris,
+                         const int *children, const double *balls, const double *ball, int nh,
+                         const double *hull, int closed, const double *point) {
+    auto *k = (Kernel *)kernel;
+    auto bvh = std::make_shared<coal::BVHModel<coal::OBBRSS>>();
+    std::vector<coal::Vec3s> vs(nv);
+    for (int i = 0; i < nv; ++i) vs[i] = coal::Vec3s(V[3 * i], V[3 * i + 1], V[3 * i + 2]);
+    std::vector<coal::Triangle> ts(nt);
+    for (int i = 0; i < nt; ++i)
+        ts[i] = coal::Triangle((coal::Triangle::index_type)T[3 * i],
+                               (coal::Triangle::index_type)T[3 * i + 1],
+                               (coal::Triangle::index_type)T[3 * i + 2]);
+    if (bvh->beginModel(nt, nv) != 0 || bvh->addSubModel(vs, ts) != 0 || bvh->endModel() != 0)
+        return 1;
+    Mesh mesh;
+    mesh.V = vs;
+    mesh.T.assign(T, T + 3 * (size_t)nt);
+    mesh.hull.assign(hull, hull + 4 * (size_t)nh);
+    mesh.children.assign(children, children + 2 * (size_t)nn);
+    mesh.closed = closed != 0;
+    for (int i = 0; i < nn; ++i) {
+        const int n_pts = counts[2 * i], n_tri = counts[2 * i + 1];
+        auto pts = std::make_shared<std::vector<coal::Vec3s>>(n_pts);
+        for (int j = 0; j < n_pts; ++j)
+            (*pts)[j] = coal::Vec3s(points[3 * j], points[3 * j + 1], points[3 * j + 2]);
+        auto polys = std::make_shared<std::vector<coal::Triangle>>(n_tri);
+        for (int j = 0; j < n_tri; ++j)
+            (*polys)[j] = coal::Triangle((coal::Triangle::index_type)tris[3 * j],
+                                         (coal::Triangle::index_type)tris[3 * j + 1],
+                                         (coal::Triangle::index_type)tris[3 * j + 2]);
+        Part part;
+        part.shape = std::make_shared<coal::Convex<coal::Triangle>>(pts, n_pts, polys, n_tri);
+        std::copy(balls + 4 * i, balls + 4 * i + 4, part.ball);
+        mesh.nodes.push_back(part);
+        points += 3 * (size_t)n_pts;
+        tris += 3 * (size_t)n_tri;
+    }
+    k->shapes[g] = bvh;
+    k->mesh_of[g] = (int)k->meshes.size();
+    k->meshes.push_back(std::move(mesh));
+    std::copy(ball, ball + 4, &k->balls[4 * (size_t)g]);
+    std::copy(point, point + 3, &k->inner[3 * (size_t)g]);
+    return 0;
+}
+
+/* The kernel's npairs pairs (2 bodies each), every body's shape given. */
+void edge_kernel_pairs(void *kernel, int npairs, const int *pairs) {
+    auto *k = (Kernel *)kernel;
     for (int p = 0; p < npairs; ++p) {
         const int a = pairs[2 * p], b = pairs[2 * p + 1];
         k->first.push_back(a);
         k->second.push_back(b);
         k->functors.emplace_back(k->shapes[a].get(), k->shapes[b].get());
         coal::DistanceRequest request(true);
-        request.enable_cached_gjk_guess = true;
+        request.gjk_initial_guess = coal::GJKInitialGuess::DefaultGuess;
         k->requests.push_back(request);
         k->results.emplace_back();
+        k->meshy.push_back(k->mesh_of[a] >= 0 || k->mesh_of[b] >= 0);
         k->colliders.emplace_back(k->shapes[a].get(), k->shapes[b].get());
-        /* Pinocchio's: one contact, the GJK guess cached, GJK stopping once the pair is
-         * proven 1e-6 m apart (computeCollision's distance_upper_bound) */
         coal::CollisionRequest contact(coal::NO_REQUEST, 1);
-        contact.enable_cached_gjk_guess = true;
-        contact.distance_upper_bound = contact.security_margin + 1e-6;
+        contact.gjk_initial_guess = coal::GJKInitialGuess::DefaultGuess;
         k->contact_requests.push_back(contact);
         k->contact_results.emplace_back();
     }
-    return k;
 }
 
 void edge_kernel_free(void *kernel) { delete (Kernel *)kernel; }
 
 /* Signed distances [m] of the pairs cols (ncols; NULL: all) at each of the n rows of Q
- * (n, nq): out (n, ncols), as CollisionChecker.pair_distances. */
+ * (n, nq): out (n, ncols); kind 1: as reported (Kernel::exact), 0: what a proof takes
+ * inside a motion (Kernel::bound), 2: at its start (Kernel::at_rest); all three the same
+ * for primitives. */
 void edge_kernel_batch(void *kernel, const double *Q, int n, const int *cols, int ncols,
-                       double *out) {
+                       int kind, double *out) {
     auto *k = (Kernel *)kernel;
     for (int i = 0; i < n; ++i) {
         k->place(Q + (size_t)i * k->nq);
-        for (int c = 0; c < ncols; ++c) out[(size_t)i * ncols + c] = k->raw(cols ? cols[c] : c);
+        for (int c = 0; c < ncols; ++c) {
+            const int p = cols ? cols[c] : c;
+            out[(size_t)i * ncols + c] = kind == 1 ? k->exact(p)
+                                         : kind == 2 ? k->at_rest(p) : k->bound(p);
+        }
     }
 }
 
 /* Whether any pair is in contact at each of the n rows of Q (n, nq): out (n,), 0 or 1,
- * as CollisionChecker.collides (Pinocchio's computeCollisions, stopping at the first). */
+ * as CollisionChecker.collides (Kernel::touching, stopping at the first). */
 void edge_kernel_collides(void *kernel, const double *Q, int n, unsigned char *out) {
     auto *k = (Kernel *)kernel;
     const int np = (int)k->first.size();
+    std::vector<int> near;
     for (int i = 0; i < n; ++i) {
         k->place(Q + (size_t)i * k->nq);
         unsigned char hit = 0;
-        for (int p = 0; p < np && !hit; ++p) hit = k->touching(p);
+        near.clear();
+        for (int p = 0; p < np && !hit; ++p) {  /* Kernel::touching, quick stage first */
+            if (k->balls_apart(p) > k->margin) continue;
+            hit = k->quick(p);
+            if (k->meshy[p]) near.push_back(p);
+        }
+        for (size_t r = 0; r < near.size() && !hit; ++r) hit = k->rest(near[r]);
         out[i] = hit;
     }
 }
@@ -270,7 +576,7 @@ int edge_kernel_prove_path(void *kernel, int m, int order, const double *x, cons
     for (int i = 0; i <= m; ++i) {
         eval(i < m ? i : m - 1, x[i], &Q[(size_t)i * nq]);
         k->place(&Q[(size_t)i * nq]);
-        for (int p = 0; p < np; ++p) D[(size_t)i * np + p] = k->raw(p) - k->shift;
+        for (int p = 0; p < np; ++p) D[(size_t)i * np + p] = k->at_rest(p) - k->shift;
     }
     for (int i = 0; i <= m; ++i)
         for (int p = 0; p < np; ++p)
@@ -359,7 +665,7 @@ int edge_kernel_prove_path(void *kernel, int m, int order, const double *x, cons
             k->place(&Qm[i * nq]);
             for (int p = 0; p < np; ++p) {
                 if (!fails[p]) continue;
-                Dm[i * np + p] = k->raw(p) - k->shift;
+                Dm[i * np + p] = k->bound(p) - k->shift;
                 if (Dm[i * np + p] <= 0 && (hit < 0 || mids[i] < mids[hit])) hit = (int)i;
             }
         }
@@ -419,7 +725,8 @@ struct Prover {
         k->place(q);
         s.least = std::numeric_limits<double>::infinity();
         for (int p = 0; p < np; ++p) {
-            s.d[p] = k->distance(p);
+            /* a state: its distances as the proofs take them, and no body inside a solid */
+            s.d[p] = k->at_rest(p) - k->shift;
             s.least = std::min(s.least, s.d[p]);
         }
         if (!A.empty()) {

@@ -12,8 +12,10 @@ the same counts as its Python form, which stays as the reference the tests hold 
 * :meth:`EdgeKernel.prove_path`: :func:`~scara_opt.collision.continuous.check_path`
   (``locate=False``), the proof of the spline a planned move is timed along;
 * :meth:`EdgeKernel.batch` and :meth:`EdgeKernel.collides`: the checker's batches of
-  distances and of contact tests (per pair coal's functors and requests as Pinocchio's
-  ``GeometryData`` holds them).
+  distances and of contact tests (per pair coal's distance functor, every call started
+  afresh: no GJK guess carried from an earlier query; a contact is a signed distance
+  below the margin, a pair skipped only when the balls holding its bodies are farther
+  apart than that).
 
 The robot's bodies are placed by a compiled casadi Function of their world placements
 (:func:`~scara_opt.model.symbolic.chain_walk`'s frames times each body's placement in its
@@ -37,6 +39,7 @@ import casadi as ca
 import numpy as np
 from numpy.typing import NDArray
 
+from scara_opt.collision.mesh_bounds import MeshParts, mesh_parts
 from scara_opt.model import symbolic
 from scara_opt.model.batch_fk import kinematic_key
 from scara_opt.model.compiled import c_library, compiled, library_path, source_hash
@@ -51,6 +54,9 @@ __all__ = ["EdgeKernel", "NativeProver", "edge_kernel", "shape_code"]
 SOURCE = Path(__file__).with_name("edge_kernel.cpp")
 
 _P, _I, _D = ctypes.c_void_p, ctypes.c_int, ctypes.c_double
+
+#: the kinds of distance the kernel's batch gives (EdgeKernel.batch)
+KINDS = {"bound": 0, "exact": 1, "rest": 2}
 _IP, _DP = ctypes.POINTER(ctypes.c_int), ctypes.POINTER(ctypes.c_double)
 
 
@@ -58,10 +64,13 @@ def shape_code(shape: Any) -> tuple[int, tuple[float, float, float]] | None:
     """The kernel's code and parameters of a coal shape, or ``None`` (not supported).
 
     0 sphere (radius), 1 box (full sides), 2 capsule and 3 cylinder (radius, full length)
-    [m]: the arguments coal's constructors take.
+    [m]: the arguments coal's constructors take; 4 a triangle mesh (a ``BVHModel``: its
+    parts go in by ``edge_kernel_add_mesh``).
     """
     import coal
 
+    if isinstance(shape, coal.BVHModelBase):
+        return 4, (0.0, 0.0, 0.0)
     if isinstance(shape, coal.Sphere):
         return 0, (float(shape.radius), 0.0, 0.0)
     if isinstance(shape, coal.Box):
@@ -107,10 +116,14 @@ def _library() -> ctypes.CDLL | None:
         return None
     if lib.edge_kernel_casadi_int_size() != ctypes.sizeof(ctypes.c_longlong):
         return None  # pragma: no cover - casadi's default integer
-    lib.edge_kernel_new.argtypes = [_I, _P, _I, _I, _I, _I, _IP, _DP, _DP, _IP, _I, _IP, _D]
+    lib.edge_kernel_new.argtypes = [_I, _P, _I, _I, _I, _I, _IP, _DP, _DP, _IP, _D, _D]
     lib.edge_kernel_new.restype = _P
+    lib.edge_kernel_add_mesh.argtypes = [_P, _I, _I, _DP, _I, _IP, _I, _IP, _DP, _IP, _IP, _DP,
+                                         _DP, _I, _DP, _I, _DP]
+    lib.edge_kernel_add_mesh.restype = _I
+    lib.edge_kernel_pairs.argtypes = [_P, _I, _IP]
     lib.edge_kernel_free.argtypes = [_P]
-    lib.edge_kernel_batch.argtypes = [_P, _P, _I, _P, _I, _P]
+    lib.edge_kernel_batch.argtypes = [_P, _P, _I, _P, _I, _I, _P]
     lib.edge_kernel_collides.argtypes = [_P, _P, _I, _P]
     lib.edge_kernel_prove_path.argtypes = [_P, _I, _I, _P, _P, _P, _P, _P, _P, _P, _D,
                                            ctypes.c_longlong, _P]
@@ -175,7 +188,11 @@ class EdgeKernel:
         self._lib = lib
         self._handle = lib.edge_kernel_new(
             checker.robot.nq, entry[0], f.sz_iw(), f.sz_w(), len(moving), len(objects),
-            _ip(types), _dp(params), _dp(fixed), _ip(slots), len(pairs), _ip(pairs), shift)
+            _ip(types), _dp(params), _dp(fixed), _ip(slots), shift, checker.margin)
+        for g, o in enumerate(objects):
+            if types[g] == 4:
+                _add_mesh(lib, self._handle, g, mesh_parts(o.geometry))
+        lib.edge_kernel_pairs(self._handle, len(pairs), _ip(pairs))
         self.nq, self.npairs = checker.robot.nq, len(pairs)
         self._open = np.zeros(self.npairs, np.intc)  # the pairs asked for by batch
         self._batch, self._prove_path = lib.edge_kernel_batch, lib.edge_kernel_prove_path
@@ -186,19 +203,31 @@ class EdgeKernel:
         if handle:
             self._lib.edge_kernel_free(handle)
 
-    def batch(self, Q: Array, cols: list[int] | None = None) -> Array:
-        """Signed distances (n, len(cols)) [m] of pairs ``cols`` (None: all) at rows ``Q``."""
+    def batch(self, Q: Array, cols: list[int] | None = None, kind: str = "exact") -> Array:
+        """Signed distances (n, len(cols)) [m] of pairs ``cols`` (None: all) at rows ``Q``.
+
+        ``kind``: ``"exact"`` as reported; ``"bound"`` what a proof takes inside a motion (a
+        lower bound: for a pair with a mesh, its tree of hulls' where above the margin and
+        tolerance); ``"rest"`` at a motion's start (the bound, and a contact where a body
+        lies inside a closed mesh). The same for primitives.
+        """
         Q = np.ascontiguousarray(Q, float)
         n = len(cols) if cols is not None else self.npairs
         out = np.empty((len(Q), n))
         if cols is not None:
             self._open[:n] = cols
         self._batch(self._handle, Q.ctypes.data, len(Q),
-                    None if cols is None else self._open.ctypes.data, n, out.ctypes.data)
+                    None if cols is None else self._open.ctypes.data, n, KINDS[kind],
+                    out.ctypes.data)
         return out
 
     def collides(self, Q: Array) -> NDArray[np.bool_]:
-        """Whether any pair is in contact (n,) at each row of ``Q`` (n, nq), no margin."""
+        """Whether any pair is in contact (n,) at each row of ``Q`` (n, nq).
+
+        Closer than the checker's margin (with none: a signed distance <= 0), by coal's
+        signed distance with a fresh start: the verdict of
+        :meth:`~scara_opt.collision.checker.CollisionChecker.collides`.
+        """
         Q = np.ascontiguousarray(Q, float)
         out = np.zeros(len(Q), np.uint8)
         self._collides(self._handle, Q.ctypes.data, len(Q), out.ctypes.data)
@@ -295,6 +324,26 @@ class NativeProver:
         q[0], q[1] = a, b
         at = self._at
         return bool(self._edge(self._handle, at[0], at[1], resolution, at[3]))
+
+
+def _add_mesh(lib: ctypes.CDLL, handle: Any, g: int, parts: MeshParts) -> None:
+    """Hand body ``g``'s mesh (its BVH, pieces, hull, triangles) to the kernel."""
+    V = np.ascontiguousarray(parts.vertices, float)
+    T = np.ascontiguousarray(parts.triangles, np.intc)
+    every = parts.nodes
+    counts = np.array([(len(p), len(t)) for p, t in every], np.intc).ravel()
+    points = np.ascontiguousarray(np.vstack([p for p, _ in every]), float)
+    tris = np.ascontiguousarray(np.vstack([t for _, t in every]), np.intc)
+    children = np.ascontiguousarray(parts.children, np.intc)
+    balls = np.ascontiguousarray(parts.balls, float)
+    ball = np.ascontiguousarray(parts.ball, float)
+    hull = np.ascontiguousarray(parts.hull, float)
+    point = np.ascontiguousarray(parts.point, float)
+    if lib.edge_kernel_add_mesh(handle, g, len(V), _dp(V), len(T), _ip(T), len(every),
+                                _ip(counts), _dp(points), _ip(tris), _ip(children),
+                                _dp(balls), _dp(ball), len(hull), _dp(hull), int(parts.closed),
+                                _dp(point)):
+        raise RuntimeError("coal could not build a mesh's BVH")  # pragma: no cover
 
 
 def _dp(a: Array) -> Any:

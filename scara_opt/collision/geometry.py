@@ -45,8 +45,8 @@ log = logging.getLogger(__name__)
 
 Array = NDArray[np.float64]
 
-__all__ = ["Body", "RobotGeometry", "capsule_object", "reference_configuration",
-           "robot_geometry", "support_points"]
+__all__ = ["Body", "RobotGeometry", "capsule_object", "pair_distance",
+           "reference_configuration", "robot_geometry", "support_points"]
 
 #: how a link without a mesh file may be replaced (``missing_mesh=``)
 MISSING_MESH = ("error", "capsule")
@@ -57,8 +57,9 @@ class Body:
     """One collision body.
 
     Attributes:
-        name: unique name (a URDF collision's ``<link>_<k>``, a capsule's link name, a
-            shaft's ``<link>_shaft``, or an obstacle's name).
+        name: unique name: a URDF link's name (``<link>_<k>`` for each of the shapes of a
+            link with several), a capsule's link name, a shaft's ``<link>_shaft``, or an
+            obstacle's name.
         link: the URDF link it belongs to (the obstacle's name for an obstacle).
         joint: the Pinocchio joint it moves with (0: fixed in the world).
         points: (k, 3) support points in the joint's frame [m].
@@ -127,6 +128,17 @@ def support_points(shape: coal.CollisionGeometry, placement: pin.SE3) -> tuple[A
     corners = np.array([[x, y, z] for x in (lo[0], hi[0]) for y in (lo[1], hi[1])
                         for z in (lo[2], hi[2])])
     return corners @ R.T + t, 0.0
+
+
+def pair_distance(geom: pin.GeometryModel, gdata: pin.GeometryData, i: int, j: int) -> float:
+    """Coal's signed distance [m] of objects ``i`` and ``j`` as placed in ``gdata``, afresh.
+
+    A fresh request (no GJK guess from an earlier call): what every verdict is decided by
+    (:meth:`~scara_opt.collision.checker.CollisionChecker.collides`).
+    """
+    req, res = coal.DistanceRequest(), coal.DistanceResult()
+    return float(coal.distance(geom.geometryObjects[i].geometry, gdata.oMg[i],
+                               geom.geometryObjects[j].geometry, gdata.oMg[j], req, res))
 
 
 def capsule_object(name: str, joint: int, a: Array, b: Array, radius: float
@@ -222,11 +234,26 @@ def _mesh_files(urdf_text: str) -> list[tuple[str, str]]:
 
 
 def _urdf_bodies(robot: Robot, radius: object, missing_mesh: str) -> list[pin.GeometryObject]:
-    """The URDF's ``<collision>`` objects, a missing mesh's link as capsules if asked."""
-    from scara_opt.model.urdf_checks import _mesh_found
+    """The URDF's ``<collision>`` objects, a missing mesh's link as capsules if asked.
+
+    Every mesh file is found as yourdfpy finds it (relative to the URDF, or a
+    ``package://`` URI from a folder above it: example-robot-data's layout) and handed
+    to Pinocchio as that absolute path, so Pinocchio needs no package folders.
+    """
+    from scara_opt.model.urdf_checks import resolve_mesh
 
     urdf_text, mesh_dir = robot._init_args[0], robot._init_args[6] or ""
-    missing = [(link, f) for link, f in _mesh_files(urdf_text) if not _mesh_found(f, mesh_dir)]
+    root = ET.fromstring(urdf_text)
+    missing: list[tuple[str, str]] = []
+    for link in root.iter("link"):
+        for col in link.findall("collision"):
+            for mesh in col.iter("mesh"):
+                fname = mesh.get("filename", "")
+                found = resolve_mesh(fname, mesh_dir)
+                if found is None:
+                    missing.append((link.get("name", ""), fname))
+                else:
+                    mesh.set("filename", str(found))
     lost: set[str] = set()
     if missing:
         link, fname = missing[0]
@@ -240,19 +267,52 @@ def _urdf_bodies(robot: Robot, radius: object, missing_mesh: str) -> list[pin.Ge
         log.warning("robot %r: collision meshes of links %s cannot be found (e.g. %r); those "
                     "links get capsules instead (missing_mesh='capsule')", robot.name,
                     sorted(lost), fname)
-        root = ET.fromstring(urdf_text)
         for node in root.iter("link"):
             if node.get("name") in lost:
                 for col in node.findall("collision"):
                     node.remove(col)
-        urdf_text = ET.tostring(root, encoding="unicode")
-    dirs = [mesh_dir] if mesh_dir else []
+    urdf_text = ET.tostring(root, encoding="unicode")
     geom = pin.buildGeomFromUrdfString(robot.model, urdf_text, pin.GeometryType.COLLISION,
-                                       package_dirs=dirs)
+                                       package_dirs=[mesh_dir] if mesh_dir else [])
     objects = list(geom.geometryObjects)
+    _link_named(robot, objects)
+    _check_mesh_sizes(robot, objects)
     if lost:
         objects += _capsules(robot, radius, only=lost)
     return objects
+
+
+def _check_mesh_sizes(robot: Robot, objects: list[pin.GeometryObject]) -> None:
+    """Refuse a link mesh metres across (a file in mm with no ``scale`` on its ``<mesh>``).
+
+    Raises:
+        CellError: a mesh wider than :data:`~scara_opt.collision.obstacles.MESH_EXTENT`.
+    """
+    from scara_opt.collision.obstacles import MESH_EXTENT
+
+    for obj in objects:
+        shape = obj.geometry
+        if not isinstance(shape, coal.BVHModelBase) or not shape.num_vertices:
+            continue
+        V = np.asarray(shape.vertices(), float)
+        extent = float((V.max(axis=0) - V.min(axis=0)).max())
+        if extent > MESH_EXTENT:
+            raise CellError(f"robot {robot.name!r}: the collision mesh of link {obj.name!r} "
+                            f"({obj.meshPath}) spans {extent:.4g} m; a file in mm needs "
+                            "<mesh filename=... scale=\"0.001 0.001 0.001\"/> in the URDF")
+
+
+def _link_named(robot: Robot, objects: list[pin.GeometryObject]) -> None:
+    """Each object renamed after its URDF link (Pinocchio's ``<link>_<k>`` where it has several).
+
+    Pinocchio files a link's shapes under the joint that moves it (a fixed base under
+    ``universe``, a tool link under the last joint); its frame is the link's own.
+    """
+    frames = robot.model.frames
+    links = [frames[o.parentFrame].name for o in objects]
+    for obj, link in zip(objects, links, strict=True):
+        if links.count(link) == 1:
+            obj.name = link
 
 
 def _srdf_pairs(srdf: str | Path) -> list[tuple[str, str]]:
@@ -351,14 +411,16 @@ def robot_geometry(robot: Robot, *, radius: object = None, srdf: str | Path | No
         raise CellError(f"robot {robot.name!r} has no collision body; add <collision> "
                         "elements or radius keys")
     geom = pin.GeometryModel()
-    links = _link_names(robot)
     bodies = []
+    frames = robot.model.frames
     for obj in objects:
         geom.addGeometryObject(obj)
         points, pad = support_points(obj.geometry, obj.placement)
-        link = obj.name.removesuffix("_shaft") if source != "URDF <collision>" else (
-            obj.name.rsplit("_", 1)[0] if obj.name.rsplit("_", 1)[0] in links else
-            links[obj.parentJoint])
+        if source == "URDF <collision>" and obj.parentFrame < len(frames) and \
+                frames[obj.parentFrame].type == pin.FrameType.BODY:
+            link = frames[obj.parentFrame].name  # the URDF link it belongs to
+        else:  # capsules: their own link's name (a shaft's, less "_shaft")
+            link = obj.name.removesuffix("_shaft")
         bodies.append(Body(obj.name, link, int(obj.parentJoint), points, pad))
     known: dict[str, set[int]] = {}
     for i, b in enumerate(bodies):
@@ -394,9 +456,7 @@ def _touching_at_reference(robot: Robot, geom: pin.GeometryModel, bodies: list[B
     pin.updateGeometryPlacements(robot.model, data, geom, gdata, q)
     kept = []
     for i, j in candidates:
-        req, res = coal.CollisionRequest(), coal.CollisionResult()
-        hit = coal.collide(geom.geometryObjects[i].geometry, gdata.oMg[i],
-                           geom.geometryObjects[j].geometry, gdata.oMg[j], req, res)
+        hit = pair_distance(geom, gdata, i, j) <= 0.0
         if hit:
             skipped[(bodies[i].name, bodies[j].name)] = "in contact at the reference configuration"
             log.info("robot %r: self pair %s-%s in contact at the reference configuration %s: "

@@ -9,6 +9,7 @@ at construction: zero, negative or non-finite sizes raise :class:`~scara_opt.err
 
 from __future__ import annotations
 
+import logging
 import math
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -18,30 +19,63 @@ import coal
 import numpy as np
 import pinocchio as pin
 
-from scara_opt.checks import describe, is_real
+from scara_opt.checks import check_path, check_text, describe, is_real
 from scara_opt.errors import CellError, MeshNotFoundError
+
+log = logging.getLogger(__name__)
 
 __all__ = ["Box", "Capsule", "Cylinder", "Mesh", "Obstacle", "Sphere"]
 
 
-def _vector(owner: str, name: str, value: object, n: int = 3) -> tuple[float, ...]:
-    """``value`` as ``n`` finite floats, or CellError naming the obstacle and field."""
+#: the largest position or size of an obstacle [m]: a cell spans metres, and coal's
+#: distances lose their micrometres far beyond this (a box at 1e300 m was "0.000 mm deep")
+MAX_EXTENT = 1e4
+
+#: the widest a mesh obstacle may be [m] (wider: a file in mm read as metres)
+MESH_EXTENT = 50.0
+
+#: the smallest size of an obstacle [m] (a 1e-300 m box inside a link gave -inf mm)
+MIN_SIZE = 1e-6
+
+
+def _finite(value: object) -> float | None:
+    """``value`` as a finite float, or None (not a real number, inf, NaN, or too large)."""
+    if not is_real(value):
+        return None
+    try:
+        v = float(value)
+    except OverflowError:  # an int beyond any float
+        return None
+    return v if math.isfinite(v) else None
+
+
+def _vector(owner: str, name: str, value: object, n: int = 3,
+            limit: float = MAX_EXTENT) -> tuple[float, ...]:
+    """``value`` as ``n`` finite floats within ±``limit``, or CellError naming the field."""
     try:
         items = list(value)  # type: ignore[call-overload]
     except TypeError:
         items = None
-    if (items is None or len(items) != n or not all(is_real(v) for v in items)
-            or not all(math.isfinite(float(v)) for v in items)):
+    floats = None if items is None else [_finite(v) for v in items]
+    if floats is None or len(floats) != n or any(v is None for v in floats):
         raise CellError(f"obstacle {owner!r}: {name} must be {n} finite numbers; got "
                         f"{describe(value)}")
-    return tuple(float(v) for v in items)
+    out = tuple(float(v) for v in floats if v is not None)
+    if max(abs(v) for v in out) > limit:
+        raise CellError(f"obstacle {owner!r}: {name} {list(out)} lies beyond {limit:g} m "
+                        "(no cell is that large: check the units)")
+    return out
 
 
 def _size(owner: str, name: str, value: object, unit: str = "m") -> float:
-    if not (is_real(value) and math.isfinite(float(value)) and float(value) > 0):
+    v = _finite(value)
+    if v is None or v <= 0:
         raise CellError(f"obstacle {owner!r}: {name} must be a finite number > 0 [{unit}]; got "
                         f"{describe(value)}; give its real size (a flat plate is a thin box)")
-    return float(value)
+    if unit == "m" and not MIN_SIZE <= v <= MAX_EXTENT:
+        raise CellError(f"obstacle {owner!r}: {name} {v:g} m is outside [{MIN_SIZE:g}, "
+                        f"{MAX_EXTENT:g}] m; give its real size (check the units)")
+    return v
 
 
 @dataclass(frozen=True)
@@ -61,9 +95,7 @@ class Obstacle:
     kind: ClassVar[str] = "obstacle"
 
     def __post_init__(self) -> None:
-        if not isinstance(self.name, str) or not self.name:
-            raise CellError(f"an obstacle's name must be a non-empty str; got "
-                            f"{describe(self.name)}")
+        check_text("an obstacle's name", self.name, CellError)
         object.__setattr__(self, "xyz", _vector(self.name, "xyz", self.xyz))
         object.__setattr__(self, "rpy", _vector(self.name, "rpy", self.rpy))
         self._check()
@@ -169,8 +201,9 @@ class Mesh(Obstacle):
         path: the mesh file.
         scale: per-axis scale (3,) from the file's units to metres (e.g. 0.001 for mm).
 
-    Note: coal gives no penetration depth between a mesh and a shape: a contact with a
-    mesh reports depth 0.
+    A closed mesh (watertight, consistently wound) is a solid: a body inside it is a
+    contact. An open one is a surface (said once, when it is loaded). A contact with a mesh
+    reports coal's depth of its triangles (at least 0).
     """
 
     path: str | Path = ""
@@ -178,15 +211,40 @@ class Mesh(Obstacle):
     kind: ClassVar[str] = "mesh"
 
     def _check(self) -> None:
-        if not isinstance(self.path, (str, Path)) or not str(self.path):
-            raise CellError(f"obstacle {self.name!r}: path must be a mesh file path; got "
-                            f"{describe(self.path)}")
+        check_path(f"obstacle {self.name!r}: path", self.path, CellError)
         if not Path(self.path).is_file():
             raise MeshNotFoundError(str(self.path), f"obstacle {self.name!r}",
                                     "check the path (a cell file's paths are relative to it)")
-        scale = _vector(self.name, "scale", self.scale)
+        scale = _vector(self.name, "scale", self.scale, limit=1e6)
         object.__setattr__(self, "scale", tuple(_size(self.name, f"scale[{i}]", v, "-")
                                                 for i, v in enumerate(scale)))
+        self._inspect()
+
+    def _inspect(self) -> None:
+        """Load the mesh once: refuse an empty one or one metres across (a file in mm read
+        as metres), and say so of an open one (a surface: inside it is no contact).
+
+        Raises:
+            CellError: unreadable, no triangles, or wider than :data:`MESH_EXTENT`.
+        """
+        from scara_opt.collision.mesh_bounds import is_closed, mesh_arrays
+
+        shape = self.shape()
+        V, T = mesh_arrays(shape)
+        where = f"obstacle {self.name!r}: mesh {str(self.path)!r}"
+        if not len(T):
+            raise CellError(f"{where} has no triangles; export the part as a triangle mesh "
+                            "(STL, OBJ)")
+        extent = float((V.max(axis=0) - V.min(axis=0)).max())
+        if extent > MESH_EXTENT:
+            raise CellError(f"{where} spans {extent:.4g} m at scale {list(self.scale)}: more "
+                            f"than {MESH_EXTENT:g} m, no fixture is that large; a file in mm "
+                            "needs scale = 0.001 (in a cell file in m; in a cell file in mm "
+                            "the file's units are taken as mm already)")
+        if not is_closed(V, T):
+            log.warning("%s is open (not watertight, or not consistently wound): it is taken "
+                        "as a surface, so a body inside it is not a contact; close the mesh "
+                        "to make it a solid", where)
 
     def shape(self) -> coal.CollisionGeometry:
         """A coal ``BVHModel`` read by coal's mesh loader."""

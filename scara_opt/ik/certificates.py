@@ -29,6 +29,10 @@ from scara_opt.model.robot import Array, Robot
 from scara_opt.target import Target
 
 
+#: round-off allowed per unit of the lengths (or angles) a certificate adds up: 64 ulps
+ROUND_OFF = 64.0 * float(np.finfo(float).eps)
+
+
 def _reach(geom: ScaraGeometry, lo: float, hi: float) -> tuple[float, float]:
     """The shoulder-to-tip distances [m] the elbow's range [lo, hi] [rad] allows."""
     l1, l2 = geom.l1, geom.l2
@@ -74,11 +78,13 @@ def scara_certificate(robot: Robot, target: Target, tol: float) -> Certificate |
     Three arguments, tried in order, each exact for a SCARA-type chain:
 
     1. **height**: the tip's height along the tool axis is the base height plus the
-       strokes, whatever the other joints do; outside their range by more than ``tol``;
+       strokes, whatever the other joints do; outside their range by more than ``tol``
+       plus a round-off margin (:func:`_margin`: the FK the solvers are judged by can put
+       the tip a few ulps beyond the exact range);
     2. **reach**: the shoulder-to-tip distance lies in an interval set by the elbow's
        range (the arm stretched, or folded as far as the elbow allows); the target's
        distance from the shoulder axis (over the rail's range) is outside it by more than
-       ``tol``: beyond reach, or inside the hole around the base;
+       ``tol`` plus the same margin: beyond reach, or inside the hole around the base;
     3. **joint limits**: the least distance in the plane from the target to every tip
        position the shoulder, elbow (and rail) limits allow, among the configurations
        whose tool angle is within ``tol`` of a yaw target's (the wrists' range taken
@@ -105,7 +111,9 @@ def scara_certificate(robot: Robot, target: Target, tol: float) -> Certificate |
         else (0.0, 0.0)
     h = float(p @ geom.n) - geom.h0
     dz = max(hmin - h, h - hmax, 0.0)
-    if dz > tol:
+    slack = _margin(geom, geom.plane(p) - geom.base,
+                    abs(geom.h0) + abs(hmin) + abs(hmax) + float(np.abs(p).sum()))
+    if dz - slack > tol:
         return Certificate(Reason.HEIGHT, dz, (
             f"the tip's height along the tool axis is {geom.h0:.6g} m plus the strokes, "
             f"[{geom.h0 + hmin:.6g}, {geom.h0 + hmax:.6g}] m whatever the other joints do; "
@@ -114,12 +122,14 @@ def scara_certificate(robot: Robot, target: Target, tol: float) -> Certificate |
     uv = geom.plane(p) - geom.base
     near, far = _shoulder_distances(geom, uv, lo, hi)
     rail = " (over the rail's range)" if geom.rails else ""
-    if near - rmax > tol:
+    slack = _margin(geom, uv, float(np.abs(geom.rail).sum()) * float(np.abs(
+        np.concatenate([lo[geom.rails], hi[geom.rails]])).max(initial=0.0)))
+    if near - rmax - slack > tol:
         return Certificate(Reason.BEYOND_REACH, near - rmax, (
             f"the tip is at most {rmax:.6g} m from the shoulder axis (links {geom.l1:.6g} + "
             f"{geom.l2:.6g} m, elbow range); the target is {near:.6g} m from it{rail}, "
             f"{near - rmax:.4g} m too far"))
-    if rmin - far > tol:
+    if rmin - far - slack > tol:
         return Certificate(Reason.INSIDE_HOLE, rmin - far, (
             f"the elbow's range keeps the tip at least {rmin:.6g} m from the shoulder axis; "
             f"the target is {far:.6g} m from it{rail}, {rmin - far:.4g} m inside that hole"))
@@ -134,7 +144,7 @@ def _margin(geom: ScaraGeometry, uv: Array, rail: float) -> float:
     geometry was read).
     """
     scale = geom.l1 + geom.l2 + float(np.abs(uv).sum()) + rail
-    return 64.0 * np.finfo(float).eps * scale + 4.0 * geom.fk_error
+    return ROUND_OFF * scale + 4.0 * geom.fk_error
 
 
 def yaw_domains(geom: ScaraGeometry, arm_lo: Array, arm_hi: Array, lo: Array, hi: Array,
@@ -249,7 +259,8 @@ def reach_certificate(robot: Robot, target: Target, tol: float) -> Certificate |
     """The target is farther from the first joint's origin than :func:`reach_bound` allows."""
     origin, reach = reach_bound(robot)
     dist = float(np.linalg.norm(target.position - origin))
-    if dist - reach <= tol:
+    slack = ROUND_OFF * (dist + reach + float(np.abs(origin).sum()))  # the sums' round-off
+    if dist - reach - slack <= tol:
         return None
     return Certificate(Reason.BEYOND_REACH, dist - reach, (
         f"the tip is never farther than {reach:.6g} m from the first joint's origin "
@@ -273,7 +284,7 @@ def tilt_certificate(robot: Robot, target: Target, tol: float) -> Certificate | 
     R_ref = robot.fk(default_q0(robot))[:3, :3]
     v = R_star @ (R_ref.T @ n)
     bound = math.atan2(float(np.linalg.norm(np.cross(n, v))), float(n @ v))
-    if bound <= tol:
+    if bound - ROUND_OFF * math.pi <= tol:  # the products' round-off [rad]
         return None
     return Certificate(Reason.TILT, bound, (
         f"every revolute axis is parallel to ({', '.join(f'{c:.4g}' for c in n)}): the tool "

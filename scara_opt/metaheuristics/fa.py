@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import ctypes
 import functools
+import math
 from collections.abc import Callable
 from pathlib import Path
 from typing import Any, ClassVar, Protocol
@@ -179,7 +180,10 @@ def sweep_all(X: Array, f: Array, span: Array, beta0: float, gamma: float, step:
             if s == n:
                 continue
             D = Xs[k] - new[s:]                           # (m, nq), m = fireflies dimmer than k
-            beta = beta0 * np.exp(-gamma * np.einsum("ij,ij,j->i", D, D, w))
+            r2 = np.zeros(n - s)
+            for j in range(nq):                           # fa_sweep.c's sum, in its order
+                r2 = r2 + D[:, j] * D[:, j] * w[j]
+            beta = beta0 * _exp(-gamma * r2)
             u, v = rng.random((2, n - s, nq))
             new[s:] += beta[:, None] * u * D + (v - 0.5) * step
     top = first_dimmer[0]                                 # the brightest: a random step only
@@ -187,6 +191,16 @@ def sweep_all(X: Array, f: Array, span: Array, beta0: float, gamma: float, step:
     out = np.empty_like(new)
     out[order] = new
     return out
+
+
+def _exp(x: Array) -> Array:
+    """``exp`` of each element by the C library's ``exp`` (what fa_sweep.c calls).
+
+    numpy's own ``np.exp`` is vectorised where the CPU allows (AVX-512: it differs from
+    the C library's in the last bit, 4,639 of 100,000 values on one machine); the numpy
+    form of the sweep must give the kernel's numbers bit for bit on any machine.
+    """
+    return np.array([math.exp(v) for v in x.tolist()])
 
 
 def _sweep_compiled(kernel: Callable[..., None], Xs: Array, new: Array,

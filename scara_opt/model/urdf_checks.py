@@ -180,8 +180,13 @@ def check_tree(urdf: Any, where: str) -> tuple[dict[str, Any], str]:
         raise URDFError(f"{where}: expected one root link, found {roots}; the URDF must be a tree")
     return by_child, roots[0]
 
-def _mesh_found(fname: str, folder: str) -> bool:
-    """Whether yourdfpy's ``filename_handler_magic`` would resolve ``fname`` (without its log)."""
+def resolve_mesh(fname: str, folder: str) -> Path | None:
+    """The file yourdfpy's ``filename_handler_magic`` resolves ``fname`` to, or None.
+
+    Relative to the URDF's folder, the URI's directive (``package://``, ``file://``)
+    dropped, or relative to a folder above it (how a ``package://pkg/...`` URI finds the
+    package's share folder); the first candidate that is a file.
+    """
     import yourdfpy
 
     depth = len(Path(folder).parts) if folder else 0
@@ -189,7 +194,12 @@ def _mesh_found(fname: str, folder: str) -> bool:
                   yourdfpy.filename_handler_ignore_directive(fname)]
     candidates += [yourdfpy.filename_handler_relative_to_urdf_file_recursive(fname, folder, k)
                    for k in range(depth)]
-    return any(Path(c).is_file() for c in candidates)
+    return next((Path(c).resolve() for c in candidates if Path(c).is_file()), None)
+
+
+def _mesh_found(fname: str, folder: str) -> bool:
+    """Whether yourdfpy's ``filename_handler_magic`` would resolve ``fname`` (without its log)."""
+    return resolve_mesh(fname, folder) is not None
 
 def warn_missing_meshes(urdf: Any, folder: str, where: str) -> None:
     """One ``logging`` warning naming the mesh files that cannot be found, if any."""

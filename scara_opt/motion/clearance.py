@@ -24,6 +24,8 @@
 
 from __future__ import annotations
 
+import math
+import time
 from collections.abc import Callable
 
 import numpy as np
@@ -52,7 +54,7 @@ from scara_opt.motion import branch
 from scara_opt.motion.moves import PTP, Move, goal_point
 from scara_opt.motion.timing import section_spline
 from scara_opt.motion.tool_limits import ToolProfile
-from scara_opt.planning.planner import PathPlan, check_clear, plan_path
+from scara_opt.planning.planner import SEED_MAX, PathPlan, check_clear, plan_path
 from scara_opt.target import Target
 from scara_opt.trajectory.limits import Limits
 from scara_opt.trajectory.trajectory import Trajectory, concatenate, cubic_range
@@ -101,15 +103,30 @@ class CellPlanning:
 
     Args:
         checker: the robot in its cell.
-        time_limit: each PTP's planning limit [s].
-        seed: the planner's seed (move ``i`` plans with ``seed + i``).
+        time_limit: the limit of the whole program's planning [s], from :meth:`start_clock`:
+            each PTP plans within what is left; past it, a section is timed the one way
+            proven by construction (stopping at its waypoints) and proven once more.
+        seed: the planner's seed (move ``i`` plans with ``seed + i``, modulo
+            :data:`~scara_opt.planning.planner.SEED_MAX` + 1).
     """
 
     def __init__(self, checker: CollisionChecker, time_limit: float, seed: int) -> None:
         self.checker = checker
         self.time_limit = time_limit
         self.seed = seed
+        self.deadline = math.inf
         self.plans: dict[int, PathPlan] = {}
+
+    def start_clock(self) -> None:
+        """Start the time limit, once the compiled kernel is built (its one-off compilation
+        does not count)."""
+        self.checker._kernel()
+        self.deadline = time.perf_counter() + self.time_limit
+
+    def left(self) -> float:
+        """What is left of the time limit [s] (at least 1 µs: a straight PTP is still
+        proven, and the planner reports no path found within the limit)."""
+        return max(self.deadline - time.perf_counter(), 1e-6)
 
     def check_start(self, q: Array) -> None:
         """Refuse a start in collision (bodies and depth named)."""
@@ -139,7 +156,7 @@ class CellPlanning:
         except CollisionError as exc:
             other = " (and so is every other IK solution)" if isinstance(goal, Target) else ""
             a, b = exc.bodies
-            raise MoveCollisionError(index, f"PTP {exc}{other}", (a, b), exc.depth) from None
+            raise MoveCollisionError(index, f"PTP: {exc}{other}", (a, b), exc.depth) from None
         return q  # pragma: no cover - collides() and check_clear agree
 
     def joints(self, index: int, move: Move, robot: Robot, q_prev: Array, step: float,
@@ -157,8 +174,9 @@ class CellPlanning:
         q1 = self.goal(index, move, robot, q_prev)
         if np.abs(q1 - q_prev).max() <= 1e-9:
             raise MoveError(index, "PTP goal is where the robot already is: drop the move")
-        result = plan_path(self.checker, q_prev, q1, time_limit=self.time_limit,
-                           seed=self.seed + index)
+        result = plan_path(self.checker, q_prev, q1, time_limit=min(self.left(),
+                                                                      self.time_limit),
+                           seed=(self.seed + index) % (SEED_MAX + 1))
         self.plans[index] = result
         if result.path is None:  # not solved
             raise NoPathFoundError(index, f"PTP: {result.message}", result.time_s,
@@ -171,8 +189,9 @@ class CellPlanning:
         return plan is not None and plan.path is not None and len(plan.path) > 2
 
     def prove(self, traj: Trajectory) -> CollisionReport:
-        """The timed section proven clear, or its first contact."""
-        return collision_report(self.checker, traj)
+        """The timed section proven clear, or its first contact (no least clearance: the
+        whole trajectory's is found on demand, ``check_collisions()``)."""
+        return collision_report(self.checker, traj, least=False)
 
     def refuse(self, index: int, kind: str, report: CollisionReport, at: float,
                bodies: tuple[str, str], t0: float) -> None:
@@ -198,9 +217,10 @@ class CellPlanning:
         """``timed(Q, owner)`` of a section, proven clear (and a planned one within limits).
 
         A planned PTP is timed through its waypoints, then through :func:`hugging` points,
-        more of them up to :data:`RETRIES` times, until the timing is proven clear and
-        within the joint limits; as a last resort, straight from waypoint to waypoint,
-        stopping at each (exactly the polyline that was proven, slower). With toppra the
+        more of them up to :data:`RETRIES` times (while the time limit lasts), until the
+        timing is proven clear and within the joint limits; as a last resort, straight
+        from waypoint to waypoint, stopping at each (exactly the polyline that was proven,
+        slower). With toppra the
         spline a try would follow (:func:`~scara_opt.motion.timing.section_spline`) is
         proven before it is timed (:func:`~scara_opt.collision.continuous.check_path`, its
         exact range against the limits): the timing runs along it, so it visits nothing
@@ -224,10 +244,14 @@ class CellPlanning:
                                 len(owner) - 1))
                 self.refuse(owner[k], "+".join(m.kind for _, m in run), report, report.time,
                             report.bodies, t0)
-            return part, note + _proven(report.clearance, report.evaluations), knots, profile
+            return part, note + _proven(report.evaluations), knots, profile
         plan = self.plans[index]
+        late = False
         for level in range(-1, RETRIES + 2):
             last = level > RETRIES
+            if 0 <= level <= RETRIES and time.perf_counter() > self.deadline:
+                late = True
+                continue  # out of time: no more tries, the timing proven by construction
             rows = Q if level < 0 or last else hugging(Q, level)
             owner = [index] * len(rows)
             if method == "toppra" and not last:  # the spline proven before it is timed
@@ -235,7 +259,7 @@ class CellPlanning:
                 if proof is None:
                     continue
                 part, note, knots, profile = timed(rows, owner)
-                proven = _proven(proof.clearance, proof.evaluations, "the spline it follows")
+                proven = _proven(proof.evaluations, "the spline it follows")
             else:
                 part, note, knots, profile = (_stopping(rows, owner, timed) if last
                                               else timed(rows, owner))
@@ -243,8 +267,10 @@ class CellPlanning:
                 report = self.prove(traj)
                 if not (report.clear and self._inside(traj)):
                     continue
-                proven = _proven(report.clearance, report.evaluations)
-            how = ("stopping at each waypoint (no spline through them was proven clear)"
+                proven = _proven(report.evaluations)
+            why = ("the time limit was reached" if late else
+                   "no spline through them was proven clear")
+            how = (f"stopping at each waypoint ({why})"
                    if last else f"timed through {len(rows)} points (attempt {level + 2})")
             note += (f"{proven}; planned around the cell: {len(Q)} waypoints "
                      f"({plan.time_s * 1e3:.1f} ms, {plan.states} states), {how}")
@@ -276,10 +302,10 @@ def _within_limits(robot: Robot, lo: Array, hi: Array) -> bool:
                 and (hi <= robot.upper + LIMIT_SLACK).all())
 
 
-def _proven(clearance: float, checks: int, what: str = "") -> str:
-    """The note's words for a proof."""
+def _proven(checks: int, what: str = "") -> str:
+    """The note's words for a proof (its lower bound is no clearance: check_collisions())."""
     of = f" ({what})" if what else ""
-    return f", proven clear{of} (clearance >= {clearance * 1e3:.3g} mm, {checks} checks)"
+    return f", proven clear{of} ({checks} checks)"
 
 
 def _stopping(Q: Array, owner: list[int], timed: Callable) -> tuple:
@@ -296,22 +322,29 @@ def _stopping(Q: Array, owner: list[int], timed: Callable) -> tuple:
     return joined, f"{len(Q) - 1} straight segments, {note}", np.array(knots), profile
 
 
-def in_cell(robot: Robot, cell: object, margin: float, time_limit: float, seed: int
+def in_cell(robot: Robot, cell: object, margin: float | None, time_limit: float, seed: int
             ) -> CellPlanning | None:
     """The :class:`CellPlanning` of :func:`~scara_opt.motion.plan`'s ``cell=`` (None: none).
 
+    ``margin`` [m]: ``None`` keeps a checker's own (0 for a Cell); any other value is used,
+    with a checker too.
+
     Raises:
-        InputError: a checker of another robot, a bad margin, time limit or seed.
+        InputError: a checker of another robot, a bad margin, time limit or seed; a
+            margin without a cell.
     """
     time_limit = check_real("time_limit", time_limit, 0.0, 3600.0, low_open=True, unit="s")
-    seed = check_int("seed", seed, 0)
+    seed = check_int("seed", seed, 0, SEED_MAX)
     if cell is None:
+        if margin is not None:
+            check_real("margin", margin, 0.0, 1.0, unit="m")
+            raise InputError(f"margin={margin!r} is the clearance to keep from a cell, and no "
+                             "cell was given: pass cell= (a Cell or a CollisionChecker), or "
+                             "drop margin=")
         return None
     if isinstance(cell, CollisionChecker):
         if cell.robot is not robot and cell.robot.joint_names != robot.joint_names:
             raise InputError(f"the checker is for robot {cell.robot.name!r}, not "
                              f"{robot.name!r}: build CollisionChecker(robot, cell)")
-        checker = cell
-    else:
-        checker = make_checker(cell, robot, margin, robot.nq)
+    checker = make_checker(cell, robot, margin, robot.nq)
     return CellPlanning(checker, time_limit, seed)

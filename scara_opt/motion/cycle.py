@@ -75,6 +75,10 @@ class CycleResult:
             a blend radius is given).
         corners: (7, nq) joint values at A, A up, B up, B, B up, A up, A.
         blend: the blend radius at the upper corners [m] (0: stops at every corner).
+        cell: the name of the cell it was planned in (``None``: no cell).
+        clearance: in a cell, the clearance of :attr:`trajectory` proven all along [m].
+        notes: what a reader of the times needs to know: a method not timed and why, a
+            method much slower and why.
     """
 
     robot: str
@@ -87,6 +91,9 @@ class CycleResult:
     trajectory: MotionTrajectory
     corners: Array
     blend: float = 0.0
+    cell: str | None = None
+    clearance: float | None = None
+    notes: tuple[str, ...] = ()
 
     @property
     def title(self) -> str:
@@ -99,8 +106,13 @@ class CycleResult:
     def __repr__(self) -> str:
         times = ", ".join(f"{k} {v:.4f} s" for k, v in self.durations.items())
         blend = f", blend {self.blend * 1e3:g} mm" if self.blend else ""
+        where = ""
+        if self.cell is not None and self.clearance is not None:
+            where = (f"; planned in {self.cell!r}, proven clear of it (clearance >= "
+                     f"{self.clearance * 1e3:.3f} mm)")
+        notes = "".join(f"; {n}" for n in self.notes)
         return (f"CycleResult({self.robot}: {self.up * 1e3:g}/{self.across * 1e3:g}/"
-                f"{self.down * 1e3:g} mm{blend}, {times})")
+                f"{self.down * 1e3:g} mm{blend}, {times}{where}{notes})")
 
 
 #: world up: the robot files put the base's z axis against gravity
@@ -217,7 +229,7 @@ def check_cycle_blend(blend: float, up: float, across: float, down: float,
 def cycle_time(robot: Robot, up: float = 0.025, across: float = 0.305, down: float = 0.025,
                limits: ToolLimits | None = None, blend: float = 0.0, *,
                vmax: ArrayLike | None = None, amax: ArrayLike | None = None,
-               cell: Cell | CollisionChecker | None = None, margin: float = 0.0,
+               cell: Cell | CollisionChecker | None = None, margin: float | None = None,
                time_limit: float = 1.0, seed: int = 0) -> CycleResult:
     """Time the pick-and-place cycle (A up, across, down to B, and back) three ways.
 
@@ -237,7 +249,8 @@ def cycle_time(robot: Robot, up: float = 0.025, across: float = 0.305, down: flo
             placement whose program plans clear of the cell is used, the PTPs across go
             around its obstacles, every section is proven clear. The quintic baseline is
             timed only when its straight corner-to-corner segments are proven clear too.
-        margin: clearance to keep from the cell [m].
+        margin: clearance to keep from the cell [m] (as :func:`~scara_opt.plan`'s:
+            default the checker's own, 0 with a Cell; refused without a cell).
         time_limit: planning limit of each PTP around obstacles [s].
         seed: the planner's seed.
 
@@ -293,15 +306,46 @@ def cycle_time(robot: Robot, up: float = 0.025, across: float = 0.305, down: flo
     corners = stops.waypoints
     durations = {"toppra": stops.duration,
                  "ruckig": timed(program(0.0), q0, method="ruckig").duration}
-    if ctx is None or all(prove_segment(ctx.checker, a, b).clear
-                          for a, b in zip(corners[:-1], corners[1:], strict=True)):
+    blocked = [] if ctx is None else [
+        k for k, (a, b) in enumerate(zip(corners[:-1], corners[1:], strict=True))
+        if not prove_segment(ctx.checker, a, b).clear]
+    if not blocked:
         durations["quintic"] = time_parameterize(corners, robot, method="quintic", vmax=vmax,
                                                  amax=amax).duration
     traj = stops
     if blend:
         traj = timed(program(blend), q0)
         durations["toppra_blended"] = traj.duration
-    return CycleResult(robot.name, up, across, down, A, B, durations, traj, corners, blend)
+    notes = () if ctx is None else _cell_notes(blocked, durations, ctx.checker.cell.name)
+    return CycleResult(robot.name, up, across, down, A, B, durations, traj, corners, blend,
+                       None if ctx is None else ctx.checker.cell.name,
+                       None if ctx is None else traj.check_collisions().clearance, notes)
+
+
+#: the corners of the cycle, in order (A: the pick, B: the place)
+CORNERS = ("A", "A up", "B up", "B", "B up", "A up", "A")
+
+
+def _cell_notes(blocked: list[int], durations: dict[str, float], cell: str
+                ) -> tuple[str, ...]:
+    """Why the quintic baseline is missing in a cell, and why ruckig is slow there.
+
+    ``blocked``: the indices of the corner-to-corner joint segments not proven clear.
+    """
+    if not blocked:
+        return ()
+    which = ", ".join(f"{CORNERS[k]} to {CORNERS[k + 1]}" for k in blocked)
+    notes = [f"quintic not timed: it moves straight in joint space from corner to corner, "
+             f"and those segments are not proven clear of {cell!r} ({which}); toppra and "
+             f"ruckig follow the paths planned around it"]
+    across = [k for k in blocked if k in (1, 4)]
+    if across:
+        ratio = durations["ruckig"] / durations["toppra"]
+        notes.append(f"ruckig takes {ratio:.2f}x toppra's time: it runs each section under "
+                     f"bounds that are constant along its path, the tightest anywhere on it "
+                     f"(jerk-limited), and the PTPs planned around {cell!r} bend, which sets "
+                     f"those bounds low; toppra varies its speed along the path")
+    return tuple(notes)
 
 
 def cycle_with_payload(robot: Robot, result: CycleResult, payload: PayloadLike,

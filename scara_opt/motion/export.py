@@ -14,6 +14,7 @@ import math
 from pathlib import Path
 from typing import Any
 
+from scara_opt.checks import check_path
 from scara_opt.trajectory.trajectory import Trajectory
 
 
@@ -32,7 +33,7 @@ def to_dict(traj: Trajectory, dt: float = 0.01) -> dict[str, Any]:
 
 def to_json(traj: Trajectory, path: str | Path, dt: float = 0.01) -> Path:
     """Write :func:`to_dict` as JSON; returns the path."""
-    path = Path(path)
+    path = check_path("path", path)
     path.write_text(json.dumps(to_dict(traj, dt)))
     return path
 
@@ -68,6 +69,6 @@ def to_ros_yaml(traj: Trajectory, path: str | Path, dt: float = 0.01) -> Path:
                   f"    velocities: {_flow(p['velocities'])}",
                   f"    accelerations: {_flow(p['accelerations'])}",
                   f"    time_from_start: {{sec: {ts['sec']}, nanosec: {ts['nanosec']}}}"]
-    path = Path(path)
+    path = check_path("path", path)
     path.write_text("\n".join(lines) + "\n")
     return path

@@ -175,7 +175,8 @@ def plan(robot: Robot, moves: Move | Iterable[Move], limits: ToolLimits | None =
          step: float = STEP, method: str = "toppra", allow_flip: bool = False,
          torque_limits: bool | ArrayLike | None = None, payload: PayloadLike | None = None,
          payload_frame: str | None = None, cell: Cell | CollisionChecker | None = None,
-         margin: float = 0.0, time_limit: float = 1.0, seed: int = 0) -> MotionTrajectory:
+         margin: float | None = None, time_limit: float = 1.0, seed: int = 0
+         ) -> MotionTrajectory:
     """Plan a program of PTP / LIN / CIRC moves into one timed trajectory.
 
     Args:
@@ -204,8 +205,14 @@ def plan(robot: Robot, moves: Move | Iterable[Move], limits: ToolLimits | None =
             plan in: PTPs go around its obstacles, every section is proven clear, a LIN or
             CIRC that hits it is refused (:mod:`scara_opt.motion.clearance`). A Cell is
             made into a checker at each call: pass a checker to plan many programs.
-        margin: clearance to keep from the cell [m] (with a Cell).
-        time_limit: planning limit of each PTP around obstacles [s] (> 0).
+        margin: clearance to keep from the cell [m]; default a checker's own margin (0
+            with a Cell); a margin given with a checker is used (``checker.with_margin``),
+            and one given without a cell is refused.
+        time_limit: limit of the whole call in a cell [s] (> 0): the PTPs plan within what
+            is left, the simplifier stops at it with the shortest path proven by then, and
+            past it a planned section is timed stopping at its waypoints (proven by
+            construction) and proven once more: the call ends within the limit plus that
+            last timing and proof. The kernel's one-off compilation does not count.
         seed: the planner's seed (the same seed, the same path).
 
     Returns:
@@ -242,6 +249,8 @@ def plan(robot: Robot, moves: Move | Iterable[Move], limits: ToolLimits | None =
         dynamics = RobotDynamics(robot, True if torque_limits is None else torque_limits,
                                  payload, payload_frame)
     cellp = in_cell(robot, cell, margin, time_limit, seed)
+    if cellp is not None:
+        cellp.start_clock()
     begin = time.perf_counter()
     if start is None:
         if not isinstance(program[0], PTP):

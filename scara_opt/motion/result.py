@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import TYPE_CHECKING
@@ -157,9 +158,43 @@ class MotionTrajectory(Trajectory):
             out["clearance"] = np.array([self.check_collisions().ratio])
         return out
 
+    def move_spans(self) -> Array:
+        """(n, 2) when each move starts and ends [s], from :attr:`waypoint_times`.
+
+        One row per move of :attr:`moves` (a blended move ends where the tip passes
+        closest to its corner); a program split by ``allow_flip`` has a row for each flip
+        PTP too.
+        """
+        t = self.waypoint_times
+        return np.column_stack([t[:-1], t[1:]])
+
+    def move_clearances(self) -> Array:
+        """(n,) the least clearance of each move of :meth:`move_spans` to the cell [m].
+
+        A proven lower bound (:meth:`check_collisions` of the trajectory's pieces that
+        cover the move: their knots may reach a little beyond it), in the cell it was
+        planned in; ``inf`` for a move that does not move.
+
+        Raises:
+            InputError: planned without a cell.
+        """
+        from scara_opt.collision.continuous import collision_report
+
+        if self.checker is None:
+            raise InputError("this trajectory was planned without a cell: it has no "
+                             "clearances; plan it with cell=")
+        out = []
+        for t0, t1 in self.move_spans():
+            out.append(math.inf if t1 - t0 <= 0 else
+                       collision_report(self.checker, _window(self, t0, t1)).clearance)
+        return np.array(out)
+
     def check_collisions(self, cell: object = None, robot: Robot | None = None, *,
-                         margin: float = 0.0) -> CollisionReport:
+                         margin: float | None = None) -> CollisionReport:
         """:meth:`Trajectory.check_collisions` in the cell it was planned in by default.
+
+        With no ``cell``, the checker it was planned with (``margin=``: that checker asking
+        for another margin).
 
         Raises:
             InputError: no cell given and none attached.
@@ -168,6 +203,8 @@ class MotionTrajectory(Trajectory):
             if self.checker is None:
                 raise InputError("this trajectory was planned without a cell: pass one, "
                                  "check_collisions(cell)")
+            if margin is not None:
+                return super().check_collisions(self.checker, margin=margin)
             if "collisions" not in self._derivs:
                 self._derivs["collisions"] = super().check_collisions(self.checker)
             return self._derivs["collisions"]

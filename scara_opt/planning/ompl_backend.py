@@ -84,6 +84,9 @@ class EdgeProver:
         edges: edges asked about; ``proven``: those proven clear.
         known: the edges proven so far, both directions (an edge asked again, as the
             simplified path's are at the end, is not proven again).
+        deadline: a ``time.perf_counter()`` instant (``inf``: none) after which an edge
+            not proven yet is answered "not proven" at once: the simplifier then keeps the
+            path it has (every edge of which is proven). ``late`` counts those answers.
     """
 
     def __init__(self, checker: CollisionChecker, native: bool = True) -> None:
@@ -99,8 +102,11 @@ class EdgeProver:
         self._midpoints = 0
         self.edges = 0
         self.proven = 0
+        self.late = 0
+        self.deadline = math.inf
         self.known: set[tuple[tuple[float, ...], tuple[float, ...]]] = set()
         self._data = checker._data()
+        self._meshy = checker._meshes.any
         self._model = checker.robot.model
         self._linear = _linear(self._model)
         kernel = checker._kernel() if native else None
@@ -142,10 +148,12 @@ class EdgeProver:
     def _compute(self, q: Array) -> list[float]:
         import pinocchio as pin
 
-        data, gdata, results = self._data
-        pin.computeDistances(self._model, data, self.checker.model, gdata, q)
         self._states += 1
         shift = self.shift
+        if self._meshy:  # the checker's rules for meshes (the inside test of a solid)
+            return (self.checker.pair_distances(q[None, :], None, "rest")[0] - shift).tolist()
+        data, gdata, results = self._data
+        pin.computeDistances(self._model, data, self.checker.model, gdata, q)
         return [r.min_distance - shift for r in results]
 
     @property
@@ -171,6 +179,9 @@ class EdgeProver:
         self.edges += 1
         if (a, b) in self.known:
             return True
+        if time.perf_counter() > self.deadline:  # out of time: not proven, not tried
+            self.late += 1
+            return False
         if self._native is not None:  # the same rule, compiled
             clear = self._native.edge(a, b, RESOLUTION)
         else:
@@ -231,9 +242,13 @@ class EdgeProver:
             h, s0, pairs, D0, D1 = queue.popleft()  # h: half the interval's length
             if 2 * h < wide and 2 * h * max(M[k] for k in pairs) < RESOLUTION:
                 return False  # grazing: not proven
-            place(model, data, gmodel, gdata, config(s0 + h))
             self._midpoints += 1
-            Dm = [distance(gmodel, gdata, k).min_distance - shift for k in pairs]
+            if self._meshy:  # the checker's bounds for meshes
+                Dm = (self.checker.pair_distances(config(s0 + h)[None, :], np.array(pairs))[0]
+                      - shift).tolist()
+            else:
+                place(model, data, gmodel, gdata, config(s0 + h))
+                Dm = [distance(gmodel, gdata, k).min_distance - shift for k in pairs]
             if min(Dm) <= 0:
                 return False
             for lo, d_lo, d_hi in ((s0, D0, Dm), (s0 + h, Dm, D1)):
@@ -311,6 +326,8 @@ class OmplRun:
         raw: (m, nq) the planner's path before simplification (``None`` likewise).
         planner_states: states in the planner's two trees.
         plan_s, simplify_s: time spent planning and simplifying [s].
+        cut: the simplifier was stopped by the time limit (it returned the best path it had
+            proven by then).
     """
 
     path: Array | None
@@ -318,6 +335,7 @@ class OmplRun:
     planner_states: int
     plan_s: float
     simplify_s: float
+    cut: bool = False
 
 
 def rrt_connect(prover: EdgeProver, start: Array, goal: Array, lower: Array, upper: Array,
@@ -378,6 +396,8 @@ def _solve(ob: ModuleType, og: ModuleType, ou: ModuleType, prover: EdgeProver,
            get: Callable, start: Array, goal: Array, lower: Array, upper: Array,
            time_limit: float, seed: int, simplify: bool, range_: float | None) -> OmplRun:
     ou.RNG.setSeed(int(seed) + 1)
+    deadline = time.perf_counter() + time_limit
+    prover.deadline = deadline  # the simplifier's edges too: the whole run within the limit
     space = box_space(ob, lower, upper)
     si = ob.SpaceInformation(space)
     valid, edge = prover.valid, prover.edge
@@ -406,10 +426,13 @@ def _solve(ob: ModuleType, og: ModuleType, ou: ModuleType, prover: EdgeProver,
     path = pdef.getSolutionPath()
     raw = np.array([get(path.getState(i)) for i in range(path.getStateCount())])
     begin = time.perf_counter()
+    late = prover.late
     if simplify:
         simplify_path(og, si, path)
+    prover.deadline = math.inf  # the path's own edges are all proven: asked again, known
     vertices = np.array([get(path.getState(i)) for i in range(path.getStateCount())])
-    return OmplRun(vertices, raw, states, plan_s, time.perf_counter() - begin)
+    return OmplRun(vertices, raw, states, plan_s, time.perf_counter() - begin,
+                   prover.late > late)
 
 
 def simplify_path(og: ModuleType, si: Any, path: Any) -> None:

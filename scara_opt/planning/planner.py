@@ -2,7 +2,10 @@
 
 1. The start and the goal are checked: inside the joint limits
    (:class:`~scara_opt.errors.JointLimitError`) and clear of the cell
-   (:class:`~scara_opt.errors.CollisionError`, naming the bodies and the depth).
+   (:class:`~scara_opt.errors.CollisionError`, naming the bodies and the depth), and
+   farther from it than the proofs' tolerance (:func:`check_provable`). The clock of
+   ``time_limit`` starts after that, once the compiled kernel is built (its compilation,
+   once per machine, never counts against the limit).
 2. The straight joint segment is tried first: when the conservative rule proves it clear,
    it is the path.
 3. Otherwise OMPL's RRTConnect searches the joint box (a SCARA's quill included: lifting it
@@ -27,17 +30,20 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from scara_opt.checks import check_flag, check_int, check_real, describe
-from scara_opt.collision.checker import CollisionChecker
+from scara_opt.collision.checker import DISTANCE_TOL, CollisionChecker
 from scara_opt.errors import CollisionError, InputError
 from scara_opt.model.joint_checks import check_within_limits
 from scara_opt.planning.ompl_backend import EdgeProver, rrt_connect
 
 Array = NDArray[np.float64]
 
-__all__ = ["PathPlan", "PlanStatus", "check_clear", "plan_path"]
+__all__ = ["PathPlan", "PlanStatus", "check_clear", "check_provable", "plan_path"]
 
 #: default wall-clock limit of one query [s]
 TIME_LIMIT = 1.0
+
+#: the largest seed: OMPL seeds its generator with ``seed + 1``, an unsigned 64-bit integer
+SEED_MAX = 2**64 - 2
 
 #: the planner samples within the joint limits inset by this fraction of each range (a
 #: spline timed through its waypoints then has room to round them without leaving the
@@ -93,7 +99,8 @@ class PathPlan:
         what = (f"{len(self.path)} waypoints, length {self.length:.4g}"
                 if self.path is not None else self.message)
         return (f"PathPlan({self.status.value}: {what}; {self.planner}, "
-                f"{self.time_s * 1e3:.1f} ms, {self.states} states, {self.checks} edges)")
+                f"{self.time_s * 1e3:.1f} ms, {self.states} configurations and "
+                f"{self.checks} edges checked, {self.tree_states} tree states)")
 
 
 def path_length(Q: Array) -> float:
@@ -117,6 +124,33 @@ def check_clear(checker: CollisionChecker, q: Array, what: str) -> None:
                              f"{how}; move the {what} clear of the cell", c.bodies, c.depth)
 
 
+def check_provable(checker: CollisionChecker, q: Array, what: str) -> None:
+    """Refuse a configuration clear of the cell but too close to it for any proof.
+
+    A motion is proven clear only where every pair is farther than the margin plus
+    :data:`~scara_opt.collision.checker.DISTANCE_TOL` (coal's distance tolerance, with ten
+    times in hand): a start closer than that is free, yet no edge from it can be proven,
+    and more time would not help.
+
+    Raises:
+        CollisionError: ``q`` within the margin plus the tolerance (bodies and gap named).
+    """
+    need = checker.margin + DISTANCE_TOL
+    d = checker.pair_distances(q[None, :], None, "rest")[0]  # bounds: exact where small
+    if not len(d) or d.min() > need:
+        return
+    d = checker.distances(q)
+    k = int(np.argmin(d))
+    if d[k] <= need:
+        a, b = checker.pair_names[k]
+        raise CollisionError(
+            f"the {what} is {d[k] * 1e3:.4f} mm from contact ({a} and {b}): clear, but "
+            f"closer than the {need * 1e3:g} mm a motion from it needs to be proven clear "
+            f"(the margin plus coal's distance tolerance, {DISTANCE_TOL * 1e3:g} mm); move "
+            f"the {what} at least {(need - d[k]) * 1e3:.4f} mm farther from {b}",
+            (a, b), 0.0)
+
+
 def plan_path(checker: CollisionChecker, start: ArrayLike, goal: ArrayLike, *,
               time_limit: float = TIME_LIMIT, seed: int = 0, simplify: bool = True
               ) -> PathPlan:
@@ -126,7 +160,9 @@ def plan_path(checker: CollisionChecker, start: ArrayLike, goal: ArrayLike, *,
         checker: the robot in its cell (its ``margin`` is kept all along).
         start: (nq,) the configuration to start from [rad or m].
         goal: (nq,) the configuration to reach [rad or m].
-        time_limit: wall-clock limit for planning and simplifying [s] (> 0).
+        time_limit: wall-clock limit for planning and simplifying together [s] (> 0): the
+            simplifier stops at it with the shortest path proven by then (the message says
+            so); the kernel's one-off compilation does not count.
         seed: OMPL's random seed (``seed + 1``): the same seed gives the same path.
         simplify: shorten and smooth the planner's path (OMPL's PathSimplifier).
 
@@ -134,23 +170,27 @@ def plan_path(checker: CollisionChecker, start: ArrayLike, goal: ArrayLike, *,
         A :class:`PathPlan`; ``status`` ``"no_path"`` when nothing was found in time.
 
     Raises:
-        InputError: bad shapes, a ``time_limit`` <= 0, a bad ``seed``.
+        InputError: bad shapes, a ``time_limit`` <= 0, a ``seed`` not an integer in
+            [0, :data:`SEED_MAX`].
         JointLimitError: start or goal outside the joint limits.
-        CollisionError: start or goal in collision (bodies and depth named).
+        CollisionError: start or goal in collision (bodies and depth named), or closer
+            to it than a proof can work with (:func:`check_provable`).
         ModuleNotFoundError: OMPL is not installed and the straight path is not clear.
     """
     if not isinstance(checker, CollisionChecker):
         raise InputError(f"checker must be a CollisionChecker(robot, cell); got "
                          f"{describe(checker)}")
     time_limit = check_real("time_limit", time_limit, 0.0, 3600.0, low_open=True, unit="s")
-    seed = check_int("seed", seed, 0)
+    seed = check_int("seed", seed, 0, SEED_MAX)
     check_flag("simplify", simplify)
-    begin = time.perf_counter()
     qa = check_within_limits(checker.robot, start, "start")
     qb = check_within_limits(checker.robot, goal, "goal")
     check_clear(checker, qa, "start")
     check_clear(checker, qb, "goal")
-    prover = EdgeProver(checker)
+    check_provable(checker, qa, "start")
+    check_provable(checker, qb, "goal")
+    prover = EdgeProver(checker)  # builds the compiled kernel on a cold cache: not timed
+    begin = time.perf_counter()
     ka, kb = tuple(qa.tolist()), tuple(qb.tolist())
     if prover.edge(ka, kb):
         Q = np.array([qa, qb])
@@ -180,7 +220,8 @@ def plan_path(checker: CollisionChecker, start: ArrayLike, goal: ArrayLike, *,
             raise RuntimeError("an edge of the planner's path is not proven clear")
         Q = run.raw
     Q[0], Q[-1] = qa, qb
+    cut = " (stopped at the time limit: the shortest path proven by then)" if run.cut else ""
     return PathPlan(PlanStatus.SOLVED, Q, f"RRTConnect ({run.plan_s * 1e3:.1f} ms) and "
-                    f"PathSimplifier ({run.simplify_s * 1e3:.1f} ms), every edge proven",
+                    f"PathSimplifier ({run.simplify_s * 1e3:.1f} ms{cut}), every edge proven",
                     "RRTConnect", time.perf_counter() - begin, prover.configurations,
                     prover.edges, run.planner_states, path_length(Q), seed)

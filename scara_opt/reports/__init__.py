@@ -11,7 +11,7 @@ from __future__ import annotations
 import importlib
 import time
 import tomllib
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
@@ -19,7 +19,7 @@ from typing import Any
 import pandas as pd
 
 from scara_opt.errors import InputError
-from scara_opt.outputs import write_text_atomic
+from scara_opt.reports.summary import summary_text, write_text_atomic
 from scara_opt.reports.verdicts import VERDICTS
 
 PAPERS = ("zavar2024", "peng2025", "nguyen", "inverted5", "fang")
@@ -69,6 +69,8 @@ class PaperReport:
     animation: tuple[Any, Any, str] | None = None
     #: the 3-D animation written (``<paper>_animation.html``), if any
     animation_file: Path | None = None
+    #: why the animation was not written (the ``view`` extra missing), or ""
+    animation_error: str = ""
 
     def add_table(self, name: str, table: pd.DataFrame, out: Path) -> None:
         """Keep ``table`` and write it as ``out/<paper>_<name>.csv``."""
@@ -76,8 +78,13 @@ class PaperReport:
         out.mkdir(parents=True, exist_ok=True)
         table.to_csv(out / f"{self.paper}_{name}.csv", index=False)
 
+    def animation_note(self) -> str:
+        """The note that the animation was not written, and why ("" when it was)."""
+        return f"3-D animation not written ({self.animation_error})" if self.animation_error \
+            else ""
+
     def to_markdown(self) -> str:
-        """The paper's section of ``summary.md``."""
+        """The paper's section of ``summary.md`` (the animation note is said in its header)."""
         lines = [f"## {self.paper}: {self.title}", ""]
         counts = {v: sum(f.verdict == v for f in self.findings) for v in VERDICTS}
         lines.append(", ".join(f"{n} {v}" for v, n in counts.items() if n) or "no findings")
@@ -86,7 +93,7 @@ class PaperReport:
         for f in self.findings:
             cells = (f.item, f.paper, f.ours, f.verdict, f.rule, f.why)
             lines.append("| " + " | ".join(c.replace("|", "\\|") for c in cells) + " |")
-        lines += [""] + [f"- {n}" for n in self.notes]
+        lines += [""] + [f"- {n}" for n in self.notes if n != self.animation_note()]
         if self.figures:
             lines += ["", "Figures: " + ", ".join(f"[{p.name}]({p.name})" for p in self.figures)]
         if self.animation_file is not None:
@@ -125,7 +132,9 @@ def run_paper(paper: str, out: str | Path, quick: bool = False) -> PaperReport:
 def _write_animation(report: PaperReport, out: Path) -> None:
     """``<paper>_animation.html`` of the report's motion (:mod:`scara_opt.view`).
 
-    Without the ``view`` extra (meshcat) the report says so in a note; nothing else changes.
+    Without the ``view`` extra (meshcat) the report keeps why in its notes and
+    :attr:`PaperReport.animation_error` (said once for all papers in ``summary.md``);
+    nothing else changes.
     """
     if report.animation is None:
         return
@@ -136,15 +145,18 @@ def _write_animation(report: PaperReport, out: Path) -> None:
         report.animation_file = write_html(robot, motion,
                                            out / f"{report.paper}_animation.html", title=title)
     except ModuleNotFoundError as exc:  # the view extra (meshcat) is not installed
-        report.notes.append(f"3-D animation not written ({exc})")
+        report.animation_error = str(exc)
+        report.notes.append(report.animation_note())
 
 
 def reproduce(papers: str | Sequence[str] = "all", out: str | Path = "results",
-              quick: bool = False, jobs: int = 1) -> list[PaperReport]:
+              quick: bool = False, jobs: int = 1,
+              progress: Callable[[PaperReport], object] | None = None) -> list[PaperReport]:
     """Reproduce papers (``"all"`` or names) into ``out`` and write ``out/summary.md``.
 
     ``jobs`` > 1 runs the papers in that many processes (each paper's numbers are seeded,
-    so the files are those of a serial run; only the times differ).
+    so the files are those of a serial run; only the times differ). ``progress`` is called
+    with each paper's report as soon as that paper is done (in the order they finish).
 
     Raises:
         InputError: unknown paper, or ``jobs`` not a whole number >= 1.
@@ -156,15 +168,16 @@ def reproduce(papers: str | Sequence[str] = "all", out: str | Path = "results",
         _check_paper(name)
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
+    done = progress or (lambda report: None)
     if jobs > 1 and len(names) > 1:
-        reports = _in_processes(names, out, quick, min(jobs, len(names)))
+        reports = _in_processes(names, out, quick, min(jobs, len(names)), done)
     else:
-        reports = [run_paper(name, out, quick) for name in names]
-    header = ["# scara_opt: reproduction of the papers", "",
-              f"Mode: {'quick (reduced sweeps)' if quick else 'full'}. Each section lists what "
-              "was checked against the paper, what matched, what did not, and why.", ""]
+        reports = []
+        for name in names:
+            reports.append(run_paper(name, out, quick))
+            done(reports[-1])
     # written last and atomically: a summary.md means every table and figure is there
-    write_text_atomic(out / "summary.md", "\n".join(header + [r.to_markdown() for r in reports]))
+    write_text_atomic(out / "summary.md", summary_text(reports, quick))
     return reports
 
 
@@ -183,15 +196,20 @@ def _lanes(names: Sequence[str], jobs: int) -> list[list[str]]:
     return [lane for lane in lanes if lane]
 
 
-def _in_processes(names: Sequence[str], out: Path, quick: bool, jobs: int) -> list[PaperReport]:
+def _in_processes(names: Sequence[str], out: Path, quick: bool, jobs: int,
+                  done: Callable[[PaperReport], object] | None = None) -> list[PaperReport]:
     """:func:`run_paper` of the papers in ``jobs`` fresh processes (:func:`_lanes`).
 
     Each worker (``python -m scara_opt.reports.worker``) runs in its own session, so a
     Ctrl-C reaches this process only; on any error or interrupt here the workers still
-    running are killed before the caller cleans up its output. A worker that fails raises
-    ``RuntimeError`` with the end of its stderr; after a success their stderr (warnings)
-    is passed on.
+    running are killed before the caller cleans up its output, and a worker whose parent
+    is gone (killed outright) ends itself (:mod:`scara_opt.reports.worker`). Each paper's
+    report is handed to ``done`` as soon as its worker has written it. A worker that fails
+    raises ``RuntimeError`` with the end of its stderr. The workers' warnings are issued
+    again here, each once (as in one process: the command line shows them as its notes),
+    and the rest of their stderr is passed on.
     """
+    import os
     import pickle
     import subprocess
     import sys
@@ -199,6 +217,16 @@ def _in_processes(names: Sequence[str], out: Path, quick: bool, jobs: int) -> li
 
     with tempfile.TemporaryDirectory(prefix="scara_opt_reproduce_") as tmp:
         running = []
+        reports: dict[str, PaperReport] = {}
+
+        def collect() -> None:
+            for name in names:
+                pkl = Path(tmp) / f"{name}.pkl"
+                if name not in reports and pkl.exists():
+                    reports[name] = pickle.loads(pkl.read_bytes())
+                    if done is not None:
+                        done(reports[name])
+
         try:
             for k, lane in enumerate(_lanes(names, jobs)):
                 log = Path(tmp) / f"worker{k}.err"
@@ -206,8 +234,11 @@ def _in_processes(names: Sequence[str], out: Path, quick: bool, jobs: int) -> li
                     running.append((subprocess.Popen(
                         [sys.executable, "-m", "scara_opt.reports.worker", str(out),
                          "1" if quick else "0", tmp, *lane],
-                        stdout=subprocess.DEVNULL, stderr=err, start_new_session=True), log))
+                        stdout=subprocess.DEVNULL, stderr=err, start_new_session=True,
+                        env={**os.environ, "SCARA_OPT_REPRODUCE_PARENT": str(os.getpid())}),
+                        log))
             while running:
+                collect()
                 for proc, log in list(running):
                     if proc.poll() is None:
                         continue
@@ -217,10 +248,26 @@ def _in_processes(names: Sequence[str], out: Path, quick: bool, jobs: int) -> li
                         raise RuntimeError(f"reproduce: a worker process failed (exit "
                                            f"{proc.returncode}): {tail}")
                 time.sleep(0.02)
+            collect()
         finally:
             for proc, _ in running:
                 proc.kill()
                 proc.wait()
-        for log in sorted(Path(tmp).glob("worker*.err")):  # warnings, as a serial run shows
-            sys.stderr.write(log.read_text())
-        return [pickle.loads((Path(tmp) / f"{name}.pkl").read_bytes()) for name in names]
+        _pass_on(Path(tmp))
+        return [reports[name] for name in names]
+
+
+def _pass_on(folder: Path) -> None:
+    """The workers' warnings issued again here, each once; their other stderr passed on."""
+    import pickle
+    import sys
+    import warnings
+
+    seen: set[tuple[type[Warning], str]] = set()
+    for record in sorted(folder.glob("*.warnings")):
+        for category, message in pickle.loads(record.read_bytes()):
+            if (category, message) not in seen:
+                seen.add((category, message))
+                warnings.warn(message, category, stacklevel=2)
+    for log in sorted(folder.glob("worker*.err")):
+        sys.stderr.write(log.read_text())

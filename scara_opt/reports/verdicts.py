@@ -5,7 +5,12 @@ never from a constant: each takes what was measured and what the paper claims, a
 docstring (and the ``rule`` it returns) states the rule. The verdicts:
 
 * ``matched``: the measurement agrees with the paper's claim by the stated rule;
-* ``differs``: it does not;
+* ``ours better``: it does not, and ours is the better side of the difference (faster, a
+  smaller error, a target reached that the paper misses);
+* ``ours worse``: it does not, and ours is the worse side (slower, a larger error, a
+  target the paper reaches and we miss);
+* ``differs``: it does not, and the difference has no better side (another ranking,
+  another best method, a value off either way);
 * ``paper inconsistent``: the paper claims a solution where a certificate proves there is
   none (an ``unreachable`` status, whose proof is in the result's message);
 * ``figure only``: the paper gives a picture and no number (nothing is compared);
@@ -19,8 +24,9 @@ from collections.abc import Sequence
 from scara_opt.ik.result import IKResult, Status
 
 MATCHED, DIFFERS = "matched", "differs"
+BETTER, WORSE = "ours better", "ours worse"
 INCONSISTENT, FIGURE_ONLY, BEYOND = "paper inconsistent", "figure only", "beyond the paper"
-VERDICTS = (MATCHED, DIFFERS, INCONSISTENT, FIGURE_ONLY, BEYOND)
+VERDICTS = (MATCHED, BETTER, WORSE, DIFFERS, INCONSISTENT, FIGURE_ONLY, BEYOND)
 
 
 def within(ours: float, paper: float, tol: float) -> tuple[str, str]:
@@ -50,17 +56,20 @@ def reach_claims(paper_reaches: bool, share: float, median_error: float,
     """Does a method reach 1e-6 as the paper says (or miss it, and by as much)?
 
     ``ours reaches`` means a majority of runs within 1e-6. ``matched`` when both reach, or
-    when both miss and our median error is within a factor of 10 of the paper's.
+    when both miss and our median error is within a factor of 10 of the paper's. Else
+    ``ours better`` (we reach where the paper misses, or both miss and our error is more
+    than 10x smaller) or ``ours worse`` (the other way).
     """
     rule = ("matched if both reach 1e-6 (ours: > 50 % of runs), or both miss with our median "
-            "error within 10x of the paper's")
+            "error within 10x of the paper's; else ours better or worse")
     ours_reaches = share > 0.5
     if paper_reaches and ours_reaches:
         return MATCHED, rule
-    if not paper_reaches and not ours_reaches and paper_error / 10 <= median_error \
-            <= paper_error * 10:
+    if paper_reaches != ours_reaches:
+        return (BETTER if ours_reaches else WORSE), rule
+    if paper_error / 10 <= median_error <= paper_error * 10:
         return MATCHED, rule
-    return DIFFERS, rule
+    return (BETTER if median_error < paper_error / 10 else WORSE), rule
 
 
 def same_order(ours: Sequence[str], paper: Sequence[str], *, ranked: bool) -> tuple[str, str]:
@@ -79,10 +88,20 @@ def best_is(best: str, claimed: str, best_share: float) -> tuple[str, str]:
     return (MATCHED if best == claimed and best_share > 0.5 else DIFFERS), rule
 
 
-def ratio_within(ours: float, paper: float, factor: float) -> tuple[str, str]:
-    """``matched`` when ``ours / paper`` lies within [1/factor, factor]."""
-    ok = paper > 0 and ours > 0 and 1 / factor <= ours / paper <= factor
-    return (MATCHED if ok else DIFFERS), f"ours / paper within [1/{factor:g}, {factor:g}]"
+def ratio_within(ours: float, paper: float, factor: float,
+                 smaller_is_better: bool = True) -> tuple[str, str]:
+    """``matched`` when ``ours / paper`` lies within [1/factor, factor].
+
+    Outside, ``ours better`` or ``ours worse``: below the range is better when
+    ``smaller_is_better`` (a time, an error), above it otherwise.
+    """
+    rule = f"ours / paper within [1/{factor:g}, {factor:g}]"
+    if not (paper > 0 and ours > 0):
+        return DIFFERS, rule
+    ratio = ours / paper
+    if 1 / factor <= ratio <= factor:
+        return MATCHED, rule
+    return (BETTER if (ratio < 1) == smaller_is_better else WORSE), rule
 
 
 def proof_of(res: IKResult) -> str:

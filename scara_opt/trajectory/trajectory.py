@@ -18,7 +18,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 from scipy.interpolate import PPoly
 
-from scara_opt.checks import check_memory, check_real, describe, float_array
+from scara_opt.checks import check_memory, check_path, check_real, describe, float_array
 from scara_opt.errors import InputError
 from scara_opt.trajectory.bernstein import coefficients, piece_bounds
 from scara_opt.trajectory.limits import Limits
@@ -287,7 +287,7 @@ class Trajectory:
                 for k, p in enumerate(self.pieces)]
 
     def check_collisions(self, cell: object, robot: Robot | None = None, *,
-                         margin: float = 0.0) -> CollisionReport:
+                         margin: float | None = None) -> CollisionReport:
         """Prove the trajectory clear of a cell, or report its first contact.
 
         Not sampled: between checked instants, a bound on how far any point of the robot
@@ -299,11 +299,14 @@ class Trajectory:
             cell: a :class:`~scara_opt.Cell` (with ``robot``) or a
                 :class:`~scara_opt.CollisionChecker`.
             robot: the robot the trajectory moves (not needed with a checker).
-            margin: clearance to keep [m] (with a Cell).
+            margin: clearance to keep [m]; default a checker's own (0 with a Cell); given
+                with a checker, it is used (``checker.with_margin(margin)``).
 
         Returns:
-            A :class:`~scara_opt.collision.continuous.CollisionReport`: ``clear``, or the
-            first contact's ``time`` [s], ``bodies`` and ``depth`` [m].
+            A :class:`~scara_opt.collision.continuous.CollisionReport`: ``clear`` with the
+            least clearance along the whole trajectory (``least``, to 0.1 mm) and the
+            proven lower bound (``clearance``), or the first contact's ``time`` [s],
+            ``bodies`` and ``depth`` [m].
 
         Raises:
             InputError: neither a Cell nor a checker, no robot, or a robot of another size.
@@ -390,7 +393,7 @@ class Trajectory:
             for k, name in enumerate(self.limits.joint_names):
                 cols.append(tau[:, k])
                 header.append(f"{name}_torque_{'N' if self.limits.unit(k) == 'm' else 'Nm'}")
-        path = Path(path)
+        path = check_path("path", path)
         np.savetxt(path, np.column_stack(cols), delimiter=",", header=",".join(header),
                    comments="", fmt="%.10g")
         return path

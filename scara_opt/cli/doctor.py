@@ -9,6 +9,7 @@ native code did in this process after a short run on a bundled robot that uses a
 
 from __future__ import annotations
 
+import argparse
 import os
 import sys
 import tempfile
@@ -18,8 +19,8 @@ from pathlib import Path
 from scara_opt.model import compiled
 
 #: the distributions whose versions the report lists (name as installed)
-PACKAGES = ("scara-opt", "numpy", "scipy", "casadi", "pin", "yourdfpy", "toppra", "ruckig",
-            "pandas", "matplotlib", "distributed")
+PACKAGES = ("scara-opt", "numpy", "scipy", "casadi", "pin", "coal", "ompl", "yourdfpy",
+            "toppra", "ruckig", "pandas", "matplotlib", "meshcat", "distributed")
 
 #: the bundled robot the report runs on (it has a circular base footprint)
 ROBOT = "peng2025"
@@ -143,3 +144,16 @@ def report(robot_name: str = ROBOT) -> list[str]:
     return [*head, *cache_lines(),
             f"native code, after a short run on {robot_name} ({len(natives) - falls} of "
             f"{len(natives)} compiled, {falls} falling back):", *native_lines()]
+
+
+def cmd_doctor(args: argparse.Namespace) -> int:
+    """Versions, compiler, cache folder, and what is compiled or falls back (exit 0)."""
+    print("\n".join(report()))
+    return 0
+
+
+def add_parser(sub: argparse._SubParsersAction, parents: list) -> None:
+    """Add ``doctor`` to the subparsers ``sub``."""
+    p = sub.add_parser("doctor", parents=parents, help="versions, C compiler, cache folder, "
+                       "and what is compiled or falls back")
+    p.set_defaults(func=cmd_doctor)

@@ -12,7 +12,7 @@ from typing import Any
 
 import numpy as np
 
-from scara_opt.cli_args import degrees
+from scara_opt.cli.args import degrees
 from scara_opt.errors import InputError
 from scara_opt.pose import matrix_to_quat, matrix_to_rpy, quat_to_matrix, rpy_to_matrix
 from scara_opt.target import Target

@@ -7,8 +7,10 @@ stopped part way (Ctrl-C, an error) removes its staging folder and leaves ``--ou
 was: no half-written file, no old ``summary.md`` beside new partial files.
 
 Files already in ``--out`` that the run would write are refused before any work unless
-the user passes ``--force``. :func:`write_compare` and :func:`write_joint_path` write the
-tables and figures of ``compare`` and ``path``.
+the user passes ``--force``. A staging folder is named after the process that writes it
+(``.scara-opt-partial-<pid>-*``): one whose process is gone (killed by SIGKILL, the machine
+restarted) is removed by the next run into the same folder, so it never outlives its run
+for long. :func:`write_animation` writes the ``--html`` page of a command.
 """
 
 from __future__ import annotations
@@ -25,26 +27,9 @@ from typing import Any
 from scara_opt import interrupt
 from scara_opt.errors import InputError
 
-#: the files of ``scara-opt compare``
-COMPARE_FILES = ("runs.csv", "summary.csv", "convergence.png", "time_vs_population.png",
-                 "error_time_boxes.png")
-
 STAGING_PREFIX = ".scara-opt-partial-"
 #: the ``--force`` option's help, for every command that writes into ``--out``
 FORCE_HELP = "overwrite files of an earlier run in --out (refused without it)"
-
-
-def html_name(text: object, option: str = "--html") -> str:
-    """``text`` as the name of an HTML file written inside ``--out``: ``name.html``, no folder.
-
-    Raises:
-        InputError: empty, a NUL byte, a folder part, or not ending in ``.html``.
-    """
-    name = check_path_text(option, text)
-    if Path(name).name != name or name in (".", "..") or not name.lower().endswith(".html"):
-        raise InputError(f"{option} takes a file name ending in .html, written inside --out "
-                         f"(e.g. {option} path.html); got {name!r}")
-    return name
 
 
 def check_path_text(option: str, text: object) -> str:
@@ -61,18 +46,33 @@ def check_path_text(option: str, text: object) -> str:
     return text
 
 
-def write_text_atomic(path: str | Path, text: str) -> Path:
-    """Write ``text`` to ``path`` through a temporary file in its folder and a rename."""
-    path = Path(path)
-    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
+def _alive(pid: int) -> bool:
+    """Whether a process ``pid`` exists (one of another user's counts as alive)."""
     try:
-        with os.fdopen(fd, "w", encoding="utf-8") as fh:
-            fh.write(text)
-        os.replace(tmp, path)
-    except BaseException:
-        Path(tmp).unlink(missing_ok=True)
-        raise
-    return path
+        os.kill(pid, 0)
+    except ProcessLookupError:
+        return False
+    except OSError:  # PermissionError: it exists
+        return True
+    return True
+
+
+def remove_stale_staging(folder: Path) -> list[Path]:
+    """Remove the staging folders in ``folder`` whose process is gone; returns them.
+
+    A run's own staging folder is removed when it ends (even by SIGTERM or SIGHUP, which
+    the command line turns into an orderly stop); one left by a run killed outright is
+    named with that run's process id, which no longer exists. A folder without a process
+    id in its name is left alone.
+    """
+    removed = []
+    for entry in folder.glob(f"{STAGING_PREFIX}*"):
+        pid = entry.name[len(STAGING_PREFIX):].partition("-")[0]
+        if entry.is_dir() and pid.isdigit() and int(pid) != os.getpid() \
+                and not _alive(int(pid)):
+            shutil.rmtree(entry, ignore_errors=True)
+            removed.append(entry)
+    return removed
 
 
 class OutputDir:
@@ -131,7 +131,9 @@ class OutputDir:
     def __enter__(self) -> OutputDir:
         try:
             self.final.mkdir(parents=True, exist_ok=True)
-            self.staging = Path(tempfile.mkdtemp(prefix=STAGING_PREFIX, dir=self.final))
+            remove_stale_staging(self.final)
+            self.staging = Path(tempfile.mkdtemp(prefix=f"{STAGING_PREFIX}{os.getpid()}-",
+                                                 dir=self.final))
         except OSError as exc:
             raise InputError(f"cannot write into {self.option} {str(self.final)!r}: "
                              f"{exc.strerror or exc}; pass a writable folder") from None
@@ -177,40 +179,6 @@ class OutputDir:
             if self.staging is not None:
                 shutil.rmtree(self.staging, ignore_errors=True)
                 self.staging = None
-
-
-def write_compare(out: OutputDir, table: Any, tol: float) -> Any:
-    """compare's :data:`COMPARE_FILES` (CSV with units in the column names, 3 figures).
-
-    Returns:
-        The summary table (a DataFrame, SI units).
-    """
-    from scara_opt.comparison import convergence, summarize, with_units
-    from scara_opt.plots import plot_boxes, plot_convergence, plot_time_vs_population
-
-    with_units(table.drop(columns=["history"])).to_csv(out / "runs.csv", index=False)
-    summary = summarize(table, tol=tol)
-    with_units(summary).to_csv(out / "summary.csv", index=False)
-    plot_convergence(convergence(table), out / "convergence.png")
-    plot_time_vs_population(summary, out / "time_vs_population.png")
-    plot_boxes(table, ["error", "time_s"], out / "error_time_boxes.png")
-    return summary
-
-
-def write_joint_path(jp: Any, robot: Any, path: Path) -> None:
-    """One CSV row per path point: target, status, residual and q, in SI units."""
-    import pandas as pd
-
-    units = ["rad" if t == "revolute" else "m" for t in robot.joint_types]
-    rows = []
-    for i, (t, res) in enumerate(zip(jp.targets, jp.results, strict=True)):
-        row: dict[str, Any] = {"point": i, "x_m": t.position[0], "y_m": t.position[1],
-                               "z_m": t.position[2], "status": res.status.value,
-                               "error_m_rad": res.error}
-        row.update({f"{n}_{u}": v for n, u, v in zip(robot.joint_names, units, res.q,
-                                                     strict=True)})
-        rows.append(row)
-    pd.DataFrame(rows).to_csv(path, index=False)
 
 
 def write_animation(robot: Any, motion: Any, path: Path, title: str) -> Path:
