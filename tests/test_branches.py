@@ -111,11 +111,11 @@ def test_a_jump_off_q_start_counts_before_the_paths_own():
 def test_global_walk_on_the_arm_beats_the_greedy_one(ur5_arm):
     """UR5-class arm, the issue's 5 full poses: no more jumps than greedy, less travel if tied.
 
-    The multi-start follows every track, the greedy one first, so the least-cost walk is
-    never worse. Measured: greedy 4 jumps / 31.5 rad, global 3 jumps / 33.6 rad (the
-    hand-unwrapped greedy walk of before: 35.3 rad). Mutation caught: the tracks not
-    continued (``prev = [r.q for r in found]`` -> ``prev = [q_start]``) -> the greedy
-    track is lost, global has 4 jumps, fails.
+    The global walk chooses among every closed-form solution and turn of each pose
+    (:func:`~scara_opt.trajectory.branches.candidates_arm`). Measured: greedy 4 jumps /
+    22.8 rad, global 3 jumps / 23.3 rad (the multi-start's of before: 3 jumps / 33.6 rad).
+    Mutation caught: the arm's candidates not used (``candidates_arm`` returning None) ->
+    fails.
     """
     Q = np.random.default_rng(2).uniform(ur5_arm.lower, ur5_arm.upper, (5, 6))
     targets = [so.Target(T[:3, 3], rotation=T[:3, :3]) for T in map(ur5_arm.fk, Q)]
@@ -126,6 +126,30 @@ def test_global_walk_on_the_arm_beats_the_greedy_one(ur5_arm):
                                                       weighted(ur5_arm, greedy))
     assert len(jp.jumps) < len(greedy.jumps) and jp.travel.sum() <= 35.3
     assert all(j.forced_by is not None and j.forced_by >= j.index for j in jp.jumps)
+
+
+def test_global_multi_start_on_an_unserved_arm_never_loses_the_greedy_walk(arm6):
+    """arm6 (a prismatic joint: no closed form), 20 sequences of 5 full poses: the
+    multi-start follows every track, the greedy one first, so the global walk never has
+    more jumps than greedy, nor more weighted travel with as many.
+
+    Mutation caught: the tracks not continued (``prev = [r.q for r in found]`` ->
+    ``prev = [q_start]``) -> the greedy track is lost: worse than greedy on sequences 8,
+    13, 15, 17 and 18, fails.
+    """
+    compared = 0
+    for seed in range(20):
+        Q = np.random.default_rng(seed).uniform(arm6.lower, arm6.upper, (5, 6))
+        targets = [so.Target(T[:3, 3], rotation=T[:3, :3]) for T in map(arm6.fk, Q)]
+        greedy = so.ik_path(arm6, targets, branches="greedy")
+        jp = so.ik_path(arm6, targets)
+        assert jp.results[0].route == ""
+        if not (jp.solved.all() and greedy.solved.all()):
+            continue  # a pose a multi-start misses: no travel to compare
+        compared += 1
+        assert (len(jp.jumps), weighted(arm6, jp)) <= (len(greedy.jumps),
+                                                      weighted(arm6, greedy) + 1e-9), seed
+    assert compared >= 15
 
 
 def test_a_point_no_branch_reaches_keeps_its_verdict(robots):

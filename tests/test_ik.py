@@ -231,9 +231,16 @@ def test_analytic_holds_the_redundant_joint(robots):
 
 
 def test_analytic_refuses_a_non_scara_chain(arm6):
-    """The closed form says plainly that a 6-joint arm is not SCARA-type."""
+    """The SCARA closed form says plainly that a 6-joint arm is not SCARA-type; ``ik_all``
+    on it (a prismatic joint: no arm closed form) falls back to the multi-start and says so.
+
+    Mutation caught: ``multi_start_solutions``' route text emptied -> fails.
+    """
     with pytest.raises(NotScaraError, match="SCARA-type"):
-        so.ik_all(arm6, [0.3, 0.1, 0.4])
+        solve_batch(arm6, np.array([[0.3, 0.1, 0.4]]))
+    q = np.array([0.3, -0.4, 0.5, 0.05, 0.2, 0.1])
+    found = so.ik_all(arm6, arm6.position(q))
+    assert found and all(r.success and r.route.startswith("multi-start") for r in found)
 
 
 @pytest.mark.parametrize("name", FOUR_JOINT)

@@ -396,7 +396,7 @@ def test_unknown_option_is_refused_with_the_names():
     from scara_opt.ik.registry import get_solver
 
     assert get_solver("lm").options == {"restarts": 50, "max_iter": 100, "jit": True,
-                                        "nearest": True}
+                                        "nearest": True, "analytic": True}
     assert get_solver("lm", restarts=3).options["restarts"] == 3
     with pytest.raises(SolverOptionError) as info:
         get_solver("lm", restarts=3, bogus=1, other=2)

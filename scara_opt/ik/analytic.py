@@ -1,8 +1,9 @@
-"""The closed form as a solver (``method="analytic"``) and :func:`ik_all`, every branch.
+"""The closed form as a solver (``method="analytic"``) and :func:`ik_all`, every solution.
 
 The mathematics lives in :mod:`scara_opt.ik.geometry` (the SCARA structure read from the
-FK) and :mod:`scara_opt.ik.closed_form` (every branch, over the whole range of the
-redundant joints); this module wraps it in the solver interface.
+FK), :mod:`scara_opt.ik.closed_form` (every branch, over the whole range of the
+redundant joints) and, for 6R and 7R arms, :mod:`scara_opt.ik.arm_route`; this module
+wraps the SCARA closed form in the solver interface and lists every solution of any robot.
 """
 
 from __future__ import annotations
@@ -12,11 +13,22 @@ from typing import Any, ClassVar
 import numpy as np
 from numpy.typing import ArrayLike
 
-from scara_opt.ik.base import Solver, SolverOutput, check_q0, check_tol, default_q0
+from scara_opt.ik.arm_route import SAMPLES, every_solution, served
+from scara_opt.ik.base import (
+    MAX_RESTARTS,
+    Solver,
+    SolverOutput,
+    check_number,
+    check_q0,
+    check_seed,
+    check_tol,
+    default_q0,
+)
 from scara_opt.ik.closed_form import solve_all
 from scara_opt.ik.geometry import (  # noqa: F401  (re-exported: the closed form's names)
     NotScaraError,
     ScaraGeometry,
+    applies,
     check_fixed,
     held_values,
     scara_geometry,
@@ -30,42 +42,66 @@ from scara_opt.ik.verdict import judge
 from scara_opt.model.robot import Array, Robot, check_robot
 from scara_opt.target import Target, as_target
 
+#: the route of a SCARA-type robot's results
+SCARA_ROUTE = "analytic (SCARA closed form)"
+
 
 def ik_all(robot: Robot, target: Target | ArrayLike, q0: ArrayLike | None = None, tol: float = 1e-9,
-           fixed: dict[str, float] | None = None) -> list[IKResult]:
-    """Every closed-form IK solution within the limits, nearest to ``q0`` first.
+           fixed: dict[str, float] | None = None, samples: int = SAMPLES,
+           seed: int | None = 0) -> list[IKResult]:
+    """Every IK solution within the limits, nearest to ``q0`` first, its route named.
 
-    What is enumerated: both elbow branches, and every turn of each revolute joint that
-    fits its limits (a ±360° wrist gives two). Redundant joints are not enumerated (they
-    have a continuum of values): those named in ``fixed`` keep that value; the others
-    keep ``q0``'s value (or the default start's) when some branch exists there, else they
-    take the nearest values at which one does (see :mod:`scara_opt.ik.closed_form`).
+    Each result's :attr:`~scara_opt.IKResult.route` says how the solutions were found:
+
+    * SCARA-type robots (position or yaw targets): the closed form's branches, both elbows
+      and every turn of each revolute joint that fits its limits (a ±360° wrist gives
+      two). Redundant joints are not enumerated (they have a continuum of values): those
+      named in ``fixed`` keep that value; the others keep ``q0``'s value (or the default
+      start's) when some branch exists there, else they take the nearest values at which
+      one does (see :mod:`scara_opt.ik.closed_form`).
+    * 6R arms of the cases of :mod:`~scara_opt.ik.arm_geometry` (UR-type, spherical
+      wrists, either way round), full-pose targets: every branch of the closed form and
+      every whole turn of each joint within the limits (:mod:`~scara_opt.ik.arm_route`);
+      7R arms whose first or last joint held leaves such a 6R: that joint held at its
+      ``fixed`` value, else sampled at ``samples`` values evenly over its range (the route
+      says which).
+    * Any other robot or target: the distinct solutions a seeded multi-start of the fast
+      solver reaches (``"multi-start"``): not necessarily all.
 
     Args:
-        robot: a SCARA-type robot.
-        target: a :class:`Target` (position, optional yaw) or a (3,) position [m].
+        robot: the robot.
+        target: a :class:`Target` or a (3,) position [m].
         q0: (nq,) reference for sorting, held joints and the wrist of position-only targets.
         tol: residual [m, rad] each solution is checked against (>= the tol floor).
         fixed: values of redundant joints by name (e.g. ``{"P1": 0.02}``), never moved.
+        samples: values of a 7R arm's sampled joint (>= 1).
+        seed: seed of the multi-start's starts.
 
     Returns:
-        One :class:`IKResult` per branch, each ``solved``; an empty list when the target
-        is out of reach (with the ``fixed`` joints held).
+        One :class:`IKResult` per solution, each ``solved``; an empty list when none is
+        found (with the ``fixed`` joints held).
 
     Raises:
-        NotScaraError: the robot is not SCARA-type.
-        TargetError: a malformed target, or a rotation target.
-        InputError: a malformed ``q0``, ``tol`` or ``fixed``.
+        TargetError: a malformed target, or a rotation target for a SCARA-type robot.
+        InputError: a malformed ``q0``, ``tol``, ``fixed``, ``samples`` or ``seed``.
     """
     robot = check_robot(robot)
     target = as_target(target)
     check_task(robot, target)
     tol = check_tol(tol)
+    check_seed(seed)
+    check_number("samples", samples, 1, MAX_RESTARTS, integer=True)
     q_ref = check_q0(robot, q0)
     q_ref = default_q0(robot) if q_ref is None else q_ref
+    if applies(robot):
+        sols, route = solve_all(robot, target, q_ref, fixed), SCARA_ROUTE
+    else:
+        check_fixed(fixed)
+        sols, route = every_solution(robot, served(robot, target), target, q_ref, tol, fixed,
+                                     int(samples), seed)
     results = []
-    for q in solve_all(robot, target, q_ref, fixed):
-        res = judge(robot, target, SolverOutput(q=q, evaluations=1), tol=tol,
+    for q in sols:
+        res = judge(robot, target, SolverOutput(q=q, evaluations=1, route=route), tol=tol,
                     method="analytic", seed=None, time_s=0.0)
         if res.success:
             results.append(res)

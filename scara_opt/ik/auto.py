@@ -2,6 +2,10 @@
 
 ``method="auto"`` tries, in order, until a start reaches the target:
 
+0. on a 6R or 7R arm whose closed form :mod:`~scara_opt.ik.arm_route` serves, for a full
+   pose: the closed-form solution nearest ``q0`` (every branch and turn within the
+   limits; a 7R arm's held joint at ``q0``'s value, then slid to the solution nearest
+   ``q0``), the route named in :attr:`~scara_opt.IKResult.route`;
 1. the fast solver (:mod:`scara_opt.ik.lm`) from ``q0`` (or the default start): the
    solution nearest to ``q0`` on the branch reached from it, the rule of IPOPT;
 2. for SCARA-type robots (position or yaw targets), the fast solver from each
@@ -32,11 +36,13 @@ from typing import Any, ClassVar
 
 import numpy as np
 
+from scara_opt.ik.arm_route import solve_nearest
 from scara_opt.ik.base import (
     MAX_RESTARTS,
     LazyGenerator,
     Solver,
     SolverOutput,
+    check_flag,
     check_number,
 )
 from scara_opt.ik.closed_form import solve_all
@@ -100,17 +106,20 @@ class AutoSolver(Solver):
             every target ``ipopt`` reaches with the same seed).
         jit: the fast solver's iterations compiled to C, cached per machine (default True;
             see :class:`~scara_opt.ik.lm.LevenbergMarquardtSolver`).
+        analytic: a 6R or 7R arm's closed form first, for full poses (default True; see
+            :class:`~scara_opt.ik.lm.LevenbergMarquardtSolver`).
     """
 
     name = "auto"
     label = "auto (LM + IPOPT)"
     defaults: ClassVar[dict[str, Any]] = {
-        "restarts": 50, "max_iter": 100, "jit": True,
+        "restarts": 50, "max_iter": 100, "jit": True, "analytic": True,
         "ipopt_restarts": IpoptSolver.defaults["restarts"]}
 
     def check_options(self) -> None:
-        """restarts, ipopt_restarts >= 0 and max_iter >= 1 (integers), jit a bool."""
+        """restarts, ipopt_restarts >= 0 and max_iter >= 1 (integers); jit, analytic bools."""
         check_budget(self.options)
+        check_flag("analytic", self.options["analytic"])
         check_number("ipopt_restarts", self.options["ipopt_restarts"], 0, MAX_RESTARTS,
                      integer=True)
 
@@ -119,6 +128,10 @@ class AutoSolver(Solver):
         opts = self.options
         box, q_default = limits(robot)
         q_ref = q_default if q0 is None else q0
+        if opts["analytic"] and target.rotation is not None:  # a 6R/7R arm's closed form
+            out = solve_nearest(robot, target, q_ref, tol, bool(opts["jit"]))
+            if out is not None:
+                return out
         starts = chain([q_ref], closed_form_starts(robot, target, q_ref),
                        random_starts(robot, rng, int(opts["restarts"])))
         found = lm_search(robot, target, q_ref, starts, tol=tol, max_iter=int(opts["max_iter"]),
@@ -133,7 +146,8 @@ class AutoSolver(Solver):
         IPOPT's NLPs are built only when a target first needs them (their build time is
         then reported as setup, not search time).
         """
-        LevenbergMarquardtSolver(jit=self.options["jit"]).prepare(robot, kind)
+        LevenbergMarquardtSolver(jit=self.options["jit"],
+                                 analytic=self.options["analytic"]).prepare(robot, kind)
 
     def _fallback(self, robot: Robot, target: Target, q0: Array | None,
                  rng: np.random.Generator, tol: float, found: Search) -> SolverOutput:

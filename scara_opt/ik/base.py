@@ -263,7 +263,7 @@ class Solver(ABC):
         setup = self.timed_prepare(robot, target.kind)
         start = time.perf_counter()
         out = self._solve(robot, target, q0a, rng, tol)
-        if q0a is not None:  # of the answers equivalent by whole turns, the nearest q0
+        if q0a is not None and not out.turned:  # of the equivalent turns, the nearest q0
             turned = nearest_turn(robot, out.q, q0a)
             if turned is not out.q:
                 out = replace(out, q=turned)

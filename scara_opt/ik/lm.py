@@ -57,6 +57,7 @@ from typing import Any, ClassVar
 
 import numpy as np
 
+from scara_opt.ik.arm_route import prepare_arm, solve_nearest
 from scara_opt.ik.base import Solver, SolverOutput, check_flag
 from scara_opt.ik.lm_functions import limits, phase_arrays
 from scara_opt.ik.lm_search import check_budget, lm_search, random_starts, search_output
@@ -86,28 +87,45 @@ class LevenbergMarquardtSolver(Solver):
             ``q0``, as ``ik_LM`` and TRAC-IK return): the same where the solutions are
             isolated (non-redundant tasks); on the 7-joint test arm's full poses less than
             half the time (median 0.107 -> 0.049 ms, benchmarks/bench_ik_arms.py).
+        analytic: on the 6R and 7R arms whose closed form :mod:`~scara_opt.ik.arm_route`
+            serves, full poses go there first (default True): the solution nearest ``q0``
+            of every branch and turn within the limits (a 7R arm's held joint at ``q0``'s
+            value, then the slide with ``nearest``); the descent runs only where it finds
+            none. ``False``: the descent alone.
     """
 
     name = "lm"
     label = "LM"
     defaults: ClassVar[dict[str, Any]] = {"restarts": 50, "max_iter": 100, "jit": True,
-                                          "nearest": True}
+                                          "nearest": True, "analytic": True}
 
     def check_options(self) -> None:
-        """restarts >= 0 and max_iter >= 1 (integers), jit and nearest bools."""
+        """restarts >= 0 and max_iter >= 1 (integers); jit, nearest and analytic bools."""
         check_budget(self.options)
         check_flag("nearest", self.options["nearest"])
+        check_flag("analytic", self.options["analytic"])
 
     def prepare(self, robot: Robot, kind: str) -> None:
-        """Build the phases' Functions and this thread's arrays (cached on the robot)."""
+        """Build the phases' Functions and this thread's arrays (cached on the robot).
+
+        And the arm route's closed form where it serves
+        (:func:`~scara_opt.ik.arm_route.prepare_arm`).
+        """
         phase_arrays(robot, kind, 1, bool(self.options["jit"]))
+        if self.options["analytic"]:
+            prepare_arm(robot, kind, bool(self.options["jit"]), bool(self.options["nearest"]))
 
     def _solve(self, robot: Robot, target: Target, q0: Array | None,
                rng: np.random.Generator, tol: float) -> SolverOutput:
         box, q_default = limits(robot)
         q_ref = q_default if q0 is None else q0
-        starts = chain([q_ref], random_starts(robot, rng, int(self.options["restarts"])))
         opts = self.options
+        if opts["analytic"] and target.rotation is not None:  # a 6R/7R arm's closed form
+            out = solve_nearest(robot, target, q_ref, tol, bool(opts["jit"]),
+                                bool(opts["nearest"]))
+            if out is not None:
+                return out
+        starts = chain([q_ref], random_starts(robot, rng, int(self.options["restarts"])))
         return search_output(lm_search(robot, target, q_ref, starts, tol=tol,
                                        max_iter=int(opts["max_iter"]), jit=bool(opts["jit"]),
                                        box=box, nearest=bool(opts["nearest"])))

@@ -106,6 +106,10 @@ class SolverOutput:
         held: the solve was infeasible because of joints the caller held (``fixed``).
         setup_s: one-off setup done inside the search (a fallback's first build) [s]: the
             base moves it from ``time_s`` to ``setup_s``.
+        route: how the answer was found, where a solver has several ways (see
+            :attr:`IKResult.route`).
+        turned: ``q`` is already at each joint's whole turn nearest ``q0`` (the base then
+            skips :func:`~scara_opt.ik.turns.nearest_turn`).
     """
 
     q: Array
@@ -115,6 +119,8 @@ class SolverOutput:
     message: str = ""
     held: bool = False
     setup_s: float = 0.0
+    route: str = ""
+    turned: bool = False
 
 
 @dataclass(frozen=True, repr=False)
@@ -146,6 +152,10 @@ class IKResult:
         evidence: the evidence in words, with its numbers: the certificate's argument for
             ``unreachable``, the witness for ``max_iter``; empty when solved.
         setup_s: one-off setup this call paid (casadi builds, compilation) [s]; 0 once cached.
+        route: the way the answer was found where there are several: ``"analytic (<case>)"``
+            (a 6R or 7R arm's closed form, :mod:`~scara_opt.ik.arm_route`, the case and any
+            sampled joint named), ``"multi-start"`` (an arm the closed form does not serve);
+            empty for the other solvers.
     """
 
     q: Array
@@ -166,12 +176,13 @@ class IKResult:
     reason: Reason = Reason.REACHED
     evidence: str = ""
     setup_s: float = 0.0
+    route: str = ""
 
     @classmethod
     def _new(cls, **values: Any) -> IKResult:
         """``IKResult(**values)``, ~1.5 µs faster when every field is given (the verdict's).
 
-        The frozen dataclass's ``__init__`` sets each of the 18 fields through
+        The frozen dataclass's ``__init__`` sets each of the 19 fields through
         ``object.__setattr__``; this fills ``__dict__`` at once (no ``__post_init__`` is
         skipped: there is none). The result is as frozen. Any other set of names goes
         through ``__init__`` (its defaults and its errors).

@@ -155,4 +155,5 @@ def judge(robot: Robot, target: Target, out: SolverOutput, *, tol: float, method
                          cost=cost_of(target, dp, dang), iterations=int(out.iterations),
                          evaluations=int(out.evaluations), time_s=time_s,
                          history=np.asarray(out.history, dtype=float), method=method,
-                         seed=seed, tol=tol, reason=reason, evidence=evidence, setup_s=setup_s)
+                         seed=seed, tol=tol, reason=reason, evidence=evidence, setup_s=setup_s,
+                         route=out.route)

@@ -2,10 +2,12 @@ r"""The branch sequence of a path, chosen over the whole path (Descartes-style).
 
 Every point of the path has several IK solutions (elbow branches, wrist turns, the
 shoulder's ±2π turns of an arm). :func:`candidates_closed_form` lists all of them at once
-on SCARA-type robots (the closed form's branches and every whole turn within the limits);
-:func:`candidates_searched` collects, on other robots, the distinct solutions a seeded
-multi-start finds, each point's solves also continuing every solution of the point before
-(so every track, the greedy walk's first, is followed). :func:`least_cost_walk` then picks
+on SCARA-type robots (the closed form's branches and every whole turn within the limits),
+:func:`candidates_arm` on the 6R arms a closed form serves (full poses: every branch and
+turn, up to 8 × 2⁵ a point on a UR); :func:`candidates_searched` collects, on other
+robots, the distinct solutions a seeded multi-start finds, each point's solves also
+continuing every solution of the point before (so every track, the greedy walk's first,
+is followed). :func:`least_cost_walk` then picks
 one solution per point by a shortest-path search over the layered graph (SciPy's
 Dijkstra): a step where some joint moves more than its jump threshold is a *jump* (the
 threshold is a hard limit: the fewest jumps first), and among the walks with the fewest
@@ -28,6 +30,8 @@ from numpy.typing import NDArray
 from scipy.sparse import csr_matrix
 from scipy.sparse.csgraph import breadth_first_order, dijkstra
 
+from scara_opt.ik.arm_geometry import arm_model
+from scara_opt.ik.arm_route import all_solutions
 from scara_opt.ik.base import Solver
 from scara_opt.ik.geometry import NotScaraError, ScaraGeometry, scara_geometry, solve_batch
 from scara_opt.ik.result import IKResult
@@ -85,6 +89,10 @@ def _steps(A: Array, B: Array, threshold: Array, w: Array) -> tuple[Array, Mask]
     return D @ w, np.asarray((D > threshold).any(axis=-1))
 
 
+#: above this many step entries (n - 1) K² nq, the walk goes layer by layer (memory)
+LAYERED = 4_000_000
+
+
 def least_cost_walk(Q: Array, valid: Mask, threshold: Array, weights: Array,
                     q_start: Array | None = None) -> Walk:
     """The walk through one valid candidate per point with the fewest jumps, then least travel.
@@ -100,16 +108,21 @@ def least_cost_walk(Q: Array, valid: Mask, threshold: Array, weights: Array,
             walk keeps q_start's branch at point 0 wherever some walk can).
 
     Returns:
-        Walk: the choice, its jumps and what forces each.
+        Walk: the choice, its jumps and what forces each. Small candidate sets go through
+        SciPy's Dijkstra over the whole layered graph at once; sets above
+        :data:`LAYERED` (an arm's every branch and turn, 256 a point on a UR) through the
+        same order of walks layer by layer (:func:`_layered_walk`): the same optimum.
     """
     n, K, nq = Q.shape
-    travel, over = _steps(Q[:-1], Q[1:], threshold, weights)  # (n-1, K, K)
-    edge = valid[:-1, :, None] & valid[1:, None, :]
     if q_start is not None:
         t0, o0 = _steps(q_start[None, :], Q[0], threshold, weights)
         t0, o0 = t0[0], o0[0]
     else:
         t0, o0 = np.zeros(K), np.zeros(K, dtype=bool)
+    if (n - 1) * K * K * nq > LAYERED:
+        return _layered_walk(Q, valid, threshold, weights, t0, o0)
+    travel, over = _steps(Q[:-1], Q[1:], threshold, weights)  # (n-1, K, K)
+    edge = valid[:-1, :, None] & valid[1:, None, :]
     # a jump costs more than any walk's whole travel: the fewest jumps win, then travel
     finite = np.where(edge, travel, 0.0)
     penalty = 1.0 + float(finite.max(axis=(1, 2)).sum()) + float(np.where(valid[0], t0,
@@ -138,6 +151,49 @@ def least_cost_walk(Q: Array, valid: Mask, threshold: Array, weights: Array,
     jumps = tuple(int(s) + 1 for s in np.flatnonzero(jumped))
     forced = _forcing_points(edge & ~over, jumps, choice) if jumps else ()
     walked = float(travel[steps, choice[:-1], choice[1:]].sum()) + float(t0[choice[0]])
+    return Walk(choice, jumps, forced, bool(o0[choice[0]]), walked)
+
+
+def _layered_walk(Q: Array, valid: Mask, threshold: Array, weights: Array, t0: Array,
+                  o0: Mask) -> Walk:
+    """:func:`least_cost_walk` by dynamic programming over the layers (Viterbi).
+
+    Each candidate keeps the best (jumps, travel) of the walks reaching it, compared in
+    that order (a jump off ``q_start`` counts as ``n``); one layer's steps (K, K, nq)
+    exist at a time, so memory grows with ``n K²`` booleans (the steps within the
+    threshold, for the forcing points), not ``n K² nq`` floats.
+    """
+    n, K, _ = Q.shape
+    big = np.iinfo(np.int64).max // 4
+    J = np.where(valid[0], n * o0.astype(np.int64), big)
+    T = np.where(valid[0], t0, np.inf)
+    pred = np.zeros((n - 1, K), dtype=np.intp)
+    allowed = np.zeros((n - 1, K, K), dtype=bool)
+    cols = np.arange(K)
+    for i in range(n - 1):
+        travel, over = _steps(Q[i], Q[i + 1], threshold, weights)
+        edge = valid[i][:, None] & valid[i + 1][None, :]
+        allowed[i] = edge & ~over
+        Jc = np.where(edge, J[:, None] + over, big)
+        best_j = Jc.min(axis=0)
+        Tc = np.where(Jc == best_j[None, :], T[:, None] + travel, np.inf)
+        pred[i] = Tc.argmin(axis=0)
+        J = np.where(valid[i + 1], best_j, big)
+        T = np.where(valid[i + 1], Tc[pred[i], cols], np.inf)
+    ends = np.flatnonzero(J == J.min())
+    end = int(ends[np.argmin(T[ends])])
+    if J[end] >= big:  # pragma: no cover - every point has a candidate
+        raise ValueError("no walk through the candidates: a point has none")
+    choice = np.zeros(n, dtype=np.intp)
+    choice[-1] = end
+    for i in range(n - 2, -1, -1):
+        choice[i] = pred[i, choice[i + 1]]
+    steps = np.arange(n - 1)
+    jumped = ~allowed[steps, choice[:-1], choice[1:]]
+    jumps = tuple(int(s) + 1 for s in np.flatnonzero(jumped))
+    forced = _forcing_points(allowed, jumps, choice) if jumps else ()
+    d = np.abs(np.diff(Q[np.arange(n), choice], axis=0))
+    walked = float((d @ weights).sum()) + float(t0[choice[0]])
     return Walk(choice, jumps, forced, bool(o0[choice[0]]), walked)
 
 
@@ -216,6 +272,35 @@ def candidates_closed_form(robot: Robot, targets: Sequence[Target],
         Q[:, :, k] += np.tile(m * TURN, Q.shape[1] // m.size)[None, :]
         valid &= (Q[:, :, k] >= lo) & (Q[:, :, k] <= hi)
     return Q, valid
+
+
+def candidates_arm(robot: Robot, targets: Sequence[Target], q_ref: Array,
+                   tol: float) -> tuple[Array, Mask, str] | None:
+    """Every solution of every full pose on a 6R arm that a closed form serves, or ``None``.
+
+    Every branch and every whole turn within the limits (:func:`~scara_opt.ik.arm_route.
+    all_solutions`): (n, K, nq), (n, K) valid, and the route. ``None`` unless every target
+    is a full pose and the robot is a 6R arm of :mod:`~scara_opt.ik.arm_geometry`'s cases
+    (a 7R arm's held joint would be sampled: its solutions are a continuum).
+    """
+    if any(t.rotation is None for t in targets):
+        return None
+    model = arm_model(robot)
+    if model is None or model.held is not None:
+        return None
+    found = []
+    route = ""
+    for t in targets:
+        sols, route = all_solutions(robot, model, t, q_ref, tol)
+        found.append(sols)
+    K = max(1, max(len(f) for f in found))
+    Q = np.zeros((len(targets), K, robot.nq))
+    valid = np.zeros((len(targets), K), dtype=bool)
+    for i, sols in enumerate(found):
+        if sols:
+            Q[i, :len(sols)] = sols
+            valid[i, :len(sols)] = True
+    return Q, valid, route
 
 
 def candidates_searched(robot: Robot, targets: Sequence[Target], solver: Solver,

@@ -340,6 +340,10 @@ def _global(robot: Robot, ts: list[Target], solver: Solver, method: str, q_start
     q_ref = default_q0(robot) if q_start is None else q_start
     listed = walk.candidates_closed_form(robot, ts, q_ref)
     if listed is None:
+        arm = walk.candidates_arm(robot, ts, q_ref, tol)
+        if arm is not None:
+            return _global_arm(robot, ts, solver, method, q_start, q_ref, threshold, seed, tol,
+                               start, arm)
         Q, valid, kept = walk.candidates_searched(robot, ts, solver, q_start, seed, tol)
         w = walk.least_cost_walk(Q, valid, threshold, weights, q_start)
         if walk.redundant(robot, ts):  # a continuum: the greedy walk unless it jumps more
@@ -352,11 +356,8 @@ def _global(robot: Robot, ts: list[Target], solver: Solver, method: str, q_start
                          dict(zip(w.jumps, w.forced_by, strict=True)))
     Q, valid = listed
     known: dict[int, IKResult] = {}
-    for i in [int(k) for k in np.flatnonzero(~valid.any(axis=1))]:
-        # no branch reaches it: the method's verdict
-        known[i] = solver.solve(robot, ts[i], q0=q_ref, seed=None if seed is None else seed + i,
-                                tol=tol)
-        Q[i, 0], valid[i, 0] = known[i].q, True
+    verdicts = _Verdicts(robot, ts, solver, q_ref, seed, tol, Q, valid, known)
+    verdicts.where_none()
     rows = np.arange(len(ts))
     while True:  # a chosen candidate the FK does not confirm within tol is struck off
         w = walk.least_cost_walk(Q, valid, threshold, weights, q_start)
@@ -366,12 +367,7 @@ def _global(robot: Robot, ts: list[Target], solver: Solver, method: str, q_start
         bad = [int(i) for i in np.flatnonzero(~(err <= tol)) if int(i) not in known]
         if not bad:
             break
-        for i in bad:
-            valid[i, w.choice[i]] = False
-            if not valid[i].any():
-                known[i] = solver.solve(robot, ts[i], q0=q_ref, seed=None if seed is None
-                                        else seed + i, tol=tol)
-                Q[i, 0], valid[i, 0] = known[i].q, True
+        verdicts.strike(bad, w.choice)
     for i in [int(k) for k in np.flatnonzero(err > tol / 2)]:
         # near tol: the verdict's own numbers decide
         known.setdefault(i, judge(robot, ts[i], SolverOutput(q=Qc[i], evaluations=1),
@@ -386,6 +382,76 @@ def _global(robot: Robot, ts: list[Target], solver: Solver, method: str, q_start
                                           dict(zip(w.jumps, w.forced_by, strict=True))),
         jump_threshold=threshold, method=method, joint_names=tuple(robot.joint_names),
         results=results, time_s=time.perf_counter() - start, branches="global")
+
+
+@dataclass
+class _Verdicts:
+    """The global choice's candidates (``Q``, ``valid``) and the points the method judged.
+
+    A point without a candidate gets the method's own solve (its verdict says why), as
+    its one candidate; ``known`` holds those results by point.
+    """
+
+    robot: Robot
+    ts: list[Target]
+    solver: Solver
+    q_ref: Array
+    seed: int | None
+    tol: float
+    Q: Array
+    valid: NDArray[np.bool_]
+    known: dict[int, IKResult]
+
+    def judge_by_method(self, i: int) -> None:
+        """Point ``i``'s result from the method, its ``q`` the point's one candidate."""
+        self.known[i] = self.solver.solve(self.robot, self.ts[i], q0=self.q_ref,
+                                          seed=None if self.seed is None else self.seed + i,
+                                          tol=self.tol)
+        self.Q[i, 0], self.valid[i, 0] = self.known[i].q, True
+
+    def where_none(self) -> None:
+        """The method's verdict for every point no candidate reaches."""
+        for i in np.flatnonzero(~self.valid.any(axis=1)):
+            self.judge_by_method(int(i))
+
+    def strike(self, bad: list[int], choice: NDArray[np.intp]) -> None:
+        """Strike off the chosen candidates of the points ``bad``.
+
+        A point left without any gets the method's verdict.
+        """
+        for i in bad:
+            self.valid[i, choice[i]] = False
+            if not self.valid[i].any():
+                self.judge_by_method(i)
+
+
+def _global_arm(robot: Robot, ts: list[Target], solver: Solver, method: str,
+                q_start: Array | None, q_ref: Array, threshold: Array, seed: int | None,
+                tol: float, start: float, arm: tuple[Array, NDArray[np.bool_], str]
+                ) -> JointPath:
+    """The global choice over every solution of a 6R arm's closed form (:func:`_global`).
+
+    A point without any keeps the method's verdict; a chosen candidate the verdict does
+    not confirm within ``tol`` is struck off and the walk chosen again.
+    """
+    Q, valid, route = arm
+    weights = walk.travel_weights(robot)
+    known: dict[int, IKResult] = {}
+    verdicts = _Verdicts(robot, ts, solver, q_ref, seed, tol, Q, valid, known)
+    verdicts.where_none()
+    while True:
+        w = walk.least_cost_walk(Q, valid, threshold, weights, q_start)
+        results = [known.get(i) or judge(robot, t, SolverOutput(q=Q[i, k].copy(), evaluations=1,
+                                                                route=route),
+                                         tol=tol, method="analytic", seed=None, time_s=0.0)
+                   for i, (t, k) in enumerate(zip(ts, w.choice, strict=True))]
+        bad = [i for i, r in enumerate(results) if not r.success and i not in known]
+        if not bad:
+            break
+        verdicts.strike(bad, w.choice)
+    return _assemble(Q[np.arange(len(ts)), w.choice], results, ts, threshold, method,
+                     robot.joint_names, time.perf_counter() - start, "global",
+                     dict(zip(w.jumps, w.forced_by, strict=True)))
 
 
 def _residuals(robot: Robot, ts: Sequence[Target], Q: Array) -> tuple[Array, Array]:
