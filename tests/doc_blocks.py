@@ -12,8 +12,8 @@ What a page holds, and what is done with it:
   (``[[joints]]``), a program file (``[[moves]]``); any other is parsed as TOML;
 * an inline ``scara-opt ...`` in the prose that is a whole command (it parses) runs too.
 
-Commands run in a scratch folder holding ``examples`` and ``robots`` (links to the
-repository's), never in the repository; ``scara-opt`` is the installed script of this
+Commands run in a scratch folder holding ``examples``, ``robots`` and ``tests`` (links to
+the repository's), never in the repository; ``scara-opt`` is the installed script of this
 interpreter. Commands that install, build the site or serve it are not run here
 (:data:`NOT_RUN`, each with the reason; ``.ci/run`` runs the README's two install
 commands as written). An unknown command is an error: classify it there.
@@ -165,9 +165,10 @@ def not_run(command: str) -> str | None:
 
 
 def scratch(folder: Path) -> Path:
-    """``folder`` with links to the repository's ``examples`` and ``robots``; returns it."""
+    """``folder`` with links to the repository's ``examples``, ``robots`` and ``tests``
+    (the data files a clone holds, as the docs' examples use them); returns it."""
     folder.mkdir(parents=True, exist_ok=True)
-    for name in ("examples", "robots"):
+    for name in ("examples", "robots", "tests"):
         link = folder / name
         if not link.exists():
             link.symlink_to(ROOT / name)
