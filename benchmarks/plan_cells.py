@@ -122,43 +122,73 @@ def _bracket_stl(folder: Path) -> Path:
     return path
 
 
-def _around(robot: so.Robot, reach: float, rng: np.random.Generator, n: int,
-            z: tuple[float, float]) -> list[tuple[float, float, float]]:
-    """``n`` points in the annulus 0.35-0.85 of ``reach`` around the robot's base [m]."""
-    base = robot.fk(np.clip(np.zeros(robot.nq), robot.lower, robot.upper))
-    origin = robot.model.jointPlacements[1].translation
-    out = []
-    for _ in range(n):
-        r, phi = reach * rng.uniform(0.35, 0.85), rng.uniform(-math.pi, math.pi)
-        out.append((origin[0] + r * math.cos(phi), origin[1] + r * math.sin(phi),
-                    rng.uniform(*z)))
-    del base
-    return out
+@dataclass(frozen=True)
+class Placement:
+    """Maps zavar2024's cell coordinates onto another SCARA [m, rad].
 
-
-def scara_cells(name: str, robot: so.Robot, reach: float, floor: float, top: float,
-                seed: int, stl: Path) -> list[Bench]:
-    """A post cell, a rack cell and an STL fixture cell scaled to a SCARA's reach.
-
-    ``floor``/``top``: the heights [m] of the tool's lowest reach and of the arms.
+    Horizontally: scaled by the reach ratio, turned by the base's yaw about its base and moved
+    to it; vertically: zavar2024's tool range (z from -0.050 to -0.098 m) onto the robot's own.
     """
-    rng = np.random.default_rng(seed)
-    s = reach / 0.4  # zavar2024's reach: the original cells' scale
-    p = _around(robot, reach, rng, 4, (floor, top))
-    post = so.Cell([so.Cylinder("column", 0.03 * s, top - floor + 0.2, xyz=p[0][:2] + (
-                        (top + floor) / 2,)),
-                    so.Box("wall", (0.12 * s, 0.012 * s, top - floor + 0.2),
-                           xyz=p[1][:2] + ((top + floor) / 2,), rpy=(0, 0, 0.4))], name="post")
-    bar_z = floor + 0.35 * (top - floor)
-    bars = [so.Box(f"bar{k}", (0.012 * s, 0.5 * s, 0.03 * s),
-                   xyz=(p[2][0] + 0.09 * s * (k - 1), p[2][1], bar_z), rpy=(0, 0, 0.3))
-            for k in range(3)]
-    rack = so.Cell(bars, name="rack")
-    fixture = so.Cell([so.Mesh("bracket", stl, scale=(1e-3 * s,) * 3,
-                               xyz=p[3][:2] + (floor + 0.05 * s,), rpy=(0, 0, 0.7)),
-                       so.Box("table", (2.5 * s, 2.5 * s, 0.02), xyz=p[3][:2] + (
-                           floor - 0.04,))], name="fixture")
-    return [Bench(name, c.name, robot, c) for c in (post, rack, fixture)]
+
+    base: tuple[float, float]
+    yaw: float
+    scale: float
+    hi: float       # the robot's tool z at the top of its stroke [m]
+    lo: float       # ... at the bottom [m]
+
+    @classmethod
+    def of(cls, robot: so.Robot, base: tuple[float, float], yaw: float,
+           reach: float) -> Placement:
+        q = np.clip(np.zeros(robot.nq), robot.lower, robot.upper)
+        prismatic = [k for k, t in enumerate(robot.joint_types) if t == "prismatic"][0]
+        zs = []
+        for d in (robot.lower[prismatic], robot.upper[prismatic]):
+            q[prismatic] = d
+            zs.append(float(robot.fk(q)[2, 3]))
+        return cls(base, yaw, reach / 0.4, max(zs), min(zs))
+
+    def z(self, z: float) -> float:
+        return self.hi + (z + 0.050) * (self.hi - self.lo) / 0.048
+
+    def height(self, h: float) -> float:
+        return h * (self.hi - self.lo) / 0.048
+
+    def xyz(self, x: float, y: float, z: float) -> tuple[float, float, float]:
+        c, s = math.cos(self.yaw), math.sin(self.yaw)
+        x, y = self.scale * x, self.scale * y
+        return (self.base[0] + c * x - s * y, self.base[1] + s * x + c * y, self.z(z))
+
+
+def scara_cells(name: str, robot: so.Robot, at: Placement, stl: Path) -> list[Bench]:
+    """zavar2024's post, rack and table cells (issue 30's benchmark), placed for ``robot``.
+
+    ``table`` holds an STL fixture (a CAD bracket, as users have them) where the original
+    had a block; each cell is zavar2024's own for zavar2024 (the identity placement).
+    """
+    s, h = at.scale, at.height
+
+    def box(label: str, size: tuple, xyz: tuple, yaw: float = 0.0) -> so.Box:
+        return so.Box(label, (s * size[0], s * size[1], h(size[2])), xyz=at.xyz(*xyz),
+                      rpy=(0, 0, yaw + at.yaw))
+
+    def cyl(label: str, radius: float, length: float, xyz: tuple) -> so.Cylinder:
+        return so.Cylinder(label, s * radius, h(length), xyz=at.xyz(*xyz))
+
+    post = so.Cell([cyl("column", 0.03, 0.4, (0.28, 0.12, 0.0)),
+                    box("wall", (0.12, 0.012, 0.4), (0.05, -0.3, 0.0), 0.4)], name="post")
+    bars = [box(f"bar{k}", (0.012, 0.5, 0.03), (0.16 + 0.09 * k, 0.0, -0.09)) for k in range(3)]
+    rack = so.Cell(bars + [box("bar_y", (0.3, 0.012, 0.03), (0.25, 0.22, -0.09))], name="rack")
+    bracket = so.Mesh("bracket", stl, scale=(2.5e-4 * s, 2.5e-4 * s, h(0.05) / 160),
+                      xyz=at.xyz(0.32, 0.12, -0.105), rpy=(0, 0, 0.7 + at.yaw))
+    table = so.Cell([box("table", (0.9, 0.9, 0.02), (0.1, 0.0, -0.14)),
+                     cyl("tall1", 0.025, 0.3, (0.30, -0.12, 0.0)),
+                     cyl("tall2", 0.02, 0.3, (0.12, 0.30, 0.0)), bracket,
+                     box("tray", (0.12, 0.08, 0.035), (0.18, -0.28, -0.112)),
+                     so.Sphere("ball", s * 0.025, xyz=at.xyz(0.22, 0.05, -0.105)),
+                     so.Capsule("pipe", s * 0.012, s * 0.25, xyz=at.xyz(-0.05, 0.3, -0.09),
+                                rpy=(0, 1.5708, 0.3 + at.yaw))],
+                    name="table")
+    return [Bench(name, c.name, robot, c) for c in (post, rack, table)]
 
 
 def arm_cells(name: str, robot: so.Robot, plan: dict, stl: Path, checker: dict | None = None,
@@ -194,13 +224,15 @@ def benches() -> list[Bench]:
     stl = _bracket_stl(folder)
     out: list[Bench] = []
     zavar = so.load_robot("zavar2024")
-    out += scara_cells("zavar2024", zavar, 0.4, -0.11, 0.0, 1, stl)
+    out += scara_cells("zavar2024", zavar, Placement.of(zavar, (0.0, 0.0), 0.0, 0.4), stl)
     irb = so.load_robot(_scara_toml("irb910sc_like", (0.15, -0.10, 0.12, 30.0), 0.30, 0.25,
                                     0.18, (0.035, 0.03, 0.01, 0.015)))
-    out += scara_cells("irb910sc_like", irb, 0.55, 0.12 - 0.18 - 0.05, 0.12, 2, stl)
+    out += scara_cells("irb910sc_like", irb,
+                       Placement.of(irb, (0.15, -0.10), math.radians(30.0), 0.55), stl)
     big = so.load_robot(_scara_toml("large_scara", (-0.3, 0.2, 0.25, -20.0), 0.55, 0.45, 0.4,
                                     (0.05, 0.045, 0.015, 0.02)))
-    out += scara_cells("large_scara", big, 1.0, 0.25 - 0.4 - 0.06, 0.25, 3, stl)
+    out += scara_cells("large_scara", big,
+                       Placement.of(big, (-0.3, 0.2), math.radians(-20.0), 1.0), stl)
     arm = so.Robot.from_urdf(DATA / "ur5_dh.urdf", tip="tool")
     arm = arm.with_limits(**{n: (-math.pi, math.pi) for n in arm.joint_names})
     out += arm_cells("ur5_dh", arm, {}, stl, {"radius": 0.045}, table=-0.063)

@@ -17,6 +17,7 @@
 #include <coal/BVH/BVH_model.h>
 #include <coal/collision.h>
 #include <coal/distance.h>
+#include <coal/narrowphase/narrowphase.h>
 #include <coal/shape/convex.h>
 #include <coal/shape/geometric_shapes.h>
 
@@ -195,11 +196,17 @@ struct Kernel {
     }
     int child(int g, int i, int c) const { return meshes[mesh_of[g]].children[2 * i + c]; }
 
-    /* The convex distance [m] of node i of body a and node j of body b (GJK). */
-    double nodes_apart(int a, int i, int b, int j) {
-        coal::DistanceResult result;
-        return coal::distance(node(a, i).shape.get(), tf[a], node(b, j).shape.get(), tf[b],
-                              part_request, result);
+    /* A lower bound [m] on the convex distance of node i of body a and node j of body b:
+     * coal's GJK from a fresh start, without EPA (overlapping hulls give about 0: the
+     * callers take it as "they may meet" and go on to exact tests), stopping early once
+     * its separating plane proves the distance above `upper` (then that plane's distance,
+     * a lower bound: coal's GJK, check B). To GJK's tolerance, as SLACK allows. */
+    double nodes_apart(int a, int i, int b, int j, double upper) {
+        gjk.distance_upper_bound = upper;
+        coal::Vec3s p1, p2, normal;
+        const auto &sa = static_cast<const coal::ShapeBase &>(*node(a, i).shape);
+        const auto &sb = static_cast<const coal::ShapeBase &>(*node(b, j).shape);
+        return gjk.shapeDistance(sa, tf[a], sb, tf[b], false, p1, p2, normal);
     }
 
     /* A lower bound [m] on the pair's surface distance, by branch and bound down the two
@@ -216,15 +223,16 @@ struct Kernel {
         const double far = HULL_NEAR + shift;
         auto later = [](const OpenPair &x, const OpenPair &y) { return x.bound > y.bound; };
         heap.clear();
-        const double root = nodes_apart(a, 0, b, 0);
-        hulls_meet = root <= 0;
+        const double upper = std::min(far, enough);
+        const double root = nodes_apart(a, 0, b, 0, upper);
+        hulls_meet = root <= SLACK;
         heap.push_back({root, 0, 0, true});
         for (;;) {
             std::pop_heap(heap.begin(), heap.end(), later);
             const OpenPair top = heap.back();
             heap.pop_back();
             if (!top.measured) {
-                heap.push_back({std::max(top.bound, nodes_apart(a, top.i, b, top.j)), top.i,
+                heap.push_back({std::max(top.bound, nodes_apart(a, top.i, b, top.j, upper)), top.i,
                                 top.j, true});
                 std::push_heap(heap.begin(), heap.end(), later);
                 continue;
@@ -246,16 +254,23 @@ struct Kernel {
     }
 
     /* What a proof takes as the pair's distance [m] (a lower bound on it, outside a
-     * solid): coal's distance; with a mesh, lower() where it is above the shift, else the
-     * exact surface distance. */
-    double bound(int k) {
+     * solid): coal's distance; with a mesh, lower() where it is above the shift, the
+     * deepest the holding balls allow where the surfaces meet, else the exact surface
+     * distance. */
+    double bound(int k, double enough = std::numeric_limits<double>::infinity()) {
         if (!meshy[k]) return raw(k);
-        const double lb = lower(k);
+        const double lb = lower(k, enough);
         if (lb > shift) return lb;
-        return lb <= 0 && meet(k) ? std::min(lb, 0.0) : surface(k);
+        if (lb <= 0 && meet(k)) /* in contact: no deeper than the two balls allow */
+            return -(balls[4 * first[k] + 3] + balls[4 * second[k] + 3]);
+        return surface(k);
     }
 
-    double distance(int k) { return bound(k) - shift; }
+    /* bound() less the shift; with `need`, a mesh pair's search stops at a bound above it
+     * (all a proof asks to drop the pair: any lower bound on the distance is as sound). */
+    double distance(int k, double need = std::numeric_limits<double>::infinity()) {
+        return bound(k, need + shift + SLACK) - shift;
+    }
 
     /* What a proof takes at a configuration it starts from (a state, a first sample):
      * bound(), and a contact (-1 m) where a body lies inside a closed mesh. */
@@ -300,6 +315,7 @@ struct Kernel {
     bool hulls_meet = true;         /* the last lower()'s: the two hulls overlap (only then
                                      * can one body lie inside the other) */
     coal::DistanceRequest part_request;
+    coal::GJKSolver gjk;            /* nodes_apart()'s, set from part_request */
 };
 
 std::shared_ptr<coal::CollisionGeometry> shape(int type, const double *p) {
@@ -360,6 +376,7 @@ void *edge_kernel_new(int nq, void *fk, int sz_iw, int sz_w, int nmoving, int nb
     k->ptype.assign(types, types + nbodies);
     k->prim.assign(params, params + 3 * (size_t)nbodies);
     k->part_request.gjk_initial_guess = coal::GJKInitialGuess::DefaultGuess;
+    k->gjk = coal::GJKSolver(k->part_request);
     for (int g = 0; g < nbodies; ++g) {
         auto s = shape(types[g], params + 3 * g);
         if (!s && types[g] != 4) { delete k; return nullptr; }
@@ -518,7 +535,8 @@ int edge_kernel_split(void *kernel, const double *qa, const double *qb, int n,
         const size_t m = iv.pairs.size();
         dm.resize(m);
         for (size_t i = 0; i < m; ++i) {
-            dm[i] = k->distance(open[iv.pairs[i]]);
+            /* above h M, the pair leaves both halves: no closer bound is needed */
+            dm[i] = k->distance(open[iv.pairs[i]], h * M[iv.pairs[i]]);
             if (dm[i] <= 0) return 0;
         }
         for (int half = 0; half < 2; ++half) {
