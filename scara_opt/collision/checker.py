@@ -327,9 +327,9 @@ class CollisionChecker:
         n_robot = len(self.geometry.bodies)
         pairs = list(self.geometry.pairs)
         self.skipped = dict(self.geometry.skipped)
-        #: ``{(robot body, obstacle): least gap [m]}`` of the pairs left out as never
-        #: within reach along a SCARA's axis: a lower bound on their distance everywhere
         self.apart: dict[tuple[str, str], float] = {}
+        """``{(robot body, obstacle): least gap [m]}`` of the pairs left out as never within
+        reach along a SCARA's axis: a lower bound on their distance everywhere."""
         heights = _heights(self.robot, bodies[:n_robot])
         for i in range(n_robot):
             for j in range(n_robot, len(bodies)):
