@@ -187,6 +187,31 @@ def test_compiling_the_kernel_does_not_count_against_the_time_limit(monkeypatch)
     assert cold.time_s < 1.5
 
 
+def test_a_first_call_loads_its_libraries_before_the_clock_starts():
+    """In a fresh interpreter, once a cell plan's clock starts, toppra and OMPL are loaded:
+    their imports (toppra's pulls in matplotlib, 1-2 s) never count against the limit (the
+    bundled pick-and-place program, 1 s, found no path for its PTP on a busy machine).
+
+    Mutation caught: the imports dropped from ``CellPlanning.start_clock`` -> toppra not
+    yet loaded when the clock starts; fails.
+    """
+    import subprocess
+    import sys
+
+    code = ("import sys, scara_opt as so\n"
+            "from scara_opt.motion.clearance import CellPlanning\n"
+            "r = so.load_robot('zavar2024')\n"
+            "c = CellPlanning(so.CollisionChecker(r, so.Cell([so.Sphere('s', 0.01, "
+            "xyz=(0.3, 0.3, 0.0))])), 1.0, 0)\n"
+            "assert 'toppra' not in sys.modules\n"
+            "c.start_clock()\n"
+            "print(all(m in sys.modules for m in ('toppra', 'ompl.geometric', "
+            "'toppra.solverwrapper.cy_seidel_solverwrapper')))\n")
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                         check=True)
+    assert out.stdout.strip() == "True", out.stderr
+
+
 def test_ptp_in_a_cell_is_timed_and_proven_clear_again():
     """A PTP around the post: toppra's trajectory (not the planned polyline) is clear at
     1e-3 rad steps, within the joint limits, and check_limits says so.
