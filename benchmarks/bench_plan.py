@@ -58,11 +58,11 @@ DENSE = 1e-3  # rad or m of joint motion between the independent checks
 
 
 # ---------------------------------------------------------------------------- checks
-def dense_polyline(Q: np.ndarray) -> np.ndarray:
-    """Configurations every DENSE of joint motion along the polyline Q (its vertices too)."""
+def dense_polyline(Q: np.ndarray, step: float = DENSE) -> np.ndarray:
+    """Configurations every ``step`` of joint motion along the polyline Q (its vertices too)."""
     rows = [Q[:1]]
     for a, b in zip(Q[:-1], Q[1:], strict=True):
-        n = max(int(np.ceil(np.abs(b - a).max() / DENSE)), 1)
+        n = max(int(np.ceil(np.abs(b - a).max() / step)), 1)
         rows.append(a + np.linspace(0.0, 1.0, n + 1)[1:, None] * (b - a))
     return np.vstack(rows)
 
@@ -114,8 +114,11 @@ def make_pairs(robot: so.Robot, checker: so.CollisionChecker, n: int, seed: int)
     rng = np.random.default_rng(seed)
     lo, hi = robot.lower, robot.upper
 
-    def clear(a: np.ndarray, b: np.ndarray) -> bool:
-        return not checker.collides_many(dense_polyline(np.array([a, b]))).any()
+    def clear(a: np.ndarray, b: np.ndarray) -> bool:  # coarse samples first: most hit
+        for step in (20 * DENSE, DENSE):
+            if checker.collides_many(dense_polyline(np.array([a, b]), step)).any():
+                return False
+        return True
 
     pairs: list = []
     while len(pairs) < n:
