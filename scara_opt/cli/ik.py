@@ -75,8 +75,8 @@ def _none_found(robot: Any, target: Any) -> str:
     tried = ("neither the closed form nor a seeded multi-start found a solution"
              if served(robot, target) is not None else "a seeded multi-start (no closed form "
              "serves this robot and target) found no solution")
-    return (f"{tried} within the joint limits; not a proof that none exists: `scara-opt ik` "
-            "without --all gives the verdict")
+    return (f"failed: {tried} within the joint limits (not a proof that none exists; "
+            "`scara-opt ik` without --all gives the verdict)")
 
 
 def cmd_ik(args: argparse.Namespace) -> int:
