@@ -46,7 +46,7 @@ def test_fk_text_and_json():
 
 IK_KEYS = {"robot", "method", "status", "success", "q", "q_units", "error", "position_error",
            "position_error_unit", "yaw_error_deg", "iterations", "evaluations", "time_s",
-           "message", "error_unit"}
+           "message", "error_unit", "route"}
 
 
 def test_ik_json_schema_and_unreachable_verdict():

@@ -29,8 +29,10 @@ atexit.register(shutil.rmtree, TMP, ignore_errors=True)
 A_FILE = TMP / "a_file.txt"
 A_FILE.write_text("not a robot, not a folder\n")
 
+# "1_0": int() and float() take digit underscores, so it is a valid count; kept small ("1_000"
+# made one example `compare --seeds 1_000`, 1,000 seeds: 150 s, and hypothesis mutated it further)
 ODD = ["", " ", "nan", "NaN", "inf", "-inf", "1e308", "1e309", "-1e309", "0", "-0", "-1",
-       "1e-300", "99999999999999999999999", "0x10", "1_000", "abc", "a\0b", "\0", "--",
+       "1e-300", "99999999999999999999999", "0x10", "1_0", "abc", "a\0b", "\0", "--",
        "-", "é", "\u2028", "1,2", "all", "tangent", str(TMP), str(A_FILE)]
 NUMBERS = ["0", "0.1", "0.3", "-0.07", "0.05", "280", "-70", "1", "30", "45", "-0.2"]
 ROBOTS = ["zavar2024", "peng2025", "nguyen", "inverted5", "fang", str(DATA / "arm6.urdf")]

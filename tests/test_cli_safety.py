@@ -249,6 +249,37 @@ def test_ik_all_refuses_method_and_seed(capsys):
     assert code == 0 and out.count("solved") == 2, err
 
 
+def test_ik_all_says_how_each_robot_kind_lists_its_solutions(capsys):
+    """ik --all names the route it took: the UR5 (6R) with a position-only target has no
+    closed form, so its messages and lines say multi-start (and --seed is taken), with a
+    full pose they name the arm's closed form; none found there is no proof of unreachable.
+
+    Mutations caught: ``_listed`` returning the SCARA's "closed form" wording for every
+    robot -> fails; the lines printing ``row['method']`` ("analytic") instead of the route
+    -> fails; ``_none_found`` saying "(unreachable)" for every robot -> fails.
+    """
+    ur5 = [str(Path(__file__).parent / "data" / "ur5_dh.urdf"), "--tip", "tool"]
+    q = np.array([0.3, -1.0, 1.2, -0.5, 0.8, 0.2])
+    T = so.Robot.from_urdf(ur5[0], tip="tool").fk(q)
+    xyz = ["--xyz", *(f"{v:.12g}" for v in T[:3, 3])]
+    rpy = ["--rpy-unit", "rad", "--rpy", *(f"{v:.15g}" for v in so.pose.matrix_to_rpy(T[:3, :3]))]
+    code, _, err = cli(capsys, "ik", *ur5, *xyz, "--all", "--method", "pso")
+    assert code == 2 and "multi-start" in one_error_line(err) and "no closed form" in err
+    code, out, err = cli(capsys, "ik", *ur5, *xyz, "--all", "--seed", "3")
+    lines = out.splitlines()
+    assert code == 0 and lines and all("multi-start" in x and "analytic" not in x for x in lines)
+    code, _, err = cli(capsys, "ik", *ur5, *xyz, *rpy, "--all", "--method", "lm")
+    assert code == 2 and "arm's closed form" in one_error_line(err)
+    code, out, err = cli(capsys, "ik", *ur5, *xyz, *rpy, "--all")
+    lines = out.splitlines()
+    assert code == 0 and len(lines) >= 2, err
+    assert all("analytic (three_parallel_two_intersecting)" in x for x in lines)
+    code, out, _ = cli(capsys, "ik", *ur5, "--xyz", "3", "0", "0", "--all")
+    assert code == 1 and "failed: " in out and "not a proof" in out and "unreachable" not in out
+    code, out, _ = cli(capsys, "ik", "zavar2024", "--xyz", "2", "0", "-0.07", "--all")
+    assert code == 1 and "closed-form solution" in out and "(unreachable)" in out
+
+
 def test_compare_methods_on_a_six_joint_arm(tmp_path, capsys):
     """compare on a 6-joint arm: --methods analytic is a clear error; --methods all works
     (the library leaves analytic out).

@@ -562,3 +562,28 @@ def test_a_motion_trajectory_without_its_robot_refuses_the_fk_checks(robot):
         bare.check_limits()
     with pytest.raises(InputError, match="no robot"):
         bare.blend_deviations()
+
+
+@pytest.mark.parametrize("kind", ["LIN", "PTP"])
+def test_a_move_down_blended_into_the_same_move_back_up_plans(robot, kind):
+    """A 30 mm move straight down blended (r = 5 mm) into the move back up plans: the tip
+    turns back r/2 above the bottom (the Bézier of a reversal passes (A + 2C + B)/4, A = B),
+    every sample finite, all ratios <= 1, ends at the top.
+
+    Issue 38's run: toppra's "x must be strictly increasing" for LIN; for PTP a plan whose
+    limit ratios are NaN (a zero step of toppra's grid). Mutation caught:
+    ``geometry.corner_count`` returning ``count(2 * radius, step, least=5)`` (even: 6
+    samples at r = 5 mm, step 2 mm, the middle two equal) -> LIN raises ValueError, PTP's
+    ratios NaN, fails.
+    """
+    move = {"LIN": LIN, "PTP": lambda p, **kw: PTP(so.Target(p), **kw)}[kind]
+    r, top = 0.005, P0 + [0.05, 0.0, 0.0]
+    bottom = top - [0.0, 0.0, 0.03]
+    traj = plan(robot, [LIN(top), move(bottom, blend=r), move(top)],
+                ToolLimits(speed=0.3, acceleration=2.0), start=Q0)
+    Q = traj.evaluate(traj.times(1e-3))
+    assert np.isfinite(Q).all() and np.isfinite(traj.evaluate(traj.times(1e-3), 1)).all()
+    dev = traj.blend_deviations()
+    assert len(dev) == 1 and abs(dev[0] - r / 2) < 1e-4
+    assert np.allclose(robot.position(traj.waypoints[-1]), top, atol=1e-9)
+    assert max(v.max() for v in traj.check_limits().values()) <= 1.0

@@ -37,7 +37,7 @@ def _result_dict(robot: Any, res: Any, deg: bool, mm: bool) -> dict[str, Any]:
         "position_error_unit": "mm" if mm else "m",
         "yaw_error_deg": None if res.yaw_error is None else math.degrees(res.yaw_error),
         "iterations": res.iterations, "evaluations": res.evaluations, "time_s": res.time_s,
-        "message": res.message,
+        "message": res.message, "route": res.route,
     }
 
 
@@ -51,6 +51,34 @@ def _error_text(row: dict[str, Any]) -> str:
     return text
 
 
+def _listed(robot: Any, target: Any) -> tuple[bool, str]:
+    """Whether ``--all`` runs the SCARA closed form here, and what it lists, in words."""
+    from scara_opt.ik.analytic import applies
+    from scara_opt.ik.arm_route import served
+
+    if applies(robot):
+        return True, "every branch of the SCARA closed form, which takes no seed"
+    if served(robot, target) is not None:
+        return False, ("every branch of the arm's closed form (a seeded multi-start where it "
+                       "finds none)")
+    return False, ("the solutions a seeded multi-start reaches (no closed form serves this "
+                   "robot and target): not necessarily all")
+
+
+def _none_found(robot: Any, target: Any) -> str:
+    """What an empty ``--all`` list means on this robot and target (proof or not)."""
+    from scara_opt.ik.analytic import applies
+    from scara_opt.ik.arm_route import served
+
+    if applies(robot):
+        return "no closed-form solution within the joint limits (unreachable)"
+    tried = ("neither the closed form nor a seeded multi-start found a solution"
+             if served(robot, target) is not None else "a seeded multi-start (no closed form "
+             "serves this robot and target) found no solution")
+    return (f"failed: {tried} within the joint limits (not a proof that none exists; "
+            "`scara-opt ik` without --all gives the verdict)")
+
+
 def cmd_ik(args: argparse.Namespace) -> int:
     """Inverse kinematics of one target (position, and --yaw, --rpy or --quat) by any method."""
     from scara_opt.cli.orientation import orientation, target_from_args
@@ -60,11 +88,13 @@ def cmd_ik(args: argparse.Namespace) -> int:
     L = 1000.0 if args.mm else 1.0
     target = target_from_args(args, np.asarray(args.xyz, float) / L)
     if args.all:
-        given = [o for o, v in (("--method", args.method), ("--seed", args.seed)) if v is not None]
+        scara, listed = _listed(robot, target)
+        given = [o for o, v in (("--method", args.method), ("--seed", args.seed))
+                 if v is not None and (o == "--method" or scara)]
         if given:
-            raise InputError(f"--all lists the closed-form branches; it does not take "
+            raise InputError(f"--all lists {listed}; it does not take "
                              f"{' or '.join(given)}; drop {' and '.join(given)} or --all")
-        results = ik_all(robot, target, tol=args.tol)
+        results = ik_all(robot, target, tol=args.tol, seed=args.seed or 0)
     else:
         results = [solve_ik(robot, target, method="auto" if args.method is None
                             else args.method, seed=args.seed or 0, tol=args.tol)]
@@ -79,11 +109,11 @@ def cmd_ik(args: argparse.Namespace) -> int:
         print(json.dumps(rows if args.all else rows[0]))
         return code
     if not rows:
-        print(f"{robot.name}: no closed-form solution within the joint limits (unreachable)")
+        print(f"{robot.name}: {_none_found(robot, target)}")
     for row in rows:
         q = ", ".join(f"{name}={v:.6g} {u}" for name, v, u in
                       zip(robot.joint_names, row["q"], row["q_units"], strict=True))
-        print(f"{row['status']}: {q}  ({_error_text(row)}; {row['method']}, "
+        print(f"{row['status']}: {q}  ({_error_text(row)}; {row['route'] or row['method']}, "
               f"{row['time_s'] * 1e3:.2f} ms)")
         if not row["success"]:
             print(f"  {row['message']}")
@@ -103,6 +133,7 @@ def add_parser(sub: argparse._SubParsersAction, parents: list) -> None:
     p.add_argument("--seed", type=int_at_least(0), help="random seed (default 0)")
     p.add_argument("--tol", type=float, default=1e-9, help="residual counted as solved [m]")
     p.add_argument("--all", action="store_true",
-                   help="every closed-form branch (SCARA only; no --method or --seed)")
+                   help="every solution: the closed form's branches on a SCARA (no --seed) "
+                        "and on 6R arms it serves, else a seeded multi-start's (no --method)")
     add_units(p)
     p.set_defaults(func=cmd_ik)

@@ -72,7 +72,7 @@ def blended_joints(section: list[tuple[int, Move]], robot: Robot, q_prev: Array,
         if j:  # the Bézier from the previous move's cut to this one's
             prev = section[j - 1][1].blend
             A, C = P[-1][-1], curves[j - 1][0].end
-            corner = geometry.bezier(A, C, pts[0], geometry.count(2 * prev, step, least=5))
+            corner = geometry.bezier(A, C, pts[0], geometry.corner_count(prev, step))
             corners.append((C, prev))
             last = Y[-1]
             yb = None if ys is None or last is None else np.linspace(last[-1], ys[0], len(corner))

@@ -99,7 +99,7 @@ def joint_blended(section: list[tuple[int, Move]], robot: Robot, q_prev: Array, 
         a, b = int(out[-1]), int(out_next[0])  # last sample outside, first one outside
         A = _crossing(robot, Q[a + 1], Q[a], c, r)
         B = _crossing(robot, Qn[b - 1], Qn[b], c, r)
-        s = np.linspace(0.0, 1.0, geometry.count(2 * r, step, least=5))[:, None]
+        s = np.linspace(0.0, 1.0, geometry.corner_count(r, step))[:, None]
         corner = (1 - s) ** 2 * A + 2 * s * (1 - s) * Q[-1] + s**2 * B
         dist = np.linalg.norm(robot.positions(corner) - c, axis=1)
         if dist.max() > r * (1 + 1e-9):

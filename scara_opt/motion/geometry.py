@@ -49,6 +49,18 @@ def count(length: float, step: float, least: int = 8) -> int:
     return max(least, math.ceil(length / step) + 1)
 
 
+def corner_count(radius: float, step: float) -> int:
+    """Samples (odd, >= 5) of a blend corner of ``radius`` [m]: at most ``step`` apart.
+
+    Odd, so that the corner's middle (Bézier parameter 1/2) is a sample: where a move turns
+    back along itself (a LIN down, blended into a LIN up), the corner's ends coincide and its
+    samples are mirror images about the middle; an even count would put two equal samples
+    next to each other (a zero step, which the spline through them cannot take).
+    """
+    n = count(2.0 * radius, step, least=5)
+    return n + 1 - n % 2
+
+
 def circle(p0: Array, via: Array, p1: Array) -> tuple[Array, float, Array, Array, float] | None:
     """Circle through three points: ``(centre, radius, u, w, sweep)`` or ``None`` if collinear.
 
