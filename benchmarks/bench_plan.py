@@ -9,7 +9,8 @@ same Pinocchio + coal geometry: our CollisionChecker's GeometryModel and its pai
 mounted 3 mm into its table: that pair left out, as found by the checker).
 
 Per cell, PAIRS start/goal pairs, both clear, whose straight joint segment collides, each
-with a known free path (through a third configuration; independent dense checks). Each planner gets a 1 s limit:
+with a known free path (through a third configuration; independent dense checks). Each
+planner gets a 1 s limit:
 
 * **ours**: ``so.plan(robot, [PTP(goal)], start=, cell=checker, time_limit=1)``: OMPL
   RRTConnect and the simplifier with every state and edge proven, toppra, the timed

@@ -1,4 +1,4 @@
-"""Griffe extension: the docstrings' Sphinx roles as mkdocstrings cross-references.
+r"""Griffe extension: the docstrings' Sphinx roles as mkdocstrings cross-references.
 
 The package's docstrings link with Sphinx roles (``:class:`~scara_opt.Robot```,
 ``:func:`scara_opt.solve_ik```, ``:data:`MAX_BYTES```). This extension, loaded by
@@ -10,8 +10,8 @@ The package's docstrings link with Sphinx roles (``:class:`~scara_opt.Robot```,
   --strict`` reports as "Could not find cross-reference target": a broken docstring
   reference fails the build;
 - an undotted or relative target (``:meth:`fk```, ``:mod:`.task```) becomes inline code;
-- ``:math:`` becomes inline LaTeX ``\\( ... \\)`` and a ``.. math::`` block display LaTeX
-  ``\\[ ... \\]``, which ``pymdownx.arithmatex`` (generic) hands to the KaTeX that
+- ``:math:`` becomes inline LaTeX ``\( ... \)`` and a ``.. math::`` block display LaTeX
+  ``\[ ... \]``, which ``pymdownx.arithmatex`` (generic) hands to the KaTeX that
   ``mkdocs.yml`` loads (vendored under ``docs/javascripts``), as written: nothing stripped.
 
 ``~`` shows only the last name, as in Sphinx.
@@ -68,7 +68,7 @@ def convert(text: str, scope: str = "") -> str:
     scopes = [".".join(parents[:i]) for i in range(len(parents), 0, -1)] if scope else []
 
     def one(m: re.Match) -> str:
-        role, title = m.group(1), m.group("title")
+        title = m.group("title")
         target = (m.group("target2") or m.group("target")).strip()
         short = target.startswith("~")
         target = target.lstrip("~").rstrip("()")
@@ -85,7 +85,7 @@ def convert(text: str, scope: str = "") -> str:
 
 
 def _math_blocks(text: str) -> str:
-    """Each ``.. math::`` directive as a display-math paragraph ``\\[ ... \\]`` of its LaTeX."""
+    r"""Each ``.. math::`` directive as a display-math paragraph ``\[ ... \]`` of its LaTeX."""
     lines, out, k = text.split("\n"), [], 0
     while k < len(lines):
         line = lines[k]
