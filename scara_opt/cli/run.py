@@ -18,6 +18,7 @@ from typing import Any
 from scara_opt.cli.args import (
     add_cell_arguments,
     add_limit_options,
+    add_objective,
     joint_limits,
     make_checker,
     nonnegative,
@@ -84,7 +85,7 @@ def cmd_run(args: argparse.Namespace) -> int:
     joint = joint_limits(args, program.robot, need_jerk=False)
     checker = _checker(args, program)
     kw: dict[str, Any] = {"vmax": joint.vmax, "amax": joint.amax, "payload": args.payload}
-    for key in ("time_limit", "seed"):
+    for key in ("time_limit", "seed", "objective"):
         if getattr(args, key) is not None:
             kw[key] = getattr(args, key)
     if args.time is not None:
@@ -103,6 +104,8 @@ def cmd_run(args: argparse.Namespace) -> int:
         print(json.dumps({
             "program": program.name, "robot": program.robot.name, "status": "solved",
             "duration_s": traj.duration, "compute_time_s": traj.compute_time_s,
+            "objective": traj.objective, "lower_bound_s": traj.lower_bound,
+            "bound_ratio": traj.bound_ratio,
             "cell": cell, "least_clearance_m": None if report is None or report.least is None
             else report.least.distance,
             "proven_clearance_m": None if report is None else report.clearance,
@@ -112,6 +115,8 @@ def cmd_run(args: argparse.Namespace) -> int:
              if report is not None else "")
     print(f"solved: {program.name!r} on {program.robot.name}, {len(program.moves)} moves in "
           f"{traj.duration:.4f} s{where} (planned in {traj.compute_time_s * 1e3:.0f} ms)")
+    print(f"  objective {traj.objective}: lower bound {traj.lower_bound:.4f} s (each stop's "
+          f"slowest joint alone), duration / bound {traj.bound_ratio:.3f}")
     for row in rows:
         name = f"move {row['index']} ({row['type']}{', ' + row['label'] if row['label'] else ''})"
         if row["start"]:
@@ -144,6 +149,7 @@ def add_parser(sub: argparse._SubParsersAction, parents: list) -> None:
                    help="time it with KG at the tool under the robot's torque limits (needs "
                         "its inertias)")
     add_cell_arguments(p, from_file=True)
+    add_objective(p, from_file=True)
     add_export_options(p, STEM)
     p.add_argument("--json", action="store_true", help="print JSON for scripts")
     p.set_defaults(func=cmd_run)
