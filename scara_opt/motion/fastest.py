@@ -2,22 +2,27 @@
 
 A planned path is short in joint space (OMPL's L2 norm adds radians and metres); toppra
 then times it. Under ``objective="time"`` :func:`~scara_opt.motion.plan` judges each
-stop-to-stop PTP by its timed duration instead, every candidate proven clear by the same
-proof as every trajectory (:mod:`scara_opt.collision.continuous`):
+stop-to-stop PTP by its timed duration instead, every candidate proven clear by the
+proof of every trajectory (:func:`~scara_opt.collision.continuous.check_path` on the
+motion itself, time as its parameter: :func:`as_path`):
 
 1. **The bound itself.** Ruckig's time-synchronized move from start to goal
    (:func:`~scara_opt.trajectory.bound.synchronized_move`): each joint time-optimal,
    stretched to the slowest joint's time, so its duration *is* the lower bound. Where it
    is proven clear (in empty space always) it is the answer.
-2. Otherwise the path planned as for ``objective="length"``, shortcut by time: each
-   interior waypoint that a proven-clear edge can skip is dropped, in order of what it
-   saves in the time metric (each joint's travel over its speed limit, the slowest
-   joint's per edge: :func:`time_metric`). Then each candidate timing of the path, and of
-   the path before the shortcuts, is proven, and the fastest proven one is kept: toppra
-   along the spline (the ``"length"`` answer, always among them, so ``"time"`` is never
-   slower), and Ruckig's second-order moves joined at velocities from the path
-   (:func:`~scara_opt.trajectory.ruckig_backend.ruckig_trajectory` without a jerk limit),
-   each segment time-optimal for its joints rather than along the straight edge.
+2. Otherwise the path planned as for ``objective="length"`` (the same seed, the same
+   path), **shortcut by time**: each interior waypoint that a proven edge can skip is
+   dropped, the one saving the most time metric first (each joint's travel over its
+   speed limit, the slowest joint's per edge: :func:`time_metric`).
+3. **Candidates judged by their timed duration**: toppra along the (shortcut) path's
+   spline, as ``"length"`` times it, and Ruckig's second-order moves (no jerk limit, as
+   toppra's) through the path, and from the start through one or two of its points
+   (waypoints and edge middles) to the goal, joined at velocities from the path or
+   resting at each point (:func:`candidates`). Fastest first, each is proven until one
+   is clear (at most :data:`PROOFS`); the fastest proven one is kept. The ``"length"``
+   answer is always among them, so ``"time"`` is never slower.
+
+Everything after the planner stops at the time limit (``plan``'s ``time_limit``).
 """
 
 from __future__ import annotations
@@ -33,11 +38,11 @@ from scipy.interpolate import PPoly
 
 from scara_opt.collision.checker import CollisionChecker
 from scara_opt.collision.continuous import check_path
-from scara_opt.errors import InputError, TrajectoryError
+from scara_opt.errors import InputError
 from scara_opt.trajectory.bound import second_order, synchronized_move
 from scara_opt.trajectory.limits import Limits
 from scara_opt.trajectory.passing import passing_velocities
-from scara_opt.trajectory.ruckig_backend import _timed_pieces, ruckig_trajectory
+from scara_opt.trajectory.ruckig_backend import _timed_pieces
 from scara_opt.trajectory.trajectory import Trajectory
 
 if TYPE_CHECKING:
@@ -113,17 +118,21 @@ def synchronized(Q: Array, limits: Limits, cellp: CellPlanning | None
     return pieces, note + f", proven clear ({checks} checks)", knots
 
 
-def shortcut(Q: Array, vmax: Array, edge: Callable[[Array, Array], bool]) -> Array:
+def shortcut(Q: Array, vmax: Array, edge: Callable[[Array, Array], bool],
+             deadline: float = math.inf) -> Array:
     """``Q`` with each interior waypoint dropped that a proven edge skips, by time saved.
 
     ``edge(a, b)``: whether the straight segment ``a`` → ``b`` is proven clear. Greedy:
-    the waypoint whose removal saves the most :func:`time_metric` first, again until none.
+    the waypoint whose removal saves the most :func:`time_metric` first, again until none
+    (or until ``deadline``, a ``time.perf_counter()`` instant).
     """
     Q = Q.copy()
     while len(Q) > 2:
         saves = [time_metric(Q[k - 1:k + 2], vmax) - time_metric(Q[[k - 1, k + 1]], vmax)
                  for k in range(1, len(Q) - 1)]
         for k in np.argsort(saves, kind="stable")[::-1] + 1:
+            if time.perf_counter() > deadline:
+                return Q
             if edge(Q[k - 1], Q[k + 1]):
                 Q = np.delete(Q, k, axis=0)
                 break
@@ -147,42 +156,33 @@ def _timings(rows: Array, limits: Limits) -> list[tuple[float, Trajectory, str]]
     return out
 
 
-def candidates(Q: Array, limits: Limits, pairs: int = PAIRS) -> list[tuple[float, Trajectory, str]]:
-    """Ruckig timings through the start, up to two of ``Q``'s points, and the goal, fastest first.
+def candidates(Q: Array, limits: Limits, deadline: float = math.inf, pairs: int = PAIRS
+               ) -> list[tuple[float, Trajectory, str]]:
+    """Ruckig timings through ``Q``, and through up to two of its points, fastest first.
 
-    The points: ``Q``'s interior waypoints and the middles of its edges; with two, the
-    first ``pairs`` pairs in path order whose time metric is least.
+    The points: ``Q``'s interior waypoints and the middles of its edges, one at a time,
+    then the ``pairs`` pairs (in path order) of least time metric; each way from ``Q[0]``
+    through them to ``Q[-1]``. Made until ``deadline`` (a ``time.perf_counter()``
+    instant).
     """
     mids = (Q[:-1] + Q[1:]) / 2
     pool = np.empty((2 * len(Q) - 1, Q.shape[1]))
     pool[0::2], pool[1::2] = Q, mids
     pool = pool[1:-1]
     a, b = Q[:1], Q[-1:]
-    ways = [np.vstack([a, pool[[i]], b]) for i in range(len(pool))]
+    ways = [Q] if len(Q) > 2 else []
+    ways += [np.vstack([a, pool[[i]], b]) for i in range(len(pool))]
     two = [(time_metric(np.vstack([a, pool[[i, j]], b]), limits.vmax), i, j)
            for i in range(len(pool)) for j in range(i + 1, len(pool))]
     two.sort()
     ways += [np.vstack([a, pool[[i, j]], b]) for _, i, j in two[:pairs]]
-    found = [c for rows in ways for c in _timings(rows, limits)]
+    found = []
+    for rows in ways:
+        if time.perf_counter() > deadline:
+            break
+        found += _timings(rows, limits)
     found.sort(key=lambda c: c[0])
     return found
-
-
-def joined(Q: Array, limits: Limits, cellp: CellPlanning) -> tuple[tuple, str, Array] | None:
-    """Ruckig's second-order moves through ``Q``'s waypoints, if proven clear and in limits."""
-    try:
-        traj = ruckig_trajectory(Q, second_order(limits))
-    except TrajectoryError:  # pragma: no cover - Ruckig refuses nothing within the limits
-        return None
-    check = Trajectory(traj.pieces, limits, "ruckig", Q, traj.waypoint_times)
-    if not cellp._inside(check):
-        return None
-    report = cellp.prove(check)
-    if not report.clear:
-        return None
-    note = (f"{traj.notes.replace('ruckig', 'Ruckig (second order)', 1)} through {len(Q)} "
-            f"waypoints, proven clear ({report.evaluations} checks)")
-    return traj.pieces, note, traj.waypoint_times
 
 
 def fastest(cellp: CellPlanning, index: int, Q: Array, best: tuple, timed: Callable,
@@ -195,17 +195,19 @@ def fastest(cellp: CellPlanning, index: int, Q: Array, best: tuple, timed: Calla
     from scara_opt.motion.tool_limits import ToolLimits, ToolProfile
     from scara_opt.planning.ompl_backend import EdgeProver
 
+    if time.perf_counter() > cellp.deadline:
+        return best
     checker = cellp.checker
     prover = EdgeProver(checker)
     Qs = shortcut(Q, limits.vmax, lambda a, b: prover.edge(tuple(a.tolist()),
-                                                           tuple(b.tolist())))
+                                                           tuple(b.tolist())), cellp.deadline)
     cut = f"; shortcut by time from {len(Q)} to {len(Qs)} waypoints"
     found = [(best, "")]
-    if len(Qs) < len(Q):
+    if len(Qs) < len(Q) and time.perf_counter() < cellp.deadline:
         found.append((cellp._planned_timing(index, Qs, timed, limits, method), cut))
     limit = min(float(f[0][2][-1]) for f in found)
     proofs = 0
-    for T, traj, how in candidates(Qs, limits):
+    for T, traj, how in candidates(Qs, limits, cellp.deadline):
         if T >= limit or proofs >= PROOFS or time.perf_counter() > cellp.deadline:
             break
         proofs += 1
