@@ -98,21 +98,23 @@ def report(name: str, rows: dict[str, list[dict]]) -> None:
     def med(r: list[dict], key: str) -> float:
         return _q([r[k][key] for k in every], 50)
 
+    def per_pair(r: list[dict], key: str) -> float:
+        return _q([r[k][key] / mv[k]["duration"] for k in every], 50)
+
     ratio = [t[k]["duration"] / t[k]["bound"] for k in range(len(t)) if t[k]["solved"]]
     lratio = [ln[k]["duration"] / ln[k]["bound"] for k in range(len(ln)) if ln[k]["solved"]]
-    over_t = _q([t[k]["duration"] / mv[k]["duration"] for k in every], 50)
-    over_l = _q([ln[k]["duration"] / mv[k]["duration"] for k in every], 50)
     slower = sum(t[k]["duration"] > ln[k]["duration"] * (1 + 1e-9) for k in every)
+    longest = "/".join(f"{max((x['time'] for x in r), default=math.nan):.2f}"
+                       for r in (t, ln, mv))
     print(f"{name:<15}{sum(r['solved'] for r in t):>3}/{sum(r['solved'] for r in ln):>3}/"
           f"{sum(r['solved'] for r in mv):>3} of {len(t):<4}"
-          f"{med(t, 'duration'):>8.3f}{med(ln, 'duration'):>8.3f}{med(mv, 'duration'):>8.3f}"
-          f"{over_t:>7.3f}{over_l:>7.3f}   {_q(ratio, 50):.3f} [{_q(ratio, 25):.2f}, "
+          f"{med(t, 'duration'):>7.3f}{med(ln, 'duration'):>7.3f}{med(mv, 'duration'):>7.3f}"
+          f"{per_pair(t, 'duration'):>7.3f}{per_pair(ln, 'duration'):>7.3f}"
+          f"{per_pair(t, 'bound'):>7.3f}   {_q(ratio, 50):.3f} [{_q(ratio, 25):.2f}, "
           f"{_q(ratio, 75):.2f}, max {max(ratio, default=math.nan):.2f}] {_q(lratio, 50):>6.3f}"
-          f"{_q([r['time'] for r in t], 50) * 1e3:>8.1f}"
-          f"{_q([r['time'] for r in ln], 50) * 1e3:>8.1f}"
-          f"{_q([r['time'] for r in mv], 50) * 1e3:>8.1f}"
-          f"{max((r['time'] for r in t), default=math.nan):>7.2f}"
-          f"{sum(r['solved'] and r['depth'] > 0 for r in t):>4}/"
+          f"{med(t, 'time') * 1e3:>8.1f}{med(ln, 'time') * 1e3:>8.1f}"
+          f"{med(mv, 'time') * 1e3:>8.1f}  {longest:<15}"
+          f"{sum(r['solved'] and r['depth'] > 0 for r in t)}/"
           f"{sum(r['solved'] and r['depth'] > 0 for r in ln)}/"
           f"{sum(r['solved'] and r['depth'] > 0 for r in mv)}{slower:>4}")
 
@@ -127,10 +129,12 @@ def main() -> None:
     cells = set(filter(None, args.cells.split(",")))
     by_robot: dict[str, dict[str, list[dict]]] = {}
     print(f"{args.pairs} pairs per cell, {TIME_LIMIT:g} s limit. Columns: solved (time / "
-          "length / MoveIt pipeline); median duration [s] of each on the pairs all solve; "
-          "median per pair of ours over the pipeline's (time, length); duration / lower "
-          "bound of ours, time: median [quartiles, max], and length: median; median plan "
-          "time [ms] (time, length, pipeline); longest call of time [s]; colliding outputs "
+          "length / MoveIt pipeline); median duration [s] of each on the pairs all three "
+          "solve; the median per pair of ours over the pipeline's (time, length) and of the "
+          "lower bound over the pipeline's (the best any planner could do); duration / lower "
+          "bound of ours, time: median [quartiles, max], and length: median; median time to "
+          "a timed trajectory [ms] on those pairs (time, length, pipeline: plan + simplify + "
+          "toppra); longest call [s] (time/length/pipeline); colliding outputs "
           "(time/length/pipeline); pairs where time is slower than length")
     for bench in benches():
         if bench.robot_name not in chosen or (cells and bench.cell_name not in cells):

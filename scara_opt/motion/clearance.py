@@ -50,7 +50,7 @@ from scara_opt.errors import (
 )
 from scara_opt.ik.analytic import ik_all
 from scara_opt.model.robot import Robot
-from scara_opt.motion import branch, fastest
+from scara_opt.motion import branch
 from scara_opt.motion.moves import PTP, Move, goal_point
 from scara_opt.motion.timing import section_spline
 from scara_opt.motion.tool_limits import ToolProfile
@@ -221,8 +221,7 @@ class CellPlanning:
                    "goal with a PTP (planned around the cell)", (a, b), report.depth, t)
 
     def timed_clear(self, run: list[tuple[int, Move]], Q: Array, owner: list[int],
-                    timed: Callable, limits: Limits, method: str, t0: float,
-                    objective: str = "length") -> tuple:
+                    timed: Callable, limits: Limits, method: str, t0: float) -> tuple:
         """``timed(Q, owner)`` of a section, proven clear (and a planned one within limits).
 
         A planned PTP is timed through its waypoints, then through :func:`hugging` points,
@@ -254,10 +253,7 @@ class CellPlanning:
                 self.refuse(owner[k], "+".join(m.kind for _, m in run), report, report.time,
                             report.bodies, t0)
             return part, note + _proven(report.evaluations), knots, profile
-        best = self._planned_timing(index, Q, timed, limits, method)
-        if objective == "time" and method == "toppra":
-            best = fastest.fastest(self, index, Q, best, timed, limits, method)
-        return best
+        return self._planned_timing(index, Q, timed, limits, method)
 
     def _planned_timing(self, index: int, Q: Array, timed: Callable, limits: Limits,
                         method: str) -> tuple:

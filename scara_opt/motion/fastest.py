@@ -39,7 +39,7 @@ from scipy.interpolate import PPoly
 from scara_opt.collision.checker import CollisionChecker
 from scara_opt.collision.continuous import check_path
 from scara_opt.errors import InputError
-from scara_opt.trajectory.bound import second_order, synchronized_move
+from scara_opt.trajectory.bound import lower_bound, second_order, synchronized_move
 from scara_opt.trajectory.limits import Limits
 from scara_opt.trajectory.passing import passing_velocities
 from scara_opt.trajectory.ruckig_backend import _timed_pieces
@@ -56,6 +56,13 @@ OBJECTIVES = ("length", "time")
 #: pairs of via points tried (those of least time metric), and the most candidates proven
 PAIRS = 20
 PROOFS = 12
+
+#: paths planned for one PTP at most (another seed each), while the fastest timing found
+#: is above CLOSE x the lower bound and the time limit lasts; SEED_STRIDE apart, so they
+#: never take the seed of another move of the program (move i plans with seed + i)
+RESTARTS = 6
+CLOSE = 1.1
+SEED_STRIDE = 1_000_003
 
 
 def check_objective(objective: object) -> str:
@@ -226,3 +233,45 @@ def fastest(cellp: CellPlanning, index: int, Q: Array, best: tuple, timed: Calla
         return best
     return (part, f"{note}{how}; objective time: {float(knots[-1]):.4f} s against "
                   f"{float(best[2][-1]):.4f} s timed by length", knots, profile)
+
+
+def restarts(cellp: CellPlanning, run: list, Q: Array, timed: Callable, limits: Limits,
+             method: str, t0: float) -> tuple[Array, tuple]:
+    """The fastest proven timing of a PTP over paths planned with several seeds.
+
+    ``Q``: the path planned with the move's own seed (``cellp.plans[index]``). Each path
+    is timed as under ``"length"`` (:meth:`~scara_opt.motion.clearance.CellPlanning.
+    timed_clear`); another path is planned (a homotopy class of its own often differs by
+    seconds) while the best is above :data:`CLOSE` x the lower bound, up to
+    :data:`RESTARTS` paths, within the time limit. The fastest is then improved by
+    :func:`fastest`.
+
+    Returns:
+        The chosen path, and what ``timed_clear`` returned for it.
+    """
+    from scara_opt.planning.planner import SEED_MAX, plan_path
+
+    index = run[0][0]
+    bound = lower_bound(Q[0], Q[-1], limits)
+    best_q, best = Q, cellp.timed_clear(run, Q, [index] * len(Q), timed, limits, method, t0)
+    best_plan, tries = cellp.plans[index], 1
+    while (cellp.planned(index) and tries < RESTARTS and float(best[2][-1]) > CLOSE * bound
+           and time.perf_counter() < cellp.deadline):
+        seed = (cellp.seed + index + tries * SEED_STRIDE) % (SEED_MAX + 1)
+        tries += 1
+        res = plan_path(cellp.checker, Q[0], Q[-1], time_limit=cellp.left(), seed=seed)
+        if res.path is None:
+            continue
+        cellp.plans[index] = res
+        got = cellp.timed_clear(run, res.path, [index] * len(res.path), timed, limits, method,
+                                t0)
+        if float(got[2][-1]) < float(best[2][-1]):
+            best_q, best, best_plan = res.path, got, res
+    cellp.plans[index] = best_plan
+    if cellp.planned(index) and method == "toppra":
+        best = fastest(cellp, index, best_q, best, timed, limits, method)
+    if tries > 1:
+        part, note, knots, profile = best
+        best = (part, f"{note}; the fastest of {tries} paths planned (another seed each)",
+                knots, profile)
+    return best_q, best

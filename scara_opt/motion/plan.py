@@ -31,7 +31,7 @@ from scara_opt.motion import branch, geometry
 from scara_opt.motion.blend import blended_joints
 from scara_opt.motion.blend_joint import joint_blended
 from scara_opt.motion.clearance import in_cell
-from scara_opt.motion.fastest import check_objective, synchronized
+from scara_opt.motion.fastest import check_objective, restarts, synchronized
 from scara_opt.motion.jerk import jerk_limited_section
 from scara_opt.motion.moves import CIRC, LIN, PTP, Move, as_moves, goal_point
 from scara_opt.motion.result import MotionTrajectory
@@ -333,11 +333,14 @@ def plan(robot: Robot, moves: Move | Iterable[Move], limits: ToolLimits | None =
             profile = ToolProfile.per_point([by_index[i] for i in owner])
         elif cellp is None:
             part, note, knots, profile = timed(Q, owner)
+        elif eligible:  # in a cell, the synchronized move not proven clear
+            t0 = sum(p[0].x[-1] for p in pieces)
+            Q, (part, note, knots, profile) = restarts(cellp, run, Q, timed, joint_limits,
+                                                       method, t0)
         else:
             t0 = sum(p[0].x[-1] for p in pieces)
             part, note, knots, profile = cellp.timed_clear(run, Q, owner, timed,
-                                                           joint_limits, method, t0,
-                                                           "time" if eligible else "length")
+                                                           joint_limits, method, t0)
         bounds.append(lower_bound(Q[0], Q[-1], joint_limits))
         profiles.append((knots, profile))
         pieces.append(part)
