@@ -243,7 +243,8 @@ def restarts(cellp: CellPlanning, run: list, Q: Array, timed: Callable, limits: 
     is timed as under ``"length"`` (:meth:`~scara_opt.motion.clearance.CellPlanning.
     timed_clear`); another path is planned (a homotopy class of its own often differs by
     seconds) while the best is above :data:`CLOSE` x the lower bound, up to
-    :data:`RESTARTS` paths, within the time limit. The fastest is then improved by
+    :data:`RESTARTS` paths, while more than twice what the first path cost is left of the
+    time limit (each plans within half of what is left). The fastest is then improved by
     :func:`fastest`.
 
     Returns:
@@ -253,13 +254,15 @@ def restarts(cellp: CellPlanning, run: list, Q: Array, timed: Callable, limits: 
 
     index = run[0][0]
     bound = lower_bound(Q[0], Q[-1], limits)
+    begin = time.perf_counter()
     best_q, best = Q, cellp.timed_clear(run, Q, [index] * len(Q), timed, limits, method, t0)
     best_plan, tries = cellp.plans[index], 1
+    cost = cellp.plans[index].time_s + time.perf_counter() - begin  # one path, planned, timed
     while (cellp.planned(index) and tries < RESTARTS and float(best[2][-1]) > CLOSE * bound
-           and time.perf_counter() < cellp.deadline):
+           and cellp.left() > 2 * cost):  # room to plan and time it, and to finish after
         seed = (cellp.seed + index + tries * SEED_STRIDE) % (SEED_MAX + 1)
         tries += 1
-        res = plan_path(cellp.checker, Q[0], Q[-1], time_limit=cellp.left(), seed=seed)
+        res = plan_path(cellp.checker, Q[0], Q[-1], time_limit=cellp.left() / 2, seed=seed)
         if res.path is None:
             continue
         cellp.plans[index] = res
