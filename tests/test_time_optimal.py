@@ -141,7 +141,11 @@ def test_duration_is_never_below_the_bound_and_time_never_slower_than_length():
 
 
 def test_time_objective_same_seed_same_result():
-    """The same seed gives the same trajectory under objective="time"."""
+    """The same seed gives the same trajectory under objective="time".
+
+    Mutation caught: the restarts' seeds taken from the clock (time.perf_counter_ns())
+    -> the two trajectories differ.
+    """
     a, b = pairs(POST, 1, 5)[0]
     one = so.plan(ROBOT, [so.PTP(b)], start=a, cell=POST, seed=3, objective="time")
     two = so.plan(ROBOT, [so.PTP(b)], start=a, cell=POST, seed=3, objective="time")
@@ -150,7 +154,10 @@ def test_time_objective_same_seed_same_result():
 
 
 def test_a_bad_objective_is_refused():
-    """An objective other than length or time is an InputError naming both."""
+    """An objective other than length or time is an InputError naming both.
+
+    Mutation caught: check_objective testing only for a string -> no error.
+    """
     with pytest.raises(so.InputError, match="'length'.*'time'"):
         so.plan(ROBOT, [so.PTP(QB)], start=QA, objective="speed")
     with pytest.raises(so.InputError, match="objective"):
@@ -159,7 +166,10 @@ def test_a_bad_objective_is_refused():
 
 def test_the_bound_of_a_program_sums_its_stops_and_shows_in_repr():
     """A program of PTPs and a LIN has one bound per stop-to-stop run, summed; repr shows
-    the bound and the ratio; torque-limited plans keep a bound too.
+    the bound and the ratio.
+
+    Mutation caught: the bound of the last run only (bounds overwritten, not appended)
+    -> fails.
     """
     q1, q2 = np.array([-0.2, 1.0, 0.02, 0.3]), np.array([0.5, 0.6, 0.0, 0.0])
     traj = so.plan(ROBOT, [so.PTP(q1), so.PTP(q2)], start=QA, objective="time")
@@ -195,7 +205,9 @@ def test_cycle_in_a_cell_with_the_time_objective():
 
 def test_cli_plan_reports_the_bound_and_takes_the_objective(capsys):
     """``scara-opt plan --objective time`` prints the bound and the ratio, and its JSON
-    carries them; at the bound where the synchronized move is clear.
+    carries them, ``bound_ratio`` the duration over the bound.
+
+    Mutation caught: the JSON's bound_ratio as bound / duration -> fails.
     """
     from scara_opt.cli import main
 
@@ -207,6 +219,74 @@ def test_cli_plan_reports_the_bound_and_takes_the_objective(capsys):
     assert out["objective"] == "time"
     assert out["duration_s"] >= out["lower_bound_s"] * (1 - 1e-9)
     assert out["bound_ratio"] == pytest.approx(out["duration_s"] / out["lower_bound_s"])
+    assert main([*args, cell, "--json"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    assert out["objective"] == "length" and out["bound_ratio"] > 1.05
+    assert out["bound_ratio"] == pytest.approx(out["duration_s"] / out["lower_bound_s"])
     assert main([*args, cell]) == 0
     text = capsys.readouterr().out
     assert "objective length: lower bound" in text and "duration / bound" in text
+
+
+def test_another_seed_is_planned_while_the_path_is_far_from_the_bound():
+    """Across the example cell's rack (the standard cycle's upper corners), the length
+    objective's path detours (4.5 times the bound); the time objective plans again with
+    other seeds and keeps the fastest, within 1.15 times the bound, dense-clear here, and
+    says how many paths it planned.
+
+    Mutation caught: RESTARTS = 1 (one path only): the detour is kept, 4.5 times the
+    bound -> fails.
+    """
+    cell = so.load_cell("examples/scara_cell.toml")
+    checker = so.CollisionChecker(ROBOT, cell)
+    a, b = np.array([0.763, -1.7817, 0.0115, 0.0]), np.array([2.0659, -1.7817, 0.0115, 0.0])
+    slow = so.plan(ROBOT, [so.PTP(b)], start=a, cell=checker, seed=0, time_limit=10.0)
+    fast = so.plan(ROBOT, [so.PTP(b)], start=a, cell=checker, seed=0, time_limit=10.0,
+                   objective="time")
+    assert slow.bound_ratio > 3 and fast.bound_ratio < 1.15
+    assert "paths planned (another seed each)" in fast.notes
+    assert dense_clear_trajectory(checker, fast)
+
+
+def test_the_three_point_passing_spline_is_toppras():
+    """The parabola built for three waypoints is toppra's not-a-knot spline, its value and
+    first two derivatives, on uneven parameter steps.
+
+    Mutation caught: the middle slope weighted the wrong way round (m0 * h0 + m1 * h1)
+    -> fails.
+    """
+    import toppra
+
+    from scara_opt.trajectory.passing import _parabola
+
+    Q = np.random.default_rng(0).uniform(-1, 1, (3, 4))
+    s = np.array([0.0, 0.3, 1.0])
+    want, got = toppra.SplineInterpolator(s, Q).cspl, _parabola(s, Q)
+    x = np.linspace(0.0, 1.0, 21)
+    for nu in range(3):
+        assert np.allclose(got(x, nu), want(x, nu), atol=1e-12)
+
+
+def test_a_program_file_and_the_cli_take_the_objective(tmp_path, capsys):
+    """A program file's ``objective = "time"`` reaches plan(); a misspelt one is a
+    ProgramError naming both values; ``scara-opt cycle --objective time`` prints the bound.
+
+    Mutation caught: Program.plan not passing its objective on -> the PTP is toppra's,
+    above the bound -> fails.
+    """
+    from scara_opt.cli import main
+
+    text = ('robot = "zavar2024"\nlength_unit = "mm"\nangle_unit = "deg"\n'
+            'start = [-40, 60, 10, 0]\nobjective = "{}"\n\n[[moves]]\ntype = "PTP"\n'
+            'joints = [20, 30, 20, 45]\n')
+    path = tmp_path / "p.toml"
+    path.write_text(text.format("time"))
+    traj = so.load_program(path).plan()
+    assert traj.objective == "time" and traj.duration == pytest.approx(traj.lower_bound,
+                                                                       rel=1e-6)
+    path.write_text(text.format("fastest"))
+    with pytest.raises(so.errors.ProgramError, match="length, time"):
+        so.load_program(path)
+    assert main(["cycle", "zavar2024", "--across", "200", "--objective", "time"]) == 0
+    out = capsys.readouterr().out
+    assert "lower bound" in out and "objective time" in out
