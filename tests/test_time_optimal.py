@@ -211,8 +211,8 @@ def test_cli_plan_reports_the_bound_and_takes_the_objective(capsys):
     """
     from scara_opt.cli import main
 
-    args = ["plan", "zavar2024", "--start", "-57", "46", "0", "0", "--goal", "-11", "92",
-            "40", "86", "--deg", "--mm", "--cell"]
+    args = ["plan", "zavar2024", "--start", "-20", "50", "10", "0", "--goal", "-100", "60",
+            "40", "0", "--deg", "--mm", "--cell"]
     cell = "examples/scara_cell.toml"
     assert main([*args, cell, "--objective", "time", "--json"]) == 0
     out = json.loads(capsys.readouterr().out)
