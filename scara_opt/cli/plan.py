@@ -101,7 +101,8 @@ def cmd_plan(args: argparse.Namespace) -> int:
                                                             strict=True))
           + f" in {traj.duration:.4f} s (computed in {traj.compute_time_s * 1e3:.1f} ms)")
     print(f"  objective {traj.objective}: lower bound {traj.lower_bound:.4f} s (the slowest "
-          f"joint's own time-optimal move), duration / bound {traj.bound_ratio:.3f}")
+          f"joint's own time-optimal move), duration / bound {traj.bound_ratio:.3f} "
+          f"({traj.duration - traj.lower_bound:+.4f} s)")
     if report is not None:
         print(f"  proven clear of {cell!r}: {report.clearance_text()} "
               f"({report.evaluations} checks)")

@@ -64,6 +64,9 @@ RESTARTS = 6
 CLOSE = 1.1
 SEED_STRIDE = 1_000_003
 
+#: the share of the time limit the restarts leave for timing and proving
+RESERVE = 0.5
+
 
 def check_objective(objective: object) -> str:
     """``objective`` if it is one of :data:`OBJECTIVES`.
@@ -243,8 +246,9 @@ def restarts(cellp: CellPlanning, run: list, Q: Array, timed: Callable, limits: 
     is timed as under ``"length"`` (:meth:`~scara_opt.motion.clearance.CellPlanning.
     timed_clear`); another path is planned (a homotopy class of its own often differs by
     seconds) while the best is above :data:`CLOSE` x the lower bound, up to
-    :data:`RESTARTS` paths, while more than twice what the first path cost is left of the
-    time limit (each plans within half of what is left). The fastest is then improved by
+    :data:`RESTARTS` paths, within the time limit less its :data:`RESERVE` share (kept for
+    timing and proving: no timing is cut short by the limit). The same seed gives the same
+    result as long as the restarts end within that share. The fastest is then improved by
     :func:`fastest`.
 
     Returns:
@@ -254,15 +258,15 @@ def restarts(cellp: CellPlanning, run: list, Q: Array, timed: Callable, limits: 
 
     index = run[0][0]
     bound = lower_bound(Q[0], Q[-1], limits)
-    begin = time.perf_counter()
     best_q, best = Q, cellp.timed_clear(run, Q, [index] * len(Q), timed, limits, method, t0)
     best_plan, tries = cellp.plans[index], 1
-    cost = cellp.plans[index].time_s + time.perf_counter() - begin  # one path, planned, timed
+    reserve = RESERVE * cellp.time_limit  # kept for timing and proving what was found
     while (cellp.planned(index) and tries < RESTARTS and float(best[2][-1]) > CLOSE * bound
-           and cellp.left() > 2 * cost):  # room to plan and time it, and to finish after
+           and cellp.left() > reserve):
         seed = (cellp.seed + index + tries * SEED_STRIDE) % (SEED_MAX + 1)
         tries += 1
-        res = plan_path(cellp.checker, Q[0], Q[-1], time_limit=cellp.left() / 2, seed=seed)
+        res = plan_path(cellp.checker, Q[0], Q[-1], time_limit=cellp.left() - reserve,
+                        seed=seed)
         if res.path is None:
             continue
         cellp.plans[index] = res

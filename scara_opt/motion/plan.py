@@ -291,7 +291,7 @@ def plan(robot: Robot, moves: Move | Iterable[Move], limits: ToolLimits | None =
             index, m = run[0]
             eligible = (objective == "time" and isinstance(m, PTP) and method == "toppra"
                         and dynamics is None and m.speed is None and m.acceleration is None)
-            if eligible:
+            if eligible and isinstance(m, PTP):  # (isinstance: for mypy)
                 q1 = (branch.ptp_goal(index, robot, goal_point(index, m.goal, robot.nq,
                                                                "goal"), q, m.elbow)
                       if cellp is None else cellp.goal(index, m, robot, q))
