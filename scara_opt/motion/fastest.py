@@ -11,9 +11,11 @@ motion itself, time as its parameter: :func:`as_path`):
    stretched to the slowest joint's time, so its duration *is* the lower bound. Where it
    is proven clear (in empty space always) it is the answer.
 2. Otherwise the path planned as for ``objective="length"`` (the same seed, the same
-   path), **shortcut by time**: each interior waypoint that a proven edge can skip is
-   dropped, the one saving the most time metric first (each joint's travel over its
-   speed limit, the slowest joint's per edge: :func:`time_metric`).
+   path), and **more paths with other seeds** while the fastest timing is far from the
+   bound (:func:`restarts`: a path around the other side of an obstacle often differs by
+   seconds); the fastest is **shortcut by time**: each interior waypoint that a proven
+   edge can skip is dropped, the one saving the most time metric first (each joint's
+   travel over its speed limit, the slowest joint's per edge: :func:`time_metric`).
 3. **Candidates judged by their timed duration**: toppra along the (shortcut) path's
    spline, as ``"length"`` times it, and Ruckig's second-order moves (no jerk limit, as
    toppra's) through the path, and from the start through one or two of its points

@@ -220,7 +220,7 @@ def plan(robot: Robot, moves: Move | Iterable[Move], limits: ToolLimits | None =
             path planned short in joint space, then timed by toppra) or ``"time"`` (the
             least duration found: a PTP alone between stops is Ruckig's time-synchronized
             move where that is proven clear, at the lower bound, else the fastest proven
-            timing of the planned path, shortcut by time; never slower than
+            timing of up to 6 planned paths (other seeds), shortcut by time; never slower than
             ``"length"``: :mod:`scara_opt.motion.fastest`). With ``method="toppra"``,
             without torque limits, for PTPs without tool limits of their own; other
             moves are timed as under ``"length"``.
