@@ -341,7 +341,7 @@ def plan(robot: Robot, moves: Move | Iterable[Move], limits: ToolLimits | None =
             t0 = sum(p[0].x[-1] for p in pieces)
             part, note, knots, profile = cellp.timed_clear(run, Q, owner, timed,
                                                            joint_limits, method, t0)
-        bounds.append(lower_bound(Q[0], Q[-1], joint_limits))
+        bounds.append((Q[0], Q[-1]))  # the bounds after the loop: not on the clock
         profiles.append((knots, profile))
         pieces.append(part)
         goals.append(Q[-1])
@@ -349,6 +349,7 @@ def plan(robot: Robot, moves: Move | Iterable[Move], limits: ToolLimits | None =
         notes.append(f"move {run[0][0]}" + (f"-{run[-1][0]}" if len(run) > 1 else "")
                      + f" ({kinds}): {note}")
         q = Q[-1]
+    run_bounds = np.array([lower_bound(a, b, joint_limits) for a, b in bounds])
     joined = tuple(concatenate([p[j] for p in pieces]) for j in range(robot.nq))
     ends = np.concatenate([[0.0], np.cumsum([p[0].x[-1] for p in pieces])])
     traj = MotionTrajectory(joined, joint_limits, method, np.array(goals), ends,
@@ -357,5 +358,5 @@ def plan(robot: Robot, moves: Move | Iterable[Move], limits: ToolLimits | None =
                             corners=tuple(corners), profiles=tuple(profiles),
                             dynamics=dynamics, stops=ends,
                             checker=None if cellp is None else cellp.checker,
-                            run_bounds=np.array(bounds), objective=objective)
+                            run_bounds=run_bounds, objective=objective)
     return replace(traj.with_corner_passages(), compute_time_s=time.perf_counter() - begin)
