@@ -235,6 +235,16 @@ def add_cell_arguments(p: argparse.ArgumentParser, from_file: bool = False) -> N
                    help=f"the planner's seed ({where or '0'})")
 
 
+def add_objective(p: argparse.ArgumentParser, from_file: bool = False) -> None:
+    """``--objective length|time`` (:func:`scara_opt.plan`'s ``objective=``)."""
+    where = "the program file's, else length" if from_file else "length"
+    p.add_argument("--objective", choices=["length", "time"], default=None if from_file
+                   else "length",
+                   help="what a PTP minimises: length (the path short in joint space, then "
+                        "timed) or time (the least duration found: Ruckig's synchronized "
+                        f"move where it is proven clear, at the lower bound); default {where}")
+
+
 def make_checker(robot: Any, cell: Any, args: argparse.Namespace, margin: float) -> Any:
     """The :class:`~scara_opt.CollisionChecker` of ``cell`` with ``--radius`` and ``margin`` [m]."""
     from scara_opt.collision.checker import CollisionChecker

@@ -14,6 +14,7 @@ import json
 from scara_opt.cli.args import (
     add_cell_arguments,
     add_limit_options,
+    add_objective,
     add_robot,
     cell_keywords,
     joint_limits,
@@ -41,7 +42,7 @@ def cmd_cycle(args: argparse.Namespace) -> int:
         limits = ToolLimits(speed=args.speed, acceleration=args.acceleration)
     res = cycle_time(robot, args.up / 1e3, args.across / 1e3, args.down / 1e3, limits,
                      args.blend / 1e3, vmax=joint.vmax, amax=joint.amax,
-                     **cell_keywords(args, robot))
+                     objective=args.objective, **cell_keywords(args, robot))
     traj = res.trajectory
     loaded = (None if args.payload is None
               else cycle_with_payload(robot, res, args.payload, limits))
@@ -49,7 +50,9 @@ def cmd_cycle(args: argparse.Namespace) -> int:
     if args.json:
         print(json.dumps({"robot": robot.name, "up_mm": args.up, "across_mm": args.across,
                           "down_mm": args.down, "blend_mm": args.blend,
-                          "pick_m": res.pick.tolist(),
+                          "pick_m": res.pick.tolist(), "objective": args.objective,
+                          "lower_bound_s": res.lower_bound,
+                          "bound_ratio": res.durations["toppra"] / res.lower_bound,
                           "place_m": res.place.tolist(), "cycle_s": res.durations,
                           "cell": res.cell, "least_clearance_m": res.clearance,
                           "proven_clearance_m": None if res.cell is None else
@@ -65,6 +68,9 @@ def cmd_cycle(args: argparse.Namespace) -> int:
           f"{[round(float(v), 4) for v in res.place]} m")
     for method, seconds in res.durations.items():
         print(f"  {method:14s} {seconds:8.4f} s")
+    print(f"  lower bound    {res.lower_bound:8.4f} s (each stop's slowest joint alone; "
+          f"toppra / bound {res.durations['toppra'] / res.lower_bound:.3f}, objective "
+          f"{args.objective})")
     ratios = traj.check_limits()
     which = "toppra_blended" if args.blend else "toppra"
     ratios.pop("clearance", None)  # (planned in a cell: said below)
@@ -104,6 +110,7 @@ def add_parser(sub: argparse._SubParsersAction, parents: list) -> None:
                    help="also time it by toppra with KG at the tool under the robot's torque "
                         "limits (needs its inertias)")
     add_cell_arguments(p)
+    add_objective(p)
     add_export_options(p, STEM)
     p.add_argument("--json", action="store_true", help="print JSON for scripts")
     p.set_defaults(func=cmd_cycle)

@@ -19,6 +19,7 @@ from numpy.typing import NDArray
 from scara_opt.cli.args import (
     add_cell_arguments,
     add_limit_options,
+    add_objective,
     add_robot,
     add_units,
     cell_keywords,
@@ -74,7 +75,7 @@ def cmd_plan(args: argparse.Namespace) -> int:
     kw = cell_keywords(args, robot)
     try:
         traj = plan(robot, [PTP(goal)], start=start, vmax=joint.vmax, amax=joint.amax,
-                    payload=args.payload, **kw)
+                    payload=args.payload, objective=args.objective, **kw)
     except NoPathFoundError as exc:
         return no_path(robot.name, exc, args.json)
     report = traj.check_collisions() if kw else None
@@ -86,6 +87,8 @@ def cmd_plan(args: argparse.Namespace) -> int:
     if args.json:
         print(json.dumps({
             "robot": robot.name, "status": "solved", "duration_s": traj.duration,
+            "objective": traj.objective, "lower_bound_s": traj.lower_bound,
+            "bound_ratio": traj.bound_ratio,
             "goal": goal_q.tolist(), "q_units": units, "cell": cell,
             "least_clearance_m": None if report is None or report.least is None
             else report.least.distance,
@@ -97,6 +100,9 @@ def cmd_plan(args: argparse.Namespace) -> int:
           + ", ".join(f"{n}={v:.6g} {u}" for n, v, u in zip(robot.joint_names, goal_q, units,
                                                             strict=True))
           + f" in {traj.duration:.4f} s (computed in {traj.compute_time_s * 1e3:.1f} ms)")
+    print(f"  objective {traj.objective}: lower bound {traj.lower_bound:.4f} s (the slowest "
+          f"joint's own time-optimal move), duration / bound {traj.bound_ratio:.3f} "
+          f"({traj.duration - traj.lower_bound:+.4f} s)")
     if report is not None:
         print(f"  proven clear of {cell!r}: {report.clearance_text()} "
               f"({report.evaluations} checks)")
@@ -126,6 +132,7 @@ def add_parser(sub: argparse._SubParsersAction, parents: list) -> None:
                    help="time it with KG at the tool under the robot's torque limits (needs "
                         "its inertias)")
     add_cell_arguments(p)
+    add_objective(p)
     add_units(p)
     add_export_options(p, STEM)
     p.set_defaults(func=cmd_plan)

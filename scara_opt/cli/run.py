@@ -18,6 +18,7 @@ from typing import Any
 from scara_opt.cli.args import (
     add_cell_arguments,
     add_limit_options,
+    add_objective,
     joint_limits,
     make_checker,
     nonnegative,
@@ -54,20 +55,27 @@ def _checker(args: argparse.Namespace, program: Any) -> Any:
 
 
 def _moves(program: Any, traj: Any) -> list[dict[str, Any]]:
-    """Each move: index, type, label, duration [s], least clearance [m] (in a cell)."""
+    """Each move: index, type, label, duration [s], lower bound [s], least clearance [m].
+
+    The lower bound where each move is a stop-to-stop run of its own (no blends), else
+    ``None``; the least clearance in a cell, else ``None``.
+    """
     spans = traj.move_spans()
     clearances = traj.move_clearances() if traj.checker is not None else None
     offset = len(program.moves) - len(traj.moves)  # a first PTP without start: the start
     rows = [{"index": i, "type": program.moves[i].kind, "label": program.labels[i],
-             "duration_s": 0.0, "least_clearance_m": None, "start": True}
+             "duration_s": 0.0, "lower_bound_s": None, "least_clearance_m": None,
+             "start": True}
             for i in range(offset)]
     if len(spans) != len(traj.moves):  # allow_flip split a move: no move-by-move account
         return rows
+    own = len(traj.run_bounds) == len(spans)  # each move between two stops
     for k, (t0, t1) in enumerate(spans):
         i = k + offset
         clear = None if clearances is None else float(clearances[k])
         rows.append({"index": i, "type": program.moves[i].kind, "label": program.labels[i],
                      "duration_s": float(t1 - t0),
+                     "lower_bound_s": float(traj.run_bounds[k]) if own else None,
                      "least_clearance_m": None if clear is None or math.isinf(clear) else clear,
                      "start": False})
     return rows
@@ -84,7 +92,7 @@ def cmd_run(args: argparse.Namespace) -> int:
     joint = joint_limits(args, program.robot, need_jerk=False)
     checker = _checker(args, program)
     kw: dict[str, Any] = {"vmax": joint.vmax, "amax": joint.amax, "payload": args.payload}
-    for key in ("time_limit", "seed"):
+    for key in ("time_limit", "seed", "objective"):
         if getattr(args, key) is not None:
             kw[key] = getattr(args, key)
     if args.time is not None:
@@ -103,6 +111,8 @@ def cmd_run(args: argparse.Namespace) -> int:
         print(json.dumps({
             "program": program.name, "robot": program.robot.name, "status": "solved",
             "duration_s": traj.duration, "compute_time_s": traj.compute_time_s,
+            "objective": traj.objective, "lower_bound_s": traj.lower_bound,
+            "bound_ratio": traj.bound_ratio,
             "cell": cell, "least_clearance_m": None if report is None or report.least is None
             else report.least.distance,
             "proven_clearance_m": None if report is None else report.clearance,
@@ -112,6 +122,9 @@ def cmd_run(args: argparse.Namespace) -> int:
              if report is not None else "")
     print(f"solved: {program.name!r} on {program.robot.name}, {len(program.moves)} moves in "
           f"{traj.duration:.4f} s{where} (planned in {traj.compute_time_s * 1e3:.0f} ms)")
+    print(f"  objective {traj.objective}: lower bound {traj.lower_bound:.4f} s (each stop's "
+          f"slowest joint alone), duration / bound {traj.bound_ratio:.3f} "
+          f"({traj.duration - traj.lower_bound:+.4f} s)")
     for row in rows:
         name = f"move {row['index']} ({row['type']}{', ' + row['label'] if row['label'] else ''})"
         if row["start"]:
@@ -119,7 +132,9 @@ def cmd_run(args: argparse.Namespace) -> int:
             continue
         clear = ("" if row["least_clearance_m"] is None
                  else f"  least clearance {row['least_clearance_m'] * 1e3:.3f} mm")
-        print(f"  {name:28s} {row['duration_s']:8.4f} s{clear}")
+        bound = ("" if row["lower_bound_s"] is None
+                 else f"  (bound {row['lower_bound_s']:.4f} s)")
+        print(f"  {name:28s} {row['duration_s']:8.4f} s{bound}{clear}")
     if len(rows) < len(program.moves):
         print(f"  (a move was split by allow_flip: {traj.notes})")
     if written:
@@ -144,6 +159,7 @@ def add_parser(sub: argparse._SubParsersAction, parents: list) -> None:
                    help="time it with KG at the tool under the robot's torque limits (needs "
                         "its inertias)")
     add_cell_arguments(p, from_file=True)
+    add_objective(p, from_file=True)
     add_export_options(p, STEM)
     p.add_argument("--json", action="store_true", help="print JSON for scripts")
     p.set_defaults(func=cmd_run)

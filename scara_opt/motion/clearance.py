@@ -259,6 +259,11 @@ class CellPlanning:
                 self.refuse(owner[k], "+".join(m.kind for _, m in run), report, report.time,
                             report.bodies, t0)
             return part, note + _proven(report.evaluations), knots, profile
+        return self._planned_timing(index, Q, timed, limits, method)
+
+    def _planned_timing(self, index: int, Q: Array, timed: Callable, limits: Limits,
+                        method: str) -> tuple:
+        """``timed`` of the planned path ``Q`` of PTP ``index``, proven (see timed_clear)."""
         plan = self.plans[index]
         late = False
         for level in range(-1, RETRIES + 2):

@@ -40,6 +40,7 @@ from scara_opt.ik.geometry import ScaraGeometry
 from scara_opt.model.robot import Robot, check_robot
 from scara_opt.motion import branch, geometry
 from scara_opt.motion.clearance import in_cell
+from scara_opt.motion.fastest import check_objective
 from scara_opt.motion.moves import LIN, PTP, Move
 from scara_opt.motion.plan import plan
 from scara_opt.motion.result import MotionTrajectory
@@ -80,6 +81,11 @@ class CycleResult:
             (``trajectory.check_collisions()`` has it and the proven bound).
         notes: what a reader of the times needs to know: a method not timed and why, a
             method much slower and why.
+        lower_bound: the least duration of any cycle through the same stops [s]: per
+            stop-to-stop move, its slowest joint's own time-optimal move
+            (:attr:`~scara_opt.motion.MotionTrajectory.lower_bound` of the stopping plan).
+        objective: what the toppra plans minimised (``"time"``: their PTPs are Ruckig's
+            synchronized moves where proven clear; ``durations["toppra"]`` is that plan's).
     """
 
     robot: str
@@ -95,6 +101,8 @@ class CycleResult:
     cell: str | None = None
     clearance: float | None = None
     notes: tuple[str, ...] = ()
+    lower_bound: float = math.nan
+    objective: str = "length"
 
     @property
     def title(self) -> str:
@@ -112,8 +120,12 @@ class CycleResult:
             where = (f"; planned in {self.cell!r}, proven clear of it (least clearance "
                      f"{self.clearance * 1e3:.3f} mm)")
         notes = "".join(f"; {n}" for n in self.notes)
+        bound = (f", lower bound {self.lower_bound:.4f} s" if math.isfinite(self.lower_bound)
+                 else "")
+        if self.objective != "length":
+            bound += f" (objective {self.objective})"
         return (f"CycleResult({self.robot}: {self.up * 1e3:g}/{self.across * 1e3:g}/"
-                f"{self.down * 1e3:g} mm{blend}, {times}{where}{notes})")
+                f"{self.down * 1e3:g} mm{blend}, {times}{bound}{where}{notes})")
 
 
 #: world up: the robot files put the base's z axis against gravity
@@ -231,7 +243,8 @@ def cycle_time(robot: Robot, up: float = 0.025, across: float = 0.305, down: flo
                limits: ToolLimits | None = None, blend: float = 0.0, *,
                vmax: ArrayLike | None = None, amax: ArrayLike | None = None,
                cell: Cell | CollisionChecker | None = None, margin: float | None = None,
-               time_limit: float = 1.0, seed: int = 0) -> CycleResult:
+               time_limit: float = 1.0, seed: int = 0, objective: str = "length"
+               ) -> CycleResult:
     """Time the pick-and-place cycle (A up, across, down to B, and back) three ways.
 
     Args:
@@ -254,6 +267,9 @@ def cycle_time(robot: Robot, up: float = 0.025, across: float = 0.305, down: flo
             default the checker's own, 0 with a Cell; refused without a cell).
         time_limit: planning limit of each PTP around obstacles [s].
         seed: the planner's seed.
+        objective: :func:`~scara_opt.plan`'s, for the toppra plans (``"time"``: each PTP
+            between stops is the fastest move found, at the lower bound where Ruckig's
+            synchronized move is proven clear).
 
     Raises:
         InputError: strokes not positive, bad limits, no reachable placement (in a cell:
@@ -269,13 +285,15 @@ def cycle_time(robot: Robot, up: float = 0.025, across: float = 0.305, down: flo
     blend = check_real("blend", blend, 0.0, 1.0, unit="m")
     check_cycle_blend(blend, up, across, down)
     joint = resolve_limits(robot, robot.nq, vmax, amax)  # before any IK
+    objective = check_objective(objective)
     vmax, amax = joint.vmax, joint.amax
     ctx = in_cell(robot, cell, margin, time_limit, seed)
     checker = None if ctx is None else ctx.checker
 
     def timed(program: list[Move], q0: Array, method: str = "toppra") -> MotionTrajectory:
         return plan(robot, program, limits, start=q0, vmax=vmax, amax=amax, method=method,
-                    cell=checker, time_limit=time_limit, seed=seed)
+                    cell=checker, time_limit=time_limit, seed=seed,
+                    objective=objective if method == "toppra" else "length")
 
     stops: MotionTrajectory | None = None
     tried: list[str] = []
@@ -320,7 +338,8 @@ def cycle_time(robot: Robot, up: float = 0.025, across: float = 0.305, down: flo
     notes = () if ctx is None else _cell_notes(blocked, durations, ctx.checker.cell.name)
     return CycleResult(robot.name, up, across, down, A, B, durations, traj, corners, blend,
                        None if ctx is None else ctx.checker.cell.name,
-                       None if ctx is None else _least(traj), notes)
+                       None if ctx is None else _least(traj), notes, stops.lower_bound,
+                       objective)
 
 
 def _least(traj: MotionTrajectory) -> float | None:

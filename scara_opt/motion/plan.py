@@ -31,12 +31,14 @@ from scara_opt.motion import branch, geometry
 from scara_opt.motion.blend import blended_joints
 from scara_opt.motion.blend_joint import joint_blended
 from scara_opt.motion.clearance import in_cell
+from scara_opt.motion.fastest import check_objective, restarts, synchronized
 from scara_opt.motion.jerk import jerk_limited_section
 from scara_opt.motion.moves import CIRC, LIN, PTP, Move, as_moves, goal_point
 from scara_opt.motion.result import MotionTrajectory
 from scara_opt.motion.timing import time_section
 from scara_opt.motion.tool_limits import ToolLimits, ToolProfile
 from scara_opt.target import Target
+from scara_opt.trajectory.bound import lower_bound
 from scara_opt.trajectory.dynamics import PayloadLike, RobotDynamics
 from scara_opt.trajectory.limits import resolve_limits
 from scara_opt.trajectory.trajectory import concatenate
@@ -175,8 +177,8 @@ def plan(robot: Robot, moves: Move | Iterable[Move], limits: ToolLimits | None =
          step: float = STEP, method: str = "toppra", allow_flip: bool = False,
          torque_limits: bool | ArrayLike | None = None, payload: PayloadLike | None = None,
          payload_frame: str | None = None, cell: Cell | CollisionChecker | None = None,
-         margin: float | None = None, time_limit: float = 1.0, seed: int = 0
-         ) -> MotionTrajectory:
+         margin: float | None = None, time_limit: float = 1.0, seed: int = 0,
+         objective: str = "length") -> MotionTrajectory:
     """Plan a program of PTP / LIN / CIRC moves into one timed trajectory.
 
     Args:
@@ -214,9 +216,19 @@ def plan(robot: Robot, moves: Move | Iterable[Move], limits: ToolLimits | None =
             construction) and proven once more: the call ends within the limit plus that
             last timing and proof. The kernel's one-off compilation does not count.
         seed: the planner's seed (the same seed, the same path).
+        objective: ``"length"`` (a PTP is the straight joint segment, or in a cell the
+            path planned short in joint space, then timed by toppra) or ``"time"`` (the
+            least duration found: a PTP alone between stops is Ruckig's time-synchronized
+            move where that is proven clear, at the lower bound, else the fastest proven
+            timing of up to 6 planned paths (other seeds), shortcut by time; never slower than
+            ``"length"``: :mod:`scara_opt.motion.fastest`). With ``method="toppra"``,
+            without torque limits, for PTPs without tool limits of their own; other
+            moves are timed as under ``"length"``.
 
     Returns:
         MotionTrajectory: rest to rest, stopping at every goal not blended;
+        ``lower_bound`` the least duration any trajectory through its stops could take
+        under the joint limits, ``bound_ratio`` its duration over it;
         ``check_limits()`` has the joint ratios and the tool ratios per stop-to-stop run
         (and ``"clearance"`` in a cell).
 
@@ -241,6 +253,7 @@ def plan(robot: Robot, moves: Move | Iterable[Move], limits: ToolLimits | None =
     if method not in SECTION_TIMERS:
         raise InputError(f"method must be one of {sorted(SECTION_TIMERS)}; got {method!r}")
     joint_limits = resolve_limits(robot, robot.nq, vmax, amax)
+    objective = check_objective(objective)
     dynamics = None
     if torque_limits is not None or payload is not None:
         if method != "toppra":
@@ -268,13 +281,27 @@ def plan(robot: Robot, moves: Move | Iterable[Move], limits: ToolLimits | None =
     if cellp is not None:
         cellp.check_start(q)
     pieces: list[tuple[PPoly, ...]] = []
-    goals, notes, corners, profiles = [q], [], [], []
+    goals, notes, corners, profiles, bounds = [q], [], [], [], []
     tools: dict[int, ToolLimits] = {}  # each move's own tool limits, by index
     queue = deque(_sections(program, offset))
     while queue:
         run = queue.popleft()
+        fast, eligible = None, False
         if len(run) == 1:
             index, m = run[0]
+            eligible = (objective == "time" and isinstance(m, PTP) and method == "toppra"
+                        and dynamics is None and m.speed is None and m.acceleration is None)
+            if eligible and isinstance(m, PTP):  # (isinstance: for mypy)
+                q1 = (branch.ptp_goal(index, robot, goal_point(index, m.goal, robot.nq,
+                                                               "goal"), q, m.elbow)
+                      if cellp is None else cellp.goal(index, m, robot, q))
+                if np.abs(q1 - q).max() <= STILL:
+                    raise MoveError(index, "PTP goal is where the robot already is: drop "
+                                           "the move")
+                fast = synchronized(np.array([q, q1]), joint_limits, cellp)
+        if fast is not None:
+            Q, owner = np.array([q, q1]), [index] * 2
+        elif len(run) == 1:
             try:
                 Q = (move_joints(index, m, robot, q, step) if cellp is None
                      else cellp.joints(index, m, robot, q, step, move_joints))
@@ -301,12 +328,20 @@ def plan(robot: Robot, moves: Move | Iterable[Move], limits: ToolLimits | None =
                                  else SECTION_TIMERS[method](robot, Q, joint_limits, profile))
             return part, note, knots, profile
 
-        if cellp is None:
+        if fast is not None:
+            part, note, knots = fast
+            profile = ToolProfile.per_point([by_index[i] for i in owner])
+        elif cellp is None:
             part, note, knots, profile = timed(Q, owner)
+        elif eligible:  # in a cell, the synchronized move not proven clear
+            t0 = sum(p[0].x[-1] for p in pieces)
+            Q, (part, note, knots, profile) = restarts(cellp, run, Q, timed, joint_limits,
+                                                       method, t0)
         else:
             t0 = sum(p[0].x[-1] for p in pieces)
             part, note, knots, profile = cellp.timed_clear(run, Q, owner, timed,
                                                            joint_limits, method, t0)
+        bounds.append((Q[0], Q[-1]))  # the bounds after the loop: not on the clock
         profiles.append((knots, profile))
         pieces.append(part)
         goals.append(Q[-1])
@@ -314,6 +349,7 @@ def plan(robot: Robot, moves: Move | Iterable[Move], limits: ToolLimits | None =
         notes.append(f"move {run[0][0]}" + (f"-{run[-1][0]}" if len(run) > 1 else "")
                      + f" ({kinds}): {note}")
         q = Q[-1]
+    run_bounds = np.array([lower_bound(a, b, joint_limits) for a, b in bounds])
     joined = tuple(concatenate([p[j] for p in pieces]) for j in range(robot.nq))
     ends = np.concatenate([[0.0], np.cumsum([p[0].x[-1] for p in pieces])])
     traj = MotionTrajectory(joined, joint_limits, method, np.array(goals), ends,
@@ -321,5 +357,6 @@ def plan(robot: Robot, moves: Move | Iterable[Move], limits: ToolLimits | None =
                             tool_limits=tuple(tools[i] for i in sorted(tools)),
                             corners=tuple(corners), profiles=tuple(profiles),
                             dynamics=dynamics, stops=ends,
-                            checker=None if cellp is None else cellp.checker)
+                            checker=None if cellp is None else cellp.checker,
+                            run_bounds=run_bounds, objective=objective)
     return replace(traj.with_corner_passages(), compute_time_s=time.perf_counter() - begin)

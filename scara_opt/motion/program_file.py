@@ -39,7 +39,8 @@ file, and lists its moves in order::
     xyz = [250, 200, -60]
 
 Other top-level keys: ``title``, ``notes``, ``method`` (``"toppra"`` or ``"ruckig"``),
-``time_limit`` [s] and ``seed`` (the planner's, in a cell), ``allow_flip``. A move may
+``objective`` (``"length"`` or ``"time"``, :func:`scara_opt.plan`'s), ``time_limit`` [s]
+and ``seed`` (the planner's, in a cell), ``allow_flip``. A move may
 carry a ``label`` (shown beside its index). Unknown or misspelt keys and values are
 refused with :class:`~scara_opt.errors.ProgramError`, naming the file, the move and the
 key, with a close match when there is one; every number is checked in the file's own units.
@@ -62,6 +63,7 @@ from scara_opt.checks import describe
 from scara_opt.errors import ProgramError, ScaraOptError
 from scara_opt.model.dh import ANGLE_UNITS, LENGTH_UNITS
 from scara_opt.model.dh_file import check_keys, read_toml
+from scara_opt.motion.fastest import OBJECTIVES
 from scara_opt.motion.moves import CIRC, ELBOWS, LIN, PTP, Move
 from scara_opt.motion.tool_limits import ToolLimits
 from scara_opt.pose import quat_to_matrix, rpy_to_matrix
@@ -79,7 +81,8 @@ __all__ = ["FILE_KEYS", "MOVE_KEYS", "Program", "load_program"]
 
 #: the keys a program file may hold at its top level
 FILE_KEYS = ("name", "title", "notes", "robot", "cell", "length_unit", "angle_unit", "start",
-             "margin", "method", "time_limit", "seed", "allow_flip", "limits", "moves")
+             "margin", "method", "objective", "time_limit", "seed", "allow_flip", "limits",
+             "moves")
 #: the keys of a ``[[moves]]`` entry
 MOVE_KEYS = ("type", "label", "xyz", "yaw", "rpy", "quat", "joints", "via", "speed",
              "acceleration", "blend", "elbow")
@@ -109,6 +112,7 @@ class Program:
         seed: the planner's seed.
         allow_flip: a LIN / CIRC may be split by a stop-and-flip PTP.
         source: the file it was read from.
+        objective: ``"length"`` or ``"time"`` (:func:`scara_opt.plan`'s).
     """
 
     name: str
@@ -125,6 +129,7 @@ class Program:
     allow_flip: bool = False
     source: str = ""
     notes: str = field(default="", repr=False)
+    objective: str = "length"
 
     def plan(self, cell: Cell | CollisionChecker | None = None, **options: Any
              ) -> MotionTrajectory:
@@ -135,7 +140,7 @@ class Program:
                 ``radius=`` for a robot without collision geometry); default the file's.
             **options: more keywords of :func:`scara_opt.plan` (``vmax``, ``amax``,
                 ``payload``, ...), or ones that replace the file's (``margin``,
-                ``time_limit``, ``seed``, ``method``, ``allow_flip``).
+                ``time_limit``, ``seed``, ``method``, ``allow_flip``, ``objective``).
 
         Raises:
             MoveError, MoveCollisionError, NoPathFoundError, CollisionError, InputError:
@@ -144,7 +149,7 @@ class Program:
         from scara_opt.motion.plan import plan
 
         kw: dict[str, Any] = {"start": self.start, "method": self.method,
-                              "allow_flip": self.allow_flip}
+                              "allow_flip": self.allow_flip, "objective": self.objective}
         where = self.cell if cell is None else cell
         if where is not None:
             kw.update(cell=where, margin=self.margin, time_limit=self.time_limit,
@@ -364,6 +369,10 @@ def load_program(path: str | Path, robot: Robot | str | Path | None = None,
     if method not in METHODS:
         raise ProgramError(f"{where}: method must be one of {', '.join(METHODS)}; got "
                            f"{describe(method)}")
+    objective = data.get("objective", "length")
+    if objective not in OBJECTIVES:
+        raise ProgramError(f"{where}: objective must be one of {', '.join(OBJECTIVES)}; got "
+                           f"{describe(objective)}")
     time_limit = reader.number(data, "time_limit", where, "s", positive=True)
     seed = data.get("seed", 0)
     if isinstance(seed, bool) or not isinstance(seed, int) or seed < 0:
@@ -377,4 +386,4 @@ def load_program(path: str | Path, robot: Robot | str | Path | None = None,
     return Program(name, bot, tuple(m for m, _ in pairs), tuple(lb for _, lb in pairs),
                    start, limits, cell, margin * reader.L, str(method),
                    1.0 if time_limit is None else time_limit, seed, flip, str(path),
-                   str(data.get("notes", "")))
+                   str(data.get("notes", "")), str(objective))

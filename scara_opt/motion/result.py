@@ -45,6 +45,11 @@ class MotionTrajectory(Trajectory):
             (``None``: planned without a cell).
         stops: (n_runs + 1,) the start then the end of each stop-to-stop run [s], where the
             robot is at rest.
+        run_bounds: (n_runs,) the lower bound of each stop-to-stop run [s]: its slowest
+            joint's own time-optimal rest-to-rest move under the joint velocity and
+            acceleration limits (:mod:`scara_opt.trajectory.bound`); no trajectory between
+            those rests is faster.
+        objective: what :func:`~scara_opt.plan` minimised, ``"length"`` or ``"time"``.
     """
 
     robot: Robot | None = None
@@ -54,6 +59,31 @@ class MotionTrajectory(Trajectory):
     profiles: tuple[tuple[Array, ToolProfile], ...] = ()
     checker: CollisionChecker | None = None
     stops: Array = field(default_factory=lambda: np.zeros(0))
+    run_bounds: Array = field(default_factory=lambda: np.zeros(0))
+    objective: str = "length"
+
+    @property
+    def lower_bound(self) -> float:
+        """The least duration any trajectory through these stops could take [s].
+
+        The sum of :attr:`run_bounds` (``nan`` when built without them).
+        """
+        return float(self.run_bounds.sum()) if len(self.run_bounds) else math.nan
+
+    @property
+    def bound_ratio(self) -> float:
+        """``duration / lower_bound`` (>= 1; 1: as fast as the joint limits allow)."""
+        bound = self.lower_bound
+        return self.duration / bound if bound > 0 else math.nan
+
+    def __repr__(self) -> str:
+        bound = (f", lower bound {self.lower_bound:.4f} s (x{self.bound_ratio:.3f})"
+                 if len(self.run_bounds) else "")
+        return (f"MotionTrajectory(method={self.method!r}, objective={self.objective!r}, "
+                f"duration={self.duration:.4f} s{bound}, nq={self.nq}, "
+                f"waypoints={len(self.waypoints)})")
+
+    __str__ = __repr__
 
     def _robot(self) -> Robot:
         """:attr:`robot`; a trajectory built by hand without one cannot be checked by FK.
