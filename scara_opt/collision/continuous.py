@@ -484,11 +484,15 @@ class LeastClearance:
     converged: bool
     evaluations: int
 
+    def within(self, budget: str = " (budget)") -> str:
+        """``to 0.1 mm``, or ``not to 0.1 mm`` and ``budget`` when the budget ran out."""
+        return (f"to {self.tolerance * 1e3:g} mm" if self.converged
+                else f"not to {self.tolerance * 1e3:g} mm{budget}")
+
     def __repr__(self) -> str:
-        within = (f"to {self.tolerance * 1e3:g} mm" if self.converged else
-                  f"not to {self.tolerance * 1e3:g} mm: the budget ran out")
         return (f"LeastClearance({self.distance * 1e3:.3f} mm at {self.at:.4f} s, "
-                f"{'-'.join(self.bodies)}, found {within}; proven >= "
+                f"{'-'.join(self.bodies)}, found {self.within(': the budget ran out')}; "
+                f"proven >= "
                 f"{self.lower * 1e3:.3f} mm)")
 
 
@@ -684,10 +688,8 @@ class CollisionReport:
         if self.least is None:
             return f"proven >= {self.clearance * 1e3:.3f} mm from every pair"
         c = self.least
-        within = (f"to {c.tolerance * 1e3:g} mm" if c.converged
-                  else f"not to {c.tolerance * 1e3:g} mm (budget)")
         return (f"least clearance {c.distance * 1e3:.3f} mm at {c.at:.4f} s "
-                f"({'-'.join(c.bodies)}), found {within}; proven >= "
+                f"({'-'.join(c.bodies)}), found {c.within()}; proven >= "
                 f"{self.clearance * 1e3:.3f} mm")
 
     def __repr__(self) -> str:
@@ -696,10 +698,8 @@ class CollisionReport:
                 return (f"CollisionReport(clear: proven >= {self.clearance * 1e3:.3f} mm from "
                         f"every pair, {self.evaluations} checks)")
             c = self.least
-            within = (f"to {c.tolerance * 1e3:g} mm" if c.converged
-                      else f"not to {c.tolerance * 1e3:g} mm (budget)")
             return (f"CollisionReport(clear: least clearance {c.distance * 1e3:.3f} mm at "
-                    f"{c.at:.4f} s, {'-'.join(c.bodies)}, found {within}; proven >= "
+                    f"{c.at:.4f} s, {'-'.join(c.bodies)}, found {c.within()}; proven >= "
                     f"{self.clearance * 1e3:.3f} mm; {self.evaluations} checks)")
         what = f"{self.depth * 1e3:.3f} mm deep" if self.touching else "not proven clear"
         return (f"CollisionReport(first contact at {self.time or 0.0:.4f} s: "
