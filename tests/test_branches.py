@@ -17,7 +17,7 @@ import scara_opt as so
 from scara_opt.errors import InputError
 from scara_opt.ik.result import Status
 from scara_opt.ik.verdict import judge
-from scara_opt.trajectory.branches import least_cost_walk
+from scara_opt.trajectory.branches import _layered_walk, least_cost_walk
 from scara_opt.trajectory.path import JudgedResults
 from tests.conftest import ROOT
 
@@ -88,6 +88,22 @@ def test_fewest_jumps_first_then_the_least_weighted_travel():
     assert free.choice.tolist() == [0, 0, 0] and free.travel == pytest.approx(1.5)
 
 
+def test_the_travel_objective_takes_the_cheaper_walk_with_a_jump():
+    """The same hand-built candidates, ``fewest_jumps=False`` (ik_path's ``"travel"``): the
+    walk of travel 1.5 with its jump at step 1, reported, over the 11.5 without.
+
+    Mutation caught: the flag ignored (``penalty *= fewest_jumps`` dropped, or the layered
+    walk's ``counts = int(fewest_jumps)`` -> ``1``) -> the no-jump walk, fails.
+    """
+    Q = np.array([[[0.0, 0.0], [0.0, 0.0]], [[1.5, 0.0], [0.5, 0.5]], [[1.5, 0.0], [1.5, 0.0]]])
+    valid = np.array([[True, False], [True, True], [True, False]])
+    thr, w = np.array([1.0, 1.0]), np.array([1.0, 10.0])
+    for walked in (least_cost_walk(Q, valid, thr, w, fewest_jumps=False),
+                   _layered_walk(Q, valid, thr, w, np.zeros(2), np.zeros(2, bool), False)):
+        assert walked.choice.tolist() == [0, 0, 0] and walked.jumps == (1,)
+        assert walked.travel == pytest.approx(1.5)
+
+
 def test_a_jump_off_q_start_counts_before_the_paths_own():
     """Hand-built: the walk keeps q_start's branch at point 0 and jumps later instead.
 
@@ -109,29 +125,34 @@ def test_a_jump_off_q_start_counts_before_the_paths_own():
 
 
 def test_global_walk_on_the_arm_beats_the_greedy_one(ur5_arm):
-    """UR5-class arm, the issue's 5 full poses: no more jumps than greedy, less travel if tied.
+    """UR5-class arm, the issue's 5 full poses: less weighted travel than greedy; with
+    ``objective="fewest_jumps"``, fewer jumps (less travel if tied).
 
     The global walk chooses among every closed-form solution and turn of each pose
     (:func:`~scara_opt.trajectory.branches.candidates_arm`). Measured: greedy 4 jumps /
-    22.8 rad, global 3 jumps / 23.3 rad (the multi-start's of before: 3 jumps / 33.6 rad).
-    Mutation caught: the arm's candidates not used (``candidates_arm`` returning None) ->
-    fails.
+    22.8 rad, fewest jumps 3 jumps / 23.3 rad (the multi-start's of before: 3 jumps / 33.6
+    rad), travel 4 jumps / 22.8 rad or less. Mutation caught: the arm's candidates not used
+    (``candidates_arm`` returning None) -> fails.
     """
     Q = np.random.default_rng(2).uniform(ur5_arm.lower, ur5_arm.upper, (5, 6))
     targets = [so.Target(T[:3, 3], rotation=T[:3, :3]) for T in map(ur5_arm.fk, Q)]
     greedy = so.ik_path(ur5_arm, targets, branches="greedy")
-    jp = so.ik_path(ur5_arm, targets)
+    jp = so.ik_path(ur5_arm, targets, objective="fewest_jumps")
     assert jp.branches == "global" and jp.solved.all()
     assert (len(jp.jumps), weighted(ur5_arm, jp)) <= (len(greedy.jumps),
                                                       weighted(ur5_arm, greedy))
     assert len(jp.jumps) < len(greedy.jumps) and jp.travel.sum() <= 35.3
     assert all(j.forced_by is not None and j.forced_by >= j.index for j in jp.jumps)
+    least = so.ik_path(ur5_arm, targets)
+    assert least.solved.all() and weighted(ur5_arm, least) <= weighted(ur5_arm, greedy) + 1e-9
+    assert weighted(ur5_arm, least) <= weighted(ur5_arm, jp) + 1e-9
 
 
 def test_global_multi_start_on_an_unserved_arm_never_loses_the_greedy_walk(arm6):
     """arm6 (a prismatic joint: no closed form), 20 sequences of 5 full poses: the
     multi-start follows every track, the greedy one first, so the global walk never has
-    more jumps than greedy, nor more weighted travel with as many.
+    more weighted travel than greedy (``objective="fewest_jumps"``: never more jumps, nor
+    more weighted travel with as many).
 
     Mutation caught: the tracks not continued (``prev = [r.q for r in found]`` ->
     ``prev = [q_start]``) -> the greedy track is lost: worse than greedy on sequences 8,
@@ -142,13 +163,15 @@ def test_global_multi_start_on_an_unserved_arm_never_loses_the_greedy_walk(arm6)
         Q = np.random.default_rng(seed).uniform(arm6.lower, arm6.upper, (5, 6))
         targets = [so.Target(T[:3, 3], rotation=T[:3, :3]) for T in map(arm6.fk, Q)]
         greedy = so.ik_path(arm6, targets, branches="greedy")
-        jp = so.ik_path(arm6, targets)
+        jp = so.ik_path(arm6, targets, objective="fewest_jumps")
+        least = so.ik_path(arm6, targets)
         assert jp.results[0].route == ""
-        if not (jp.solved.all() and greedy.solved.all()):
+        if not (jp.solved.all() and greedy.solved.all() and least.solved.all()):
             continue  # a pose a multi-start misses: no travel to compare
         compared += 1
         assert (len(jp.jumps), weighted(arm6, jp)) <= (len(greedy.jumps),
                                                       weighted(arm6, greedy) + 1e-9), seed
+        assert weighted(arm6, least) <= weighted(arm6, greedy) + 1e-9, seed
     assert compared >= 15
 
 
@@ -198,6 +221,8 @@ def test_branches_option_is_checked(robots):
         so.ik_path(robot, ts, method="pso", branches="global")
     jp = so.ik_path(robot, ts, method="pso", population=20, iterations=20)
     assert jp.branches == "greedy"
+    with pytest.raises(InputError, match=r"objective must be one of \['travel', 'fewest_jumps'\]"):
+        so.ik_path(robot, ts, objective="jumps")
 
 
 def test_a_redundant_task_keeps_the_greedy_walk_unless_another_jumps_less():

@@ -84,8 +84,9 @@ def cmd_path(args: argparse.Namespace) -> int:
     names = ["joint_path.csv", "trajectory.csv", "trajectory.png"] + ([HTML] if args.html
                                                                       else [])
     with OutputDir(args.out, names, args.force, last=["trajectory.csv"]) as out:
+        # a circle or line to follow: the fewest jumps first, then the least travel
         jp = ik_path(robot, targets, method=args.method, q_start=q_start, seed=args.seed,
-                     tol=args.tol)
+                     tol=args.tol, objective="fewest_jumps")
         write_joint_path(jp, robot, out / "joint_path.csv")
         out.commit()  # joint_path.csv is kept when the path is refused below
         if not args.json:

@@ -194,7 +194,7 @@ def _ik_path_joints(index: int, kind: str, robot: Robot, P: Array, yaws: Array |
     start = elbow_signs(robot, q_prev)
     targets = [Target(p, None if yaws is None else float(y))
                for p, y in zip(P, yaws if yaws is not None else [None] * len(P), strict=True)]
-    jp = ik_path(robot, targets, q_start=q_prev)
+    jp = ik_path(robot, targets, q_start=q_prev, objective="fewest_jumps")  # a path to keep
 
     def who(i: int) -> int:
         return index if owner is None else owner[i]

@@ -9,14 +9,17 @@ robots, the distinct solutions a seeded multi-start finds, each point's solves a
 continuing every solution of the point before (so every track, the greedy walk's first,
 is followed). :func:`least_cost_walk` then picks
 one solution per point by a shortest-path search over the layered graph (SciPy's
-Dijkstra): a step where some joint moves more than its jump threshold is a *jump* (the
-threshold is a hard limit: the fewest jumps first), and among the walks with the fewest
-jumps the cost is the joint travel weighted by each joint's speed limit,
-:math:`\sum_k |Δq_k| / v_{max,k}` (the time each joint needs at full speed). A given
-start configuration is kept first: a jump off it counts before all of the path's own.
-Where one branch covers the whole path there is no jump; where none does, each jump names
-the point that forces it: the first point that the configuration before the jump cannot
-reach without one.
+Dijkstra). Its cost is the joint travel weighted by each joint's speed limit,
+:math:`\sum_k |Δq_k| / v_{max,k}` (the time each joint needs at full speed), the step from a
+given start configuration included. A step where some joint moves more than its jump
+threshold is a *jump*. With ``fewest_jumps`` (a Cartesian path to follow, where a jump
+breaks it) the threshold is a hard limit: the fewest jumps first, a jump off the start
+configuration before all of the path's own, then the least travel among those walks.
+Without (poses to visit, where every step is a free move), the least travel alone: no
+sequence of the candidates travels less, and the jumps it takes are reported. Where one
+branch covers the whole path there is no jump; where none does, each jump names the point
+that forces it: the first point that the configuration before the jump cannot reach
+without one.
 """
 
 from __future__ import annotations
@@ -94,8 +97,8 @@ LAYERED = 4_000_000
 
 
 def least_cost_walk(Q: Array, valid: Mask, threshold: Array, weights: Array,
-                    q_start: Array | None = None) -> Walk:
-    """The walk through one valid candidate per point with the fewest jumps, then least travel.
+                    q_start: Array | None = None, fewest_jumps: bool = True) -> Walk:
+    """The walk through one valid candidate per point of least travel (fewest jumps first).
 
     Args:
         Q: (n, K, nq) candidates of each point [rad or m] (rows where ``valid`` is False
@@ -106,6 +109,8 @@ def least_cost_walk(Q: Array, valid: Mask, threshold: Array, weights: Array,
         q_start: (nq,) configuration before point 0, or ``None``: its step to point 0
             counts in the travel, and a jump off it before all of the path's own (the
             walk keeps q_start's branch at point 0 wherever some walk can).
+        fewest_jumps: the fewest jumps first, then the least travel among those walks;
+            ``False``: the least travel alone (jumps are only reported).
 
     Returns:
         Walk: the choice, its jumps and what forces each. Small candidate sets go through
@@ -120,13 +125,14 @@ def least_cost_walk(Q: Array, valid: Mask, threshold: Array, weights: Array,
     else:
         t0, o0 = np.zeros(K), np.zeros(K, dtype=bool)
     if (n - 1) * K * K * nq > LAYERED:
-        return _layered_walk(Q, valid, threshold, weights, t0, o0)
+        return _layered_walk(Q, valid, threshold, weights, t0, o0, fewest_jumps)
     travel, over = _steps(Q[:-1], Q[1:], threshold, weights)  # (n-1, K, K)
     edge = valid[:-1, :, None] & valid[1:, None, :]
     # a jump costs more than any walk's whole travel: the fewest jumps win, then travel
     finite = np.where(edge, travel, 0.0)
     penalty = 1.0 + float(finite.max(axis=(1, 2)).sum()) + float(np.where(valid[0], t0,
                                                                            0.0).max())
+    penalty *= fewest_jumps
     # nodes: 0 the source, 1 + i*K + k the candidates, 1 + n*K the sink
     i, a, b = np.nonzero(edge)
     src = np.flatnonzero(valid[0])
@@ -155,17 +161,19 @@ def least_cost_walk(Q: Array, valid: Mask, threshold: Array, weights: Array,
 
 
 def _layered_walk(Q: Array, valid: Mask, threshold: Array, weights: Array, t0: Array,
-                  o0: Mask) -> Walk:
+                  o0: Mask, fewest_jumps: bool = True) -> Walk:
     """:func:`least_cost_walk` by dynamic programming over the layers (Viterbi).
 
     Each candidate keeps the best (jumps, travel) of the walks reaching it, compared in
-    that order (a jump off ``q_start`` counts as ``n``); one layer's steps (K, K, nq)
+    that order (a jump off ``q_start`` counts as ``n``; without ``fewest_jumps`` no jump
+    counts, travel alone); one layer's steps (K, K, nq)
     exist at a time, so memory grows with ``n K²`` booleans (the steps within the
     threshold, for the forcing points), not ``n K² nq`` floats.
     """
     n, K, _ = Q.shape
     big = np.iinfo(np.int64).max // 4
-    J = np.where(valid[0], n * o0.astype(np.int64), big)
+    counts = int(fewest_jumps)  # what a jump adds to a walk's count
+    J = np.where(valid[0], counts * n * o0.astype(np.int64), big)
     T = np.where(valid[0], t0, np.inf)
     pred = np.zeros((n - 1, K), dtype=np.intp)
     allowed = np.zeros((n - 1, K, K), dtype=bool)
@@ -174,7 +182,7 @@ def _layered_walk(Q: Array, valid: Mask, threshold: Array, weights: Array, t0: A
         travel, over = _steps(Q[i], Q[i + 1], threshold, weights)
         edge = valid[i][:, None] & valid[i + 1][None, :]
         allowed[i] = edge & ~over
-        Jc = np.where(edge, J[:, None] + over, big)
+        Jc = np.where(edge, J[:, None] + counts * over, big)
         best_j = Jc.min(axis=0)
         Tc = np.where(Jc == best_j[None, :], T[:, None] + travel, np.inf)
         pred[i] = Tc.argmin(axis=0)

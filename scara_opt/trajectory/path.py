@@ -1,10 +1,12 @@
-"""IK along a Cartesian path: a :class:`JointPath` with the fewest jumps, its problems reported.
+"""IK along a Cartesian path or through poses: a :class:`JointPath`, its problems reported.
 
 :func:`ik_path` chooses the branch sequence over the whole path by default
 (``branches="global"``, :mod:`scara_opt.trajectory.branches`): every IK solution of every
-point (the closed form's elbow branches and whole turns on SCARA-type robots; the distinct
-solutions of a seeded multi-start elsewhere), then the walk with the fewest jumps and,
-among those, the least joint travel weighted by each joint's speed limit. Where one branch
+point (the closed form's elbow branches and whole turns on SCARA-type robots and on the 6R
+arms it serves; the distinct solutions of a seeded multi-start elsewhere), then the walk
+of least joint travel weighted by each joint's speed limit (``objective="travel"``), or,
+for a Cartesian path to follow, the walk with the fewest jumps and the least travel among
+those (``objective="fewest_jumps"``). Where one branch
 covers the whole path there is no jump; where none does, each jump names the point that
 forces it. ``branches="greedy"`` solves the targets in order instead, each from the
 previous solution (``q0``): a solver that honours ``q0`` stays on the previous branch and
@@ -45,6 +47,8 @@ PRISMATIC_JUMP = 0.1
 
 #: the branch choices of :func:`ik_path`
 BRANCHES = ("global", "greedy")
+#: what the global choice minimises: the travel alone, or the jumps first
+OBJECTIVES = ("travel", "fewest_jumps")
 #: the methods that return the solution nearest ``q0``: ``branches="global"`` by default
 NEAREST_METHODS = ("auto", "lm", "ipopt", "analytic")
 
@@ -248,8 +252,8 @@ def _assemble(Q: Array, results: Sequence[IKResult], targets: Sequence[Target],
 def ik_path(robot: Robot, targets: Sequence[Target] | ArrayLike, method: str = "auto",
             q_start: ArrayLike | None = None, jump_threshold: ArrayLike | None = None,
             seed: int | None = 0, tol: float = 1e-9, branches: str | None = None,
-            **options: Any) -> JointPath:
-    """Inverse kinematics along a path: one solution per point, the fewest jumps between them.
+            objective: str = "travel", **options: Any) -> JointPath:
+    """Inverse kinematics along a path or through poses: one solution per point.
 
     Args:
         robot: the robot.
@@ -264,15 +268,15 @@ def ik_path(robot: Robot, targets: Sequence[Target] | ArrayLike, method: str = "
         jump_threshold: per-step joint change above which a step is a jump, scalar or (nq,)
             [rad or m] (``inf`` disables a joint); default π/2 rad for revolute joints
             (elbow flips, 2π wrist turns) and 0.1 m for prismatic ones (a redundant rail
-            sliding away). The global choice takes it as a hard limit: the fewest jumps
-            first. A jump can also mean the points are too far apart: sample more finely.
+            sliding away). ``objective="fewest_jumps"`` takes it as a hard limit. A jump
+            can also mean the points are too far apart: sample more finely.
         seed: seed of point 0; point ``i`` uses ``seed + i`` (``None``: unseeded); the
             global multi-start draws its starts from it too.
         tol: residual [m, rad] below which a point counts as solved.
         branches: ``"global"`` (the default for the methods that return the solution
             nearest ``q0``: ``"auto"``, ``"lm"``, ``"ipopt"``, ``"analytic"``): every
-            solution of every point, then the walk with the fewest jumps and the least
-            joint travel weighted by each joint's speed limit (:mod:`.branches`). On a
+            solution of every point, then the walk of least cost by ``objective``
+            (:mod:`.branches`). On a
             SCARA-type robot without redundant joints the closed form lists the solutions
             (both elbow branches, every whole turn), whatever the method (their results say
             ``method="analytic"``); the method solves only the points it misses, whose
@@ -281,6 +285,14 @@ def ik_path(robot: Robot, targets: Sequence[Target] | ArrayLike, method: str = "
             walk is kept unless another track has fewer jumps.
             ``"greedy"`` (the default for the metaheuristics): each point from the
             previous solution, in order.
+        objective: the global choice's cost. ``"travel"`` (default; poses to visit): the
+            least joint travel Σ |Δq_k| / vmax_k [s] over every listed solution
+            sequence, the step from ``q_start`` included: where the closed form
+            lists every solution (SCARAs, the 6R arms it serves), no sequence of IK
+            solutions within the limits travels less; jumps are taken where they save
+            travel, and reported. ``"fewest_jumps"`` (a Cartesian path to follow, where a
+            jump breaks the path; LIN and CIRC moves use it): the fewest jumps first (a
+            jump off ``q_start`` before the path's own), then the least travel.
         **options: options of the IK method (an unknown one raises SolverOptionError).
 
     Returns:
@@ -289,8 +301,9 @@ def ik_path(robot: Robot, targets: Sequence[Target] | ArrayLike, method: str = "
         :meth:`JointPath.raise_if_invalid`.
 
     Raises:
-        InputError: ``robot`` not a Robot; malformed targets, threshold, ``seed``, ``tol``
-            or ``branches`` (``"global"`` with a method that does not honour ``q0``).
+        InputError: ``robot`` not a Robot; malformed targets, threshold, ``seed``, ``tol``,
+            ``branches`` (``"global"`` with a method that does not honour ``q0``) or
+            ``objective``.
         UnknownSolverError, SolverOptionError, JointLimitError, TargetError: as for
             :func:`~scara_opt.solve_ik`.
     """
@@ -301,10 +314,15 @@ def ik_path(robot: Robot, targets: Sequence[Target] | ArrayLike, method: str = "
     tol = check_tol(tol)
     solver = get_solver(method, **options)
     choice = _branches(branches, method)
+    if objective not in OBJECTIVES:
+        raise InputError(f"objective must be one of {list(OBJECTIVES)}; got "
+                         f"{describe(objective)}: 'travel' for poses to visit, "
+                         "'fewest_jumps' for a Cartesian path to follow")
+    fewest = objective == "fewest_jumps"
     q0 = None if q_start is None else robot.check_q(q_start, "q_start")
     start = time.perf_counter()
     if choice == "global":
-        return _global(robot, ts, solver, method, q0, threshold, seed, tol, start)
+        return _global(robot, ts, solver, method, q0, threshold, seed, tol, start, fewest)
     results: list[IKResult] = []
     for i, target in enumerate(ts):
         res = solver.solve(robot, target, q0=q0, seed=None if seed is None else seed + i,
@@ -334,7 +352,8 @@ def _branches(branches: object, method: str) -> str:
 
 
 def _global(robot: Robot, ts: list[Target], solver: Solver, method: str, q_start: Array | None,
-            threshold: Array, seed: int | None, tol: float, start: float) -> JointPath:
+            threshold: Array, seed: int | None, tol: float, start: float,
+            fewest: bool) -> JointPath:
     """:func:`ik_path` with ``branches="global"`` (see :mod:`scara_opt.trajectory.branches`)."""
     weights = walk.travel_weights(robot)
     q_ref = default_q0(robot) if q_start is None else q_start
@@ -343,11 +362,12 @@ def _global(robot: Robot, ts: list[Target], solver: Solver, method: str, q_start
         arm = walk.candidates_arm(robot, ts, q_ref, tol)
         if arm is not None:
             return _global_arm(robot, ts, solver, method, q_start, q_ref, threshold, seed, tol,
-                               start, arm)
+                               start, arm, fewest)
         Q, valid, kept = walk.candidates_searched(robot, ts, solver, q_start, seed, tol)
-        w = walk.least_cost_walk(Q, valid, threshold, weights, q_start)
+        w = walk.least_cost_walk(Q, valid, threshold, weights, q_start, fewest)
         if walk.redundant(robot, ts):  # a continuum: the greedy walk unless it jumps more
-            first = walk.least_cost_walk(Q[:, :1], valid[:, :1], threshold, weights, q_start)
+            first = walk.least_cost_walk(Q[:, :1], valid[:, :1], threshold, weights, q_start,
+                                         fewest)
             if (first.start_jump, len(first.jumps)) <= (w.start_jump, len(w.jumps)):
                 w = first
         picked = [kept[i][k] for i, k in enumerate(w.choice)]
@@ -360,7 +380,7 @@ def _global(robot: Robot, ts: list[Target], solver: Solver, method: str, q_start
     verdicts.where_none()
     rows = np.arange(len(ts))
     while True:  # a chosen candidate the FK does not confirm within tol is struck off
-        w = walk.least_cost_walk(Q, valid, threshold, weights, q_start)
+        w = walk.least_cost_walk(Q, valid, threshold, weights, q_start, fewest)
         Qc = Q[rows, w.choice]
         dp, dang = _residuals(robot, ts, Qc)
         err = np.maximum(np.linalg.norm(dp, axis=1), np.abs(dang))
@@ -427,8 +447,8 @@ class _Verdicts:
 
 def _global_arm(robot: Robot, ts: list[Target], solver: Solver, method: str,
                 q_start: Array | None, q_ref: Array, threshold: Array, seed: int | None,
-                tol: float, start: float, arm: tuple[Array, NDArray[np.bool_], str]
-                ) -> JointPath:
+                tol: float, start: float, arm: tuple[Array, NDArray[np.bool_], str],
+                fewest: bool) -> JointPath:
     """The global choice over every solution of a 6R arm's closed form (:func:`_global`).
 
     A point without any keeps the method's verdict; a chosen candidate the verdict does
@@ -440,7 +460,7 @@ def _global_arm(robot: Robot, ts: list[Target], solver: Solver, method: str,
     verdicts = _Verdicts(robot, ts, solver, q_ref, seed, tol, Q, valid, known)
     verdicts.where_none()
     while True:
-        w = walk.least_cost_walk(Q, valid, threshold, weights, q_start)
+        w = walk.least_cost_walk(Q, valid, threshold, weights, q_start, fewest)
         results = [known.get(i) or judge(robot, t, SolverOutput(q=Q[i, k].copy(), evaluations=1,
                                                                 route=route),
                                          tol=tol, method="analytic", seed=None, time_s=0.0)
