@@ -196,7 +196,7 @@ def test_nearest_false_stops_at_the_descents_solution(panda_arm):
             assert res.success and errors(panda_arm, res.q, t) <= 1e-9, res
             assert panda_arm.within_limits(res.q)
             assert res.evaluations == EVALS["lm"] * len(res.history), res
-        batch = solve_many(panda_arm, targets, nearest=False, jit=jit)
+        batch = solve_many(panda_arm, targets, nearest=False, jit=jit, analytic=False)
         np.testing.assert_array_equal(batch.q, np.array([r.q for r in fast]))
     for t in targets:
         near = so.solve_ik(panda_arm, t, method="lm", restarts=0, analytic=False)
@@ -207,6 +207,36 @@ def test_nearest_false_stops_at_the_descents_solution(panda_arm):
             assert d_near <= d_one + 1e-9  # the polish may move by round-off
             nearer += d_near < d_one - 1e-6
     assert both >= 20 and nearer >= 0.8 * both  # 27 and 23 (the rest: q0's own solution)
+
+
+@pytest.mark.parametrize("arm", ["ur5_arm", "panda_arm"])
+def test_solve_many_takes_the_closed_form_first_as_solve_ik_does(arm, request):
+    """On the arms the closed form serves, ``solve_many`` answers each full pose as
+    ``solve_ik(method="lm")`` does (the same q, one start, no descent iteration), with and
+    without ``q0s`` and ``nearest``; ``analytic=False`` keeps the descent alone.
+
+    Mutation caught: the closed form skipped (``_closed_form_first`` returning None) -> the
+    descent's iterations (and other q on some poses), fails.
+    """
+    from scara_opt.ik.lm_batch import solve_many
+
+    robot = request.getfixturevalue(arm)
+    targets = pose_targets(robot, 30, seed=21)
+    Q0 = np.random.default_rng(21).uniform(robot.sampling_lower, robot.sampling_upper,
+                                           (30, robot.nq))
+    for nearest in (True, False):
+        for q0s in (None, Q0):
+            batch = solve_many(robot, targets, q0s, nearest=nearest)
+            single = [so.solve_ik(robot, t, method="lm", nearest=nearest,
+                                  q0=None if q0s is None else q0s[i])
+                      for i, t in enumerate(targets)]
+            assert batch.success.all() and (batch.iterations == 0).all()
+            assert (batch.starts == 1).all()
+            np.testing.assert_allclose(batch.q, np.array([r.q for r in single]), atol=1e-12)
+    descent = solve_many(robot, targets, analytic=False)
+    assert (descent.iterations > 0).all()
+    with pytest.raises(so.InputError, match="analytic"):
+        solve_many(robot, targets, analytic="yes")
 
 
 def test_nearest_is_a_flag(panda_arm):

@@ -25,6 +25,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from scara_opt.checks import float_array
 from scara_opt.errors import InputError
+from scara_opt.ik.arm_route import served, solve_nearest
 from scara_opt.ik.base import (
     LIMIT_SLACK,
     LazyGenerator,
@@ -243,7 +244,8 @@ class _Batch:
 def solve_many(robot: Robot, targets: ArrayLike | Sequence[Target],
                q0s: ArrayLike | None = None, *,
                tol: float = 1e-9, max_iter: int = 100, restarts: int = 50,
-               seed: int | None = 0, jit: bool = True, nearest: bool = True) -> BatchResult:
+               seed: int | None = 0, jit: bool = True, nearest: bool = True,
+               analytic: bool = True) -> BatchResult:
     """Solve IK for many targets at once with the fast solver (``method="lm"``).
 
     Args:
@@ -261,6 +263,10 @@ def solve_many(robot: Robot, targets: ArrayLike | Sequence[Target],
             virtual machine where no compiler works; False: the virtual machine always).
         nearest: slide to the solution nearest each ``q0`` (default True); ``False``: the
             solution the descent reaches (``solve_ik``'s lm option of that name).
+        analytic: on the 6R and 7R arms whose closed form serves them
+            (:mod:`~scara_opt.ik.arm_route`), full poses go there first, target by target,
+            as ``solve_ik``'s lm option of that name (default True); the descent runs on
+            the targets it does not solve. ``False``: the descent alone.
 
     Returns:
         BatchResult: configurations, honest residuals and success flags, one row each.
@@ -276,9 +282,18 @@ def solve_many(robot: Robot, targets: ArrayLike | Sequence[Target],
     check_seed(seed)
     check_budget({"restarts": restarts, "max_iter": max_iter, "jit": jit})
     check_flag("nearest", nearest)
+    check_flag("analytic", analytic)
     stacked, ts = _targets(robot, targets)
     n = len(stacked.position)
     Q_ref = _q0s(robot, q0s, n)
+    if analytic and ts is not None and stacked.kind == "rotation":
+        closed = _closed_form_first(robot, ts, Q_ref, q0s is not None, tol=tol,
+                                    max_iter=max_iter, restarts=restarts, seed=seed, jit=jit,
+                                    nearest=nearest)
+        if closed is not None:
+            Q, iterations, starts = closed
+            return _result(robot, stacked, Q, iterations, starts, time.perf_counter() - clock,
+                           tol, None if q0s is None else Q_ref)
     weights = [t.weights for t in ts] if ts is not None else [(1.0, 1.0)] * n
     batch = _Batch(robot, stacked.kind, _params_rows(stacked, ts, Q_ref), limits(robot)[0],
                    np.array([residual_tol(w, tol) for w in weights]), int(max_iter), bool(jit),
@@ -309,6 +324,36 @@ def solve_many(robot: Robot, targets: ArrayLike | Sequence[Target],
             break
     return _result(robot, stacked, best_Q, iterations, starts, time.perf_counter() - clock, tol,
                    near)
+
+
+def _closed_form_first(robot: Robot, ts: list[Target], Q_ref: Array, given: bool, *,
+                       tol: float, max_iter: int, restarts: int, seed: int | None, jit: bool,
+                       nearest: bool
+                       ) -> tuple[Array, NDArray[np.int64], NDArray[np.int64]] | None:
+    """The arm route's closed form target by target, the descent for what it misses.
+
+    ``None`` where the closed form does not serve the robot (the caller's descent runs on
+    every target). Otherwise ``(Q, iterations, starts)``: a closed-form row counts one
+    start and no iteration; the rows it leaves go to :func:`solve_many` without it (their
+    own ``q0s`` rows where ``given``).
+    """
+    if served(robot, ts[0]) is None:
+        return None
+    n = len(ts)
+    Q, iterations, starts = Q_ref.copy(), np.zeros(n, np.int64), np.ones(n, np.int64)
+    rest = []
+    for i, t in enumerate(ts):
+        out = solve_nearest(robot, t, Q_ref[i], tol, jit, nearest)
+        if out is None:
+            rest.append(i)
+        else:
+            Q[i] = out.q
+    if rest:
+        left = solve_many(robot, [ts[i] for i in rest], Q_ref[rest] if given else None,
+                          tol=tol, max_iter=max_iter, restarts=restarts, seed=seed, jit=jit,
+                          nearest=nearest, analytic=False)
+        Q[rest], iterations[rest], starts[rest] = left.q, left.iterations, left.starts
+    return Q, iterations, starts
 
 
 def _one_by_one(batch: _Batch, Q_ref: Array, restarts: int, seed: int | None,
