@@ -290,3 +290,28 @@ def test_a_program_file_and_the_cli_take_the_objective(tmp_path, capsys):
     assert main(["cycle", "zavar2024", "--across", "200", "--objective", "time"]) == 0
     out = capsys.readouterr().out
     assert "lower bound" in out and "objective time" in out
+
+
+def test_candidates_past_the_limit_are_never_timed_and_none_faster_is_lost():
+    """``candidates(..., limit=L)`` skips the ways whose time metric (each edge's slowest
+    joint at full speed) is at least ``L``: every candidate lasts at least its way's
+    metric, so the candidates faster than ``L`` are exactly those of the unpruned list,
+    and some ways are skipped. On a 5-waypoint polyline of ROBOT and random ones.
+
+    Mutation caught: the bound doubled (``2 * time_metric(...) < limit``) -> a candidate
+    faster than L lost, fails.
+    """
+    from scara_opt.motion.fastest import candidates, time_metric
+
+    rng = np.random.default_rng(4)
+    lo, hi = ROBOT.lower + 0.1 * (ROBOT.upper - ROBOT.lower), ROBOT.upper - 0.1 * (
+        ROBOT.upper - ROBOT.lower)
+    for _ in range(4):
+        Q = rng.uniform(lo, hi, (5, ROBOT.nq))
+        full = candidates(Q, LIMITS)
+        for T, traj, _ in full:  # the premise: no timing beats its points' metric
+            assert T >= time_metric(traj.waypoints, LIMITS.vmax)
+        L = float(np.median([c[0] for c in full]))
+        pruned = candidates(Q, LIMITS, limit=L)
+        assert len(pruned) < len(full)
+        assert [c[0] for c in pruned if c[0] < L] == [c[0] for c in full if c[0] < L]

@@ -168,14 +168,16 @@ def _timings(rows: Array, limits: Limits) -> list[tuple[float, Trajectory, str]]
     return out
 
 
-def candidates(Q: Array, limits: Limits, deadline: float = math.inf, pairs: int = PAIRS
-               ) -> list[tuple[float, Trajectory, str]]:
+def candidates(Q: Array, limits: Limits, deadline: float = math.inf, pairs: int = PAIRS,
+               limit: float = math.inf) -> list[tuple[float, Trajectory, str]]:
     """Ruckig timings through ``Q``, and through up to two of its points, fastest first.
 
     The points: ``Q``'s interior waypoints and the middles of its edges, one at a time,
     then the ``pairs`` pairs (in path order) of least time metric; each way from ``Q[0]``
     through them to ``Q[-1]``. Made until ``deadline`` (a ``time.perf_counter()``
-    instant).
+    instant). A way whose :func:`time_metric` is at least ``limit`` [s] is not timed: a
+    timing through its points in order moves each joint at least its travel between them
+    at no more than its speed limit, so none of its timings is faster than ``limit``.
     """
     mids = (Q[:-1] + Q[1:]) / 2
     pool = np.empty((2 * len(Q) - 1, Q.shape[1]))
@@ -192,7 +194,8 @@ def candidates(Q: Array, limits: Limits, deadline: float = math.inf, pairs: int 
     for rows in ways:
         if time.perf_counter() > deadline:
             break
-        found += _timings(rows, limits)
+        if time_metric(rows, limits.vmax) < limit:
+            found += _timings(rows, limits)
     found.sort(key=lambda c: c[0])
     return found
 
@@ -219,7 +222,7 @@ def fastest(cellp: CellPlanning, index: int, Q: Array, best: tuple, timed: Calla
         found.append((cellp._planned_timing(index, Qs, timed, limits, method), cut))
     limit = min(float(f[0][2][-1]) for f in found)
     proofs = 0
-    for T, traj, how in candidates(Qs, limits, cellp.deadline):
+    for T, traj, how in candidates(Qs, limits, cellp.deadline, limit=limit):
         if T >= limit or proofs >= PROOFS or time.perf_counter() > cellp.deadline:
             break
         proofs += 1
