@@ -266,7 +266,7 @@ def test_solve_batch_flags_unreachable_rows(robots):
 
 
 # ------------------------------------------------------------------ property-based
-@settings(max_examples=40, deadline=None)
+@settings(max_examples=40, deadline=None, derandomize=True)  # the same examples every run
 @given(st.sampled_from(BUNDLED), st.integers(0, 2**31 - 1), st.sampled_from(["ipopt", "auto"]))
 def test_fk_ik_fk_round_trip(name, seed, method):
     """For any in-limit q, IPOPT (and the default, auto) find q' with fk(q') = fk(q) to 1e-9 m."""

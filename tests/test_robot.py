@@ -66,7 +66,7 @@ def test_jacobian_angular_rows_follow_yaw(robots):
     np.testing.assert_allclose(J[3:], [[0, 0, 0, 0], [0, 0, 0, 0], [1, 1, 0, 1]], atol=1e-12)
 
 
-@settings(max_examples=60, deadline=None)
+@settings(max_examples=60, deadline=None, derandomize=True)  # the same examples every run
 @given(st.lists(st.floats(-1e3, 1e3), min_size=4, max_size=4))
 def test_fk_is_defined_for_any_finite_q(q):
     """FK accepts finite q outside the limits (limits are within_limits' business)."""
