@@ -314,7 +314,7 @@ def ik_path(robot: Robot, targets: Sequence[Target] | ArrayLike, method: str = "
     tol = check_tol(tol)
     solver = get_solver(method, **options)
     choice = _branches(branches, method)
-    if objective not in OBJECTIVES:
+    if not isinstance(objective, str) or objective not in OBJECTIVES:
         raise InputError(f"objective must be one of {list(OBJECTIVES)}; got "
                          f"{describe(objective)}: 'travel' for poses to visit, "
                          "'fewest_jumps' for a Cartesian path to follow")
