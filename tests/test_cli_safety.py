@@ -478,3 +478,26 @@ def test_a_reader_that_leaves_ends_the_command_quietly():
     finally:
         os.close(write)
     assert (out.returncode, out.stderr) == (141, "")
+
+
+def test_an_ipopt_solve_reads_its_answer_without_numpys_call_of_dm_array(monkeypatch):
+    """The answer is read by ``DM.full()``, not by numpy calling ``DM.__array__`` (a Python
+    method called from C: a SIGINT landing in it became ``SystemError: ... returned a
+    result with an exception set`` instead of KeyboardInterrupt, once in a CI run of the
+    test above).
+
+    Mutation caught: ``np.asarray(sol["x"])`` back in ``_Run._call`` -> the patched
+    ``__array__`` raises, fails.
+    """
+    import casadi
+
+    robot = so.load_robot("zavar2024")
+    solver = so.get_solver("ipopt")
+    target = so.Target(np.array([0.3, 0.1, -0.07]))
+    solver.solve(robot, target)  # NLPs built before the patch
+
+    def array(self, *args, **kwargs):
+        raise AssertionError("DM.__array__ called")
+
+    monkeypatch.setattr(casadi.DM, "__array__", array)
+    assert solver.solve(robot, target, seed=1).success

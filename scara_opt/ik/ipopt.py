@@ -262,7 +262,8 @@ class _Run:
         if calls:  # casadi leaves iter_count unset where IPOPT stops before evaluating f
             self.iterations += int(stats.get("iter_count", 0))
         self.evaluations += calls + int(stats.get("n_call_nlp_grad_f", 0))
-        return np.clip(np.asarray(sol["x"]).ravel(), self.lbx, self.ubx)
+        # DM.full() in C: a Ctrl-C landing in numpy's call of DM.__array__ was a SystemError
+        return np.clip(sol["x"].full().ravel(), self.lbx, self.ubx)
 
     def _error(self, q: Array) -> float:
         return error_from(*config_errors(self.robot, self.target, q))
