@@ -298,8 +298,8 @@ def test_candidates_past_the_limit_are_never_timed_and_none_faster_is_lost():
     metric, so the candidates faster than ``L`` are exactly those of the unpruned list,
     and some ways are skipped. On a 5-waypoint polyline of ROBOT and random ones.
 
-    Mutation caught: the bound doubled (``2 * time_metric(...) < limit``) -> a candidate
-    faster than L lost, fails.
+    Mutation caught: the bound doubled (``2 * time_metric(Q, vmax) >= duration`` in
+    ``cannot_beat``) -> a candidate faster than L lost, fails.
     """
     from scara_opt.motion.fastest import candidates, time_metric
 
@@ -315,3 +315,38 @@ def test_candidates_past_the_limit_are_never_timed_and_none_faster_is_lost():
         pruned = candidates(Q, LIMITS, limit=L)
         assert len(pruned) < len(full)
         assert [c[0] for c in pruned if c[0] < L] == [c[0] for c in full if c[0] < L]
+
+
+def test_a_restart_path_that_cannot_beat_the_best_is_not_timed(monkeypatch):
+    """The example cell's detour pair (as above): a path planned again whose time metric is
+    no less than the best duration is not timed (fewer timings: 1 of its 5 paths planned
+    again is skipped), and the answer is the one timing every path gives (the same
+    trajectory to the bit).
+
+    Mutation caught: the comparison turned (``time_metric(Q, vmax) < duration`` in
+    ``cannot_beat``) -> the paths that could win are skipped: 2.9953 s against 0.7145 s,
+    fails.
+    """
+    from scara_opt.motion import clearance, fastest
+
+    cell = so.load_cell("examples/scara_cell.toml")
+    checker = so.CollisionChecker(ROBOT, cell)
+    a, b = np.array([0.763, -1.7817, 0.0115, 0.0]), np.array([2.0659, -1.7817, 0.0115, 0.0])
+    real = clearance.CellPlanning.timed_clear
+    timings: list[int] = []
+
+    def counting(self, *args):
+        timings[-1] += 1
+        return real(self, *args)
+
+    monkeypatch.setattr(clearance.CellPlanning, "timed_clear", counting)
+    timings.append(0)
+    pruned = so.plan(ROBOT, [so.PTP(b)], start=a, cell=checker, seed=0, time_limit=10.0,
+                     objective="time")
+    monkeypatch.setattr(fastest, "cannot_beat", lambda Q, vmax, duration: False)
+    timings.append(0)
+    every = so.plan(ROBOT, [so.PTP(b)], start=a, cell=checker, seed=0, time_limit=10.0,
+                    objective="time")
+    assert timings[0] < timings[1] and pruned.duration == every.duration
+    t = np.linspace(0.0, every.duration, 200)
+    np.testing.assert_array_equal(pruned.evaluate(t), every.evaluate(t))

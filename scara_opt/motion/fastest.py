@@ -90,6 +90,15 @@ def time_metric(Q: Array, vmax: Array) -> float:
     return float((np.abs(np.diff(Q, axis=0)) / vmax).max(axis=1).sum())
 
 
+def cannot_beat(Q: Array, vmax: Array, duration: float) -> bool:
+    """Whether no timing through the points ``Q`` (n, nq) in order is shorter than ``duration``.
+
+    Between two consecutive points each joint travels at least its difference at no more
+    than ``vmax`` (nq,): any such timing lasts at least :func:`time_metric` [s].
+    """
+    return time_metric(Q, vmax) >= duration
+
+
 def as_path(pieces: tuple[PPoly, ...]) -> PPoly:
     """One vector PPoly (values (nq,)) of per-joint PPolys, on the union of their breaks.
 
@@ -194,7 +203,7 @@ def candidates(Q: Array, limits: Limits, deadline: float = math.inf, pairs: int 
     for rows in ways:
         if time.perf_counter() > deadline:
             break
-        if time_metric(rows, limits.vmax) < limit:
+        if not cannot_beat(rows, limits.vmax, limit):
             found += _timings(rows, limits)
     found.sort(key=lambda c: c[0])
     return found
@@ -252,7 +261,9 @@ def restarts(cellp: CellPlanning, run: list, Q: Array, timed: Callable, limits: 
     timed_clear`); another path is planned (a homotopy class of its own often differs by
     seconds) while the best is above :data:`CLOSE` x the lower bound, up to
     :data:`RESTARTS` paths, within the time limit less its :data:`RESERVE` share (kept for
-    timing and proving: no timing is cut short by the limit). The same seed gives the same
+    timing and proving: no timing is cut short by the limit). A path that
+    :func:`cannot_beat` the best duration is not timed: each timing of it passes through
+    its waypoints (the hugging points lie on its segments). The same seed gives the same
     result as long as the restarts end within that share. The fastest is then improved by
     :func:`fastest`.
 
@@ -272,7 +283,7 @@ def restarts(cellp: CellPlanning, run: list, Q: Array, timed: Callable, limits: 
         tries += 1
         res = plan_path(cellp.checker, Q[0], Q[-1], time_limit=cellp.left() - reserve,
                         seed=seed)
-        if res.path is None:
+        if res.path is None or cannot_beat(res.path, limits.vmax, float(best[2][-1])):
             continue
         cellp.plans[index] = res
         got = cellp.timed_clear(run, res.path, [index] * len(res.path), timed, limits, method,
