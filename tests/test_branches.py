@@ -92,7 +92,7 @@ def test_the_travel_objective_takes_the_cheaper_walk_with_a_jump():
     """The same hand-built candidates, ``fewest_jumps=False`` (ik_path's ``"travel"``): the
     walk of travel 1.5 with its jump at step 1, reported, over the 11.5 without.
 
-    Mutation caught: the flag ignored (``penalty *= fewest_jumps`` dropped, or the layered
+    Mutation caught: the flag ignored (``if fewest_jumps:`` -> ``if True:``, or the layered
     walk's ``counts = int(fewest_jumps)`` -> ``1``) -> the no-jump walk, fails.
     """
     Q = np.array([[[0.0, 0.0], [0.0, 0.0]], [[1.5, 0.0], [0.5, 0.5]], [[1.5, 0.0], [1.5, 0.0]]])

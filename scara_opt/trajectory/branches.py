@@ -128,11 +128,13 @@ def least_cost_walk(Q: Array, valid: Mask, threshold: Array, weights: Array,
         return _layered_walk(Q, valid, threshold, weights, t0, o0, fewest_jumps)
     travel, over = _steps(Q[:-1], Q[1:], threshold, weights)  # (n-1, K, K)
     edge = valid[:-1, :, None] & valid[1:, None, :]
-    # a jump costs more than any walk's whole travel: the fewest jumps win, then travel
-    finite = np.where(edge, travel, 0.0)
-    penalty = 1.0 + float(finite.max(axis=(1, 2)).sum()) + float(np.where(valid[0], t0,
-                                                                           0.0).max())
-    penalty *= fewest_jumps
+    # a jump costs more than any walk's whole travel: the fewest jumps win, then travel;
+    # without fewest_jumps a jump costs its travel alone
+    penalty = 0.0
+    if fewest_jumps:
+        finite = np.where(edge, travel, 0.0)
+        penalty = 1.0 + float(finite.max(axis=(1, 2)).sum()) + float(np.where(valid[0], t0,
+                                                                               0.0).max())
     # nodes: 0 the source, 1 + i*K + k the candidates, 1 + n*K the sink
     i, a, b = np.nonzero(edge)
     src = np.flatnonzero(valid[0])
