@@ -92,9 +92,18 @@ def random_q(robot: so.Robot, n: int, seed: int = 0) -> np.ndarray:
 
 
 def run_cli(*args: str, timeout: float = 300) -> subprocess.CompletedProcess:
-    """``python -m scara_opt.cli ARGS`` in a new process, as a user's shell runs it."""
-    return subprocess.run([sys.executable, "-m", "scara_opt.cli", *args],
-                          capture_output=True, text=True, timeout=timeout)
+    """``python -m scara_opt.cli ARGS`` in a new process, as a user's shell runs it.
+
+    The note of a first call that compiles native code (``doc_blocks.MACHINE_NOTE``: the
+    machine's state, not the command's output) is taken out of stderr, as for the docs'
+    commands: on a fresh machine the process that compiles first prints it.
+    """
+    from tests.doc_blocks import MACHINE_NOTE
+
+    out = subprocess.run([sys.executable, "-m", "scara_opt.cli", *args],
+                         capture_output=True, text=True, timeout=timeout)
+    out.stderr = MACHINE_NOTE.sub("", out.stderr)
+    return out
 
 
 def c_compiler():
