@@ -58,7 +58,9 @@ def guard() -> Iterator[None]:
 
     Raises:
         KeyboardInterrupt: SIGINT arrived during the block (and its handler raised
-            ``KeyboardInterrupt``), or casadi raised a ``RuntimeError`` about an interrupt.
+            ``KeyboardInterrupt``), whatever the block then did (casadi may swallow it and
+            return None, or fail with another error), or casadi raised a ``RuntimeError``
+            about an interrupt.
     """
     flag = None
     if threading.current_thread() is threading.main_thread():
@@ -68,8 +70,9 @@ def guard() -> Iterator[None]:
             signal.signal(signal.SIGINT, flag)
     try:
         yield
-    except RuntimeError as exc:
-        if (flag is not None and flag.raised) or is_interrupt_error(exc):
+    except Exception as exc:
+        if (flag is not None and flag.raised) or (isinstance(exc, RuntimeError)
+                                                  and is_interrupt_error(exc)):
             raise KeyboardInterrupt from None
         raise
     finally:

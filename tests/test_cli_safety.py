@@ -501,3 +501,55 @@ def test_an_ipopt_solve_reads_its_answer_without_numpys_call_of_dm_array(monkeyp
 
     monkeypatch.setattr(casadi.DM, "__array__", array)
     assert solver.solve(robot, target, seed=1).success
+
+
+def _swallow_a_sigint() -> None:
+    """Send this process SIGINT and swallow the KeyboardInterrupt, as casadi's C does."""
+    try:
+        os.kill(os.getpid(), signal.SIGINT)
+        time.sleep(0.05)  # the handler runs here
+    except KeyboardInterrupt:
+        pass
+
+
+def test_a_sigint_swallowed_while_the_answer_is_read_is_raised_again(monkeypatch):
+    """A SIGINT landing in casadi's conversion of the answer: ``DM.full()`` returned None
+    (the handler's KeyboardInterrupt swallowed in C) and the solve failed with
+    ``AttributeError: 'NoneType' object has no attribute 'ravel'`` in a CI run of
+    test_sigint_during_ipopt_solves_is_raised_again. It is a KeyboardInterrupt now.
+
+    Mutation caught: ``x = sol["x"].full()`` moved after the ``with interrupt.guard()``
+    block in ``_Run._call`` -> AttributeError, fails.
+    """
+    import casadi
+
+    robot = so.load_robot("zavar2024")
+    solver = so.get_solver("ipopt")
+    target = so.Target(np.array([0.3, 0.1, -0.07]))
+    solver.solve(robot, target)  # NLPs built before the patch
+
+    def full(self):
+        _swallow_a_sigint()
+        return None
+
+    monkeypatch.setattr(casadi.DM, "full", full)
+    with pytest.raises(KeyboardInterrupt):
+        solver.solve(robot, target, seed=1)
+
+
+def test_guard_raises_a_swallowed_interrupt_whatever_error_follows():
+    """After a swallowed SIGINT, any error leaving the block is the KeyboardInterrupt it
+    was; without a SIGINT, errors pass through.
+
+    Mutation caught: the guard catching only RuntimeError -> the AttributeError escapes.
+    """
+    with pytest.raises(KeyboardInterrupt):
+        with interrupt.guard():
+            _swallow_a_sigint()
+            None.ravel()  # type: ignore[attr-defined]
+    with pytest.raises(KeyboardInterrupt):
+        with interrupt.guard():
+            _swallow_a_sigint()
+    with pytest.raises(AttributeError):
+        with interrupt.guard():
+            None.ravel()  # type: ignore[attr-defined]

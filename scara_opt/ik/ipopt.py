@@ -253,17 +253,20 @@ class _Run:
         self.statuses: list[str] = []
 
     def _call(self, nlp: _NLP, x0: Array, **bounds: Any) -> Array:
-        with interrupt.guard():  # a Ctrl-C that casadi swallowed is raised again
+        # a Ctrl-C that casadi swallowed is raised again; the answer is read inside the
+        # guard too: a SIGINT landing in casadi's conversion made DM.full() return None
+        # (and numpy's call of DM.__array__ a SystemError), both seen in CI
+        with interrupt.guard():
             sol = nlp.solver(x0=x0, p=self.par, lbx=self.lbx, ubx=self.ubx, **bounds)
-        stats = nlp.solver.stats()
+            stats = nlp.solver.stats()
+            x = sol["x"].full()
         interrupt.check(stats)
         self.statuses.append(stats["return_status"])
         calls = int(stats.get("n_call_nlp_f", 0))
         if calls:  # casadi leaves iter_count unset where IPOPT stops before evaluating f
             self.iterations += int(stats.get("iter_count", 0))
         self.evaluations += calls + int(stats.get("n_call_nlp_grad_f", 0))
-        # DM.full() in C: a Ctrl-C landing in numpy's call of DM.__array__ was a SystemError
-        return np.clip(sol["x"].full().ravel(), self.lbx, self.ubx)
+        return np.clip(x.ravel(), self.lbx, self.ubx)
 
     def _error(self, q: Array) -> float:
         return error_from(*config_errors(self.robot, self.target, q))
