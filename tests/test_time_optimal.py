@@ -298,8 +298,8 @@ def test_candidates_past_the_limit_are_never_timed_and_none_faster_is_lost():
     metric, so the candidates faster than ``L`` are exactly those of the unpruned list,
     and some ways are skipped. On a 5-waypoint polyline of ROBOT and random ones.
 
-    Mutation caught: the bound doubled (``if 2 * metric < limit`` in ``candidates``) -> a
-    candidate faster than L lost, fails.
+    Mutation caught: the bound doubled (``2 * time_metric(Q, vmax) >= duration`` in
+    ``cannot_beat``) -> a candidate faster than L lost, fails.
     """
     from scara_opt.motion.fastest import candidates, time_metric
 

@@ -195,17 +195,15 @@ def candidates(Q: Array, limits: Limits, deadline: float = math.inf, pairs: int 
     a, b = Q[:1], Q[-1:]
     ways = [Q] if len(Q) > 2 else []
     ways += [np.vstack([a, pool[[i]], b]) for i in range(len(pool))]
-    metrics = [time_metric(rows, limits.vmax) for rows in ways]
     two = [(time_metric(np.vstack([a, pool[[i, j]], b]), limits.vmax), i, j)
            for i in range(len(pool)) for j in range(i + 1, len(pool))]
     two.sort()
     ways += [np.vstack([a, pool[[i, j]], b]) for _, i, j in two[:pairs]]
-    metrics += [m for m, _, _ in two[:pairs]]  # each way's metric once (cannot_beat's rule)
     found = []
-    for rows, metric in zip(ways, metrics, strict=True):
+    for rows in ways:
         if time.perf_counter() > deadline:
             break
-        if metric < limit:
+        if not cannot_beat(rows, limits.vmax, limit):
             found += _timings(rows, limits)
     found.sort(key=lambda c: c[0])
     return found
