@@ -624,3 +624,42 @@ def test_a_program_past_its_time_limit_is_timed_the_way_proven_by_construction(m
     traj = so.plan(ROBOT, [so.PTP(QB)], start=QA, cell=checker, time_limit=1.0)
     assert "stopping at each waypoint (the time limit was reached)" in traj.notes
     assert dense_clear_trajectory(checker, traj)
+
+
+def test_a_section_timed_with_peak_bounds_is_the_one_timed_with_exact_peaks(monkeypatch):
+    """``_joint_peaks`` returns the peaks' Bernstein bounds where both ratios are <= 1
+    (no stretch, as with the exact peaks) and the exact peaks otherwise: the timed
+    sections of random polylines are the same to the bit as with the exact peaks alone.
+
+    Mutation caught: the bounds returned whatever they are (the ``<= 1.0`` test
+    dropped): sections stretched more than the exact peaks need.
+    """
+    from scara_opt.motion import timing
+    from scara_opt.motion.tool_limits import ToolLimits, ToolProfile
+    from scara_opt.trajectory.limits import resolve_limits
+
+    limits = resolve_limits(ROBOT, ROBOT.nq, None, None)
+    rng = np.random.default_rng(5)
+    mid, half = (ROBOT.lower + ROBOT.upper) / 2, (ROBOT.upper - ROBOT.lower) / 2
+    sections = [rng.uniform(mid - 0.6 * half, mid + 0.6 * half, (int(rng.integers(2, 6)), 4))
+                for _ in range(30)]
+
+    def timed_all():
+        out = []
+        for Q in sections:
+            profile = ToolProfile.per_point([ToolLimits()] * len(Q))
+            out.append(timing.time_section(ROBOT, Q, limits, profile))
+        return out
+
+    with_bounds = timed_all()
+
+    def exact(traj):
+        peaks = traj.peaks()
+        return (float((peaks["velocity"] / traj.limits.vmax).max()),
+                float((peaks["acceleration"] / traj.limits.amax).max()))
+
+    monkeypatch.setattr(timing, "_joint_peaks", exact)
+    for (pieces, note, knots), (ref, ref_note, ref_knots) in zip(with_bounds, timed_all()):
+        assert note == ref_note and np.array_equal(knots, ref_knots)
+        for p, r in zip(pieces, ref):
+            assert np.array_equal(p.c, r.c) and np.array_equal(p.x, r.x)

@@ -741,3 +741,26 @@ def test_peaks_of_all_joints_at_once_equal_each_joints_extrema(zavar, method):
                    for j in range(3)]
             np.testing.assert_allclose(sup_abs_columns(c, x), ref, rtol=1e-12,
                                        atol=1e-12 * max(ref))
+
+
+@pytest.mark.parametrize("method", ["toppra", "quintic", "ruckig"])
+def test_peak_bounds_are_never_below_the_exact_peaks(zavar, method):
+    """``peak_bounds`` (the largest |Bernstein coefficient| of each derivative's pieces,
+    all joints at once or each joint alone) is >= ``peaks`` per joint and derivative, on
+    random waypoints, and within 4x of them (a one-piece quintic's: 8/3 on velocity, 2√3
+    on acceleration).
+
+    Mutation caught: the smallest coefficient taken (``min`` for ``max``): below the
+    peaks; the power-basis coefficients taken for Bernstein's (``c`` for
+    ``coefficients(c, x)``): below the peaks on some pieces.
+    """
+    rng = np.random.default_rng(11)
+    for _ in range(8):
+        mid, half = (zavar.lower + zavar.upper) / 2, (zavar.upper - zavar.lower) / 2
+        Q = rng.uniform(mid - 0.3 * half, mid + 0.3 * half, (int(rng.integers(2, 8)), zavar.nq))
+        traj = time_parameterize(Q, zavar, method=method)
+        peaks, bounds = traj.peaks(), traj.peak_bounds()
+        assert peaks.keys() == bounds.keys()
+        for name, peak in peaks.items():
+            assert (bounds[name] >= peak * (1 - 1e-12)).all(), (name, bounds[name], peak)
+            assert (bounds[name] <= 4 * peak + 1e-9).all(), (name, bounds[name], peak)

@@ -81,7 +81,18 @@ def tool_ratios(robot: Robot, traj: Trajectory, tool: ToolProfile, knots: Array,
 
 
 def _joint_peaks(traj: Trajectory) -> tuple[float, float]:
-    """Largest joint velocity and acceleration ratios, exact (polynomial extrema)."""
+    """Largest joint velocity and acceleration ratios: exact, or bounds both proven <= 1.
+
+    First the peaks' Bernstein bounds (:meth:`~scara_opt.trajectory.Trajectory.peak_bounds`,
+    never below the peaks): where both ratios they give are <= 1, they are returned, as
+    the stretch they imply (:func:`_factor`: ``max(1, ...)``) is none, as the exact peaks'
+    is; else the exact peaks (polynomial extrema).
+    """
+    bounds = traj.peak_bounds()
+    jv, ja = (float((bounds[name] / limit).max()) for name, limit in
+              (("velocity", traj.limits.vmax), ("acceleration", traj.limits.amax)))
+    if jv <= 1.0 and ja <= 1.0:
+        return jv, ja
     peaks = traj.peaks()
     return (float((peaks["velocity"] / traj.limits.vmax).max()),
             float((peaks["acceleration"] / traj.limits.amax).max()))

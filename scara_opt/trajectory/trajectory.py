@@ -262,21 +262,49 @@ class Trajectory:
 
     def peaks(self) -> dict[str, Array]:
         """Largest |qd|, |qdd| (and |qddd| when jerk-limited) per joint, exact, (nq,) each."""
+        shared = self._shared_derivatives()
+        if shared is not None:  # all joints at once
+            x, derivatives = shared
+            return {name: sup_abs_columns(c, x) for name, c in derivatives.items()}
+        return {name: np.array([sup_abs(self._derivative(k, order)) for k in range(self.nq)])
+                for name, order in self._orders().items()}
+
+    def peak_bounds(self) -> dict[str, Array]:
+        """Upper bounds on :meth:`peaks` (nq,) each, never below them; cheaper.
+
+        The largest Bernstein coefficient of each derivative's pieces in absolute value
+        (:func:`~scara_opt.trajectory.bernstein.piece_bounds`: convex hull property).
+        """
+        shared = self._shared_derivatives()
+        if shared is not None:
+            x, derivatives = shared
+            return {name: np.abs(coefficients(c, x)).max(axis=(0, 1))
+                    for name, c in derivatives.items()}
+        return {name: np.array([piece_bounds(self._derivative(k, order)).max()
+                                for k in range(self.nq)])
+                for name, order in self._orders().items()}
+
+    def _orders(self) -> dict[str, int]:
+        """The derivatives the limits bound: velocity, acceleration (and jerk), by order."""
         orders = {"velocity": 1, "acceleration": 2}
         if self.limits.jmax is not None:
             orders["jerk"] = 3
+        return orders
+
+    def _shared_derivatives(self) -> tuple[Array, dict[str, Array]] | None:
+        """Breakpoints and each bounded derivative's coefficients (d + 1 - r, m, nq), all
+        joints at once, or ``None`` where the joints' pieces do not share breakpoints."""
         x = self.pieces[0].x
-        if all(p.x is x or np.array_equal(p.x, x) for p in self.pieces):  # all at once
-            c = np.stack([p.c for p in self.pieces], axis=-1)  # (d + 1, m, nq)
-            out = {}
-            power = np.arange(c.shape[0] - 1, -1, -1.0)  # of each coefficient's τ
-            for name, order in orders.items():  # d^r/dτ^r τ^p = p (p-1) ... (p-r+1) τ^(p-r)
-                factor = np.prod(power[None, :] - np.arange(order)[:, None], axis=0)
-                keep = len(power) - order
-                out[name] = sup_abs_columns(c[:keep] * factor[:keep, None, None], x)
-            return out
-        return {name: np.array([sup_abs(self._derivative(k, order)) for k in range(self.nq)])
-                for name, order in orders.items()}
+        if not all(p.x is x or np.array_equal(p.x, x) for p in self.pieces):
+            return None
+        c = np.stack([p.c for p in self.pieces], axis=-1)  # (d + 1, m, nq)
+        power = np.arange(c.shape[0] - 1, -1, -1.0)  # of each coefficient's τ
+        out = {}
+        for name, order in self._orders().items():  # d^r/dτ^r τ^p = p (p-1) ... (p-r+1) τ^(p-r)
+            factor = np.prod(power[None, :] - np.arange(order)[:, None], axis=0)
+            keep = len(power) - order
+            out[name] = c[:keep] * factor[:keep, None, None]
+        return x, out
 
     def speed_bounds(self) -> list[tuple[Array, Array]]:
         """Per joint: breakpoints (m + 1,) [s] and a bound (m,) on ``|q̇|`` on each piece.
