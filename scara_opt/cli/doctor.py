@@ -35,6 +35,7 @@ ROLES = (("scara_opt_fk_", "batch forward kinematics"),
          ("fa_sweep", "FA: all-pairs sweep (C)"),
          ("ga_breed", "GA: crossover and mutation (C)"),
          ("aco_ants", "ACO: ant sampling (C)"),
+         ("toppra_passes", "toppra: the two reachability passes (C)"),
          ("scara_opt_bodies_", "collision: robot body placements"),
          ("edge_kernel", "collision: edge proofs (C++, coal)"))
 
@@ -101,6 +102,7 @@ def exercise(robot_name: str = ROBOT) -> None:
 
     import scara_opt as so
     from scara_opt.metaheuristics import aco, fa, ga_breed
+    from scara_opt.trajectory import toppra_passes
 
     robot = so.load_robot(robot_name)
     rng = np.random.default_rng(0)
@@ -108,7 +110,7 @@ def exercise(robot_name: str = ROBOT) -> None:
     P = robot.fk_batch(Q)[:, :3, 3]
     so.solve_ik(robot, P[0])
     so.solve_many(robot, P)
-    for kernel in (fa._kernel, ga_breed._kernel, aco._kernel):
+    for kernel in (fa._kernel, ga_breed._kernel, aco._kernel, toppra_passes._kernel):
         kernel()
     so.workspace(robot, n=1000, seed=0)  # the footprint's test compiled with the FK
     checker = so.CollisionChecker(robot, so.Cell([so.Sphere("ball", 0.05, xyz=(0.3, 0, 0))]))
