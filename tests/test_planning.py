@@ -659,7 +659,8 @@ def test_a_section_timed_with_peak_bounds_is_the_one_timed_with_exact_peaks(monk
                 float((peaks["acceleration"] / traj.limits.amax).max()))
 
     monkeypatch.setattr(timing, "_joint_peaks", exact)
-    for (pieces, note, knots), (ref, ref_note, ref_knots) in zip(with_bounds, timed_all()):
+    for (pieces, note, knots), (ref, ref_note, ref_knots) in zip(with_bounds, timed_all(),
+                                                                  strict=True):
         assert note == ref_note and np.array_equal(knots, ref_knots)
-        for p, r in zip(pieces, ref):
+        for p, r in zip(pieces, ref, strict=True):
             assert np.array_equal(p.c, r.c) and np.array_equal(p.x, r.x)

@@ -6,9 +6,9 @@ import numpy as np
 import pytest
 
 import scara_opt as so
+from scara_opt.trajectory import toppra_passes
 from scara_opt.trajectory.dynamics import RobotDynamics
 from scara_opt.trajectory.toppra_backend import chord_parameter
-from scara_opt.trajectory import toppra_passes
 from scara_opt.trajectory.toppra_passes import reachability_passes, seidel_passes
 from tests.conftest import random_q
 

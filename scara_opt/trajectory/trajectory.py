@@ -292,8 +292,10 @@ class Trajectory:
         return orders
 
     def _shared_derivatives(self) -> tuple[Array, dict[str, Array]] | None:
-        """Breakpoints and each bounded derivative's coefficients (d + 1 - r, m, nq), all
-        joints at once, or ``None`` where the joints' pieces do not share breakpoints."""
+        """Breakpoints and each bounded derivative's coefficients (d + 1 - r, m, nq).
+
+        All joints at once, or ``None`` where the joints' pieces do not share breakpoints.
+        """
         x = self.pieces[0].x
         if not all(p.x is x or np.array_equal(p.x, x) for p in self.pieces):
             return None
