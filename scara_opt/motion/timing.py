@@ -88,14 +88,14 @@ def _joint_peaks(traj: Trajectory) -> tuple[float, float]:
     the stretch they imply (:func:`_factor`: ``max(1, ...)``) is none, as the exact peaks'
     is; else the exact peaks (polynomial extrema).
     """
-    bounds = traj.peak_bounds()
-    jv, ja = (float((bounds[name] / limit).max()) for name, limit in
-              (("velocity", traj.limits.vmax), ("acceleration", traj.limits.amax)))
+    def ratios(values: dict[str, Array]) -> tuple[float, float]:
+        return (float((values["velocity"] / traj.limits.vmax).max()),
+                float((values["acceleration"] / traj.limits.amax).max()))
+
+    jv, ja = ratios(traj.peak_bounds())
     if jv <= 1.0 and ja <= 1.0:
         return jv, ja
-    peaks = traj.peaks()
-    return (float((peaks["velocity"] / traj.limits.vmax).max()),
-            float((peaks["acceleration"] / traj.limits.amax).max()))
+    return ratios(traj.peaks())
 
 
 def _factor(robot: Robot, traj: Trajectory, tool: ToolProfile, knots: Array,
