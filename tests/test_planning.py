@@ -340,6 +340,32 @@ def test_edge_prover_remembers_proven_edges_only():
     assert not prover.edge(a, b) and not prover.edge(b, a)
 
 
+def test_pieces_of_a_proven_edge_are_known_and_a_stray_piece_is_proven():
+    """The halves OMPL's smoother makes of proven edges (``a + 0.5 (c - a)``, rounded) are
+    taken as proven without computing a configuration; a piece whose end strays 0.02 rad
+    off its edge, into the post, is refused.
+
+    Mutation caught: the stray not bounded (``inside_known`` taking any 0 < t <= 1): the
+    piece into the post passes. Mutation caught: pieces not looked for (``inside_known``
+    returning False): the halves compute midpoints.
+    """
+    from scara_opt.planning.ompl_backend import EdgeProver
+
+    checker = so.CollisionChecker(ROBOT, POST)
+    path = plan_path(checker, QA, QB, seed=3).path
+    prover = EdgeProver(checker)
+    assert prover.path(path)
+    before = prover.configurations
+    for a, c in zip(path[:-1], path[1:], strict=True):
+        ka, km, kc = (tuple(x.tolist()) for x in (a, a + 0.5 * (c - a), c))
+        assert prover.edge(ka, km) and prover.edge(km, kc) and prover.edge(kc, km)
+    assert prover.configurations == before
+    a, c = path[4], path[5]
+    stray = a + 0.5 * (c - a) + np.array([0.02, 0.0, 0.0, 0.0])
+    assert checker.collides(stray)
+    assert not prover.edge(tuple(a.tolist()), tuple(stray.tolist()))
+
+
 def test_a_spline_through_the_waypoints_that_hits_the_cell_is_not_timed():
     """A proven polyline (5 waypoints, zavar2024 around a column) whose toppra spline through
     the waypoints alone cuts 5.5 mm into the column: the section is timed through more

@@ -52,6 +52,10 @@ RANGE = 0.4
 SHORTCUT_ROUNDS = 1
 SMOOTHING_STEPS = 2
 
+#: how far [m] a piece of a proven edge may stray from it (rounding) and still be taken as
+#: proven (:meth:`EdgeProver.inside_known`): half the proofs' tolerance
+SUBSEGMENT_SLACK = DISTANCE_TOL / 2
+
 #: install hint when the wheel is missing
 OMPL_HINT = "pip install ompl (OMPL's Python wheel, 2.0 or later)"
 
@@ -84,7 +88,8 @@ class EdgeProver:
         midpoints: configurations inside edges where some pairs' distances were computed.
         edges: edges asked about; ``proven``: those proven clear.
         known: the edges proven so far, both directions (an edge asked again, as the
-            simplified path's are at the end, is not proven again).
+            simplified path's are at the end, is not proven again), and the pieces of
+            proven edges found by :meth:`inside_known`.
         deadline: a ``time.perf_counter()`` instant (``inf``: none) after which an edge
             not proven yet is answered "not proven" at once: the simplifier then keeps the
             path it has (every edge of which is proven). ``late`` counts those answers.
@@ -106,6 +111,8 @@ class EdgeProver:
         self.late = 0
         self.deadline = math.inf
         self.known: set[tuple[tuple[float, ...], tuple[float, ...]]] = set()
+        # per end of an edge proven by the rule: other end - this end, for each such edge
+        self._from: dict[tuple[float, ...], list[Array]] = {}
         self._data = checker._data()
         self._meshy = checker._meshes.any
         self._model = checker.robot.model
@@ -180,6 +187,10 @@ class EdgeProver:
         self.edges += 1
         if (a, b) in self.known:
             return True
+        if self.inside_known(a, b):
+            self.known.add((a, b))
+            self.known.add((b, a))
+            return True
         if time.perf_counter() > self.deadline:  # out of time: not proven, not tried
             self.late += 1
             return False
@@ -192,7 +203,36 @@ class EdgeProver:
         self.proven += 1
         self.known.add((a, b))
         self.known.add((b, a))
+        ab = np.array(b) - np.array(a)
+        self._from.setdefault(a, []).append(ab)
+        self._from.setdefault(b, []).append(-ab)
         return True
+
+    def inside_known(self, a: tuple[float, ...], b: tuple[float, ...]) -> bool:
+        r"""Whether ``a`` -> ``b`` lies on an edge proven by the rule and sharing an end.
+
+        As OMPL's ``PathInterpolation::subdivide`` makes them (the smoother halves every
+        edge: its halves end at a rounded midpoint). Let the proven edge run from ``a``
+        (or ``b``, the other way) to ``c``: with :math:`v = b - a`, :math:`t = v \cdot
+        (c - a) / |c - a|^2 \in (0, 1]` and :math:`e = v - t (c - a)`, the point
+        :math:`a + s v` is :math:`s e` away from the proven edge's point :math:`a + s t
+        (c - a)`. A pair's distance there is more than margin + :data:`DISTANCE_TOL`
+        (the proof), and moving by :math:`s e` changes it by at most :math:`W |e|`
+        (:mod:`~scara_opt.collision.bound`); this accepts only :math:`\max_p W_p |e| \le`
+        :data:`SUBSEGMENT_SLACK`, so every pair stays more than the margin apart. Only
+        edges proven by the rule serve (never one found here): no slack adds up.
+        """
+        for x, y in ((a, b), (b, a)):
+            ends = self._from.get(x)
+            if not ends:
+                continue
+            v = np.array(y) - np.array(x)
+            for dc in ends:
+                t = float(v @ dc) / float(dc @ dc)
+                if 0.0 < t <= 1.0 and float((self.W @ np.abs(v - t * dc)).max(
+                        initial=0.0)) <= SUBSEGMENT_SLACK:
+                    return True
+        return False
 
     def _prove(self, a: tuple[float, ...], b: tuple[float, ...]) -> bool:
         """:meth:`edge`'s rule in Python: from the ends, then :meth:`_split`."""
