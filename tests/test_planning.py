@@ -341,29 +341,84 @@ def test_edge_prover_remembers_proven_edges_only():
 
 
 def test_pieces_of_a_proven_edge_are_known_and_a_stray_piece_is_proven():
-    """The halves OMPL's smoother makes of proven edges (``a + 0.5 (c - a)``, rounded) are
-    taken as proven without computing a configuration; a piece whose end strays 0.02 rad
-    off its edge, into the post, is refused.
+    """The pieces OMPL makes of proven edges (halves ``a + 0.5 (c - a)``, halves of those,
+    rounded) are taken as proven without computing a configuration. Refused or proven
+    anew: a piece whose end strays 0.02 rad off its edge, into the post; one reaching past
+    the edge's end; one 0.8 of the slack off and then one from there 0.8 off again.
 
-    Mutation caught: the stray not bounded (``inside_known`` taking any 0 < t <= 1): the
+    Mutation caught: the stray not bounded (``inside_known`` taking any t in [0, 1]): the
     piece into the post passes. Mutation caught: pieces not looked for (``inside_known``
-    returning False): the halves compute midpoints.
+    returning False): the halves compute midpoints. Mutation caught: t not bounded by 1:
+    the piece past the end passes unproven. Mutation caught: the stray of the first end
+    only (``zip(ends[:1], ...)``): the piece into the post passes.
     """
-    from scara_opt.planning.ompl_backend import EdgeProver
+    from scara_opt.planning.ompl_backend import SUBSEGMENT_SLACK, EdgeProver
 
     checker = so.CollisionChecker(ROBOT, POST)
     path = plan_path(checker, QA, QB, seed=3).path
     prover = EdgeProver(checker)
     assert prover.path(path)
     before = prover.configurations
+    prover.pieces = True  # as for a simplified path's final check
+
+    def key(q):
+        return tuple(q.tolist())
+
     for a, c in zip(path[:-1], path[1:], strict=True):
-        ka, km, kc = (tuple(x.tolist()) for x in (a, a + 0.5 * (c - a), c))
-        assert prover.edge(ka, km) and prover.edge(km, kc) and prover.edge(kc, km)
+        m = a + 0.5 * (c - a)
+        m1, m2 = a + 0.5 * (m - a), m + 0.5 * (c - m)
+        for x, y in ((a, m), (m, c), (c, m), (a, m1), (m1, m), (m1, m2), (m2, c)):
+            assert prover.edge(key(x), key(y))
     assert prover.configurations == before
     a, c = path[4], path[5]
     stray = a + 0.5 * (c - a) + np.array([0.02, 0.0, 0.0, 0.0])
     assert checker.collides(stray)
-    assert not prover.edge(tuple(a.tolist()), tuple(stray.tolist()))
+    assert not prover.edge(key(a), key(stray))
+    before = prover.configurations
+    prover.edge(key(a + 0.5 * (c - a)), key(c + 0.3 * (c - a)))
+    assert prover.configurations > before
+
+    def off(x, d):  # 0.8 of the slack off the line along d, 0.4 of the way
+        u = np.array([0.3, -0.2, 0.01, 0.5])
+        u -= (u @ d) / (d @ d) * d
+        return x + 0.4 * d + 0.8 * SUBSEGMENT_SLACK / float((prover.W @ np.abs(u)).max()) * u
+
+    y = off(a, c - a)
+    before = prover.configurations
+    assert prover.edge(key(a), key(y)) and prover.configurations == before
+    z = off(y, c - y)
+    assert prover.edge(key(y), key(z)) and prover.configurations > before
+
+
+def test_the_final_check_of_a_simplified_path_proves_nothing_again(monkeypatch, tmp_path):
+    """Around the post as an STL mesh (4 seeds): the simplified path's final check, edge by
+    edge, computes no configuration: its edges were proven in the simplifier or are pieces
+    of such edges.
+
+    Mutation caught: pieces not looked for in the final check (``prover.pieces`` left
+    False in ``_solve``): the smoother's halves are proven again.
+    """
+    import trimesh
+
+    from scara_opt.planning import ompl_backend
+
+    computed = []
+    real = ompl_backend.EdgeProver.path
+
+    def path(self, Q):
+        before = self.configurations
+        clear = real(self, Q)
+        computed.append(self.configurations - before)
+        return clear
+
+    monkeypatch.setattr(ompl_backend.EdgeProver, "path", path)
+    stl = tmp_path / "post.stl"
+    trimesh.creation.cylinder(radius=30.0, height=400.0, sections=24).export(stl)
+    post = so.Cell([so.Mesh("post", stl, scale=(1e-3,) * 3, xyz=(0.3, 0.15, 0.0))])
+    checker = so.CollisionChecker(ROBOT, post)
+    for seed in range(4):
+        assert plan_path(checker, QA, QB, seed=seed).status == "solved"
+    assert len(computed) == 4 and computed == [0, 0, 0, 0]
 
 
 def test_a_spline_through_the_waypoints_that_hits_the_cell_is_not_timed():
