@@ -343,7 +343,8 @@ def test_edge_prover_remembers_proven_edges_only():
 def test_pieces_of_a_proven_edge_are_known_and_a_stray_piece_is_proven():
     """The pieces OMPL makes of proven edges (halves ``a + 0.5 (c - a)``, halves of those,
     rounded) are taken as proven without computing a configuration. Refused or proven
-    anew: a piece whose end strays 0.02 rad off its edge, into the post; one reaching past
+    anew: a piece whose end strays a few hundredths of a radian off its edge, into the post
+    (0.05 rad here); one reaching past
     the edge's end; one 0.8 of the slack off and then one from there 0.8 off again.
 
     Mutation caught: the stray not bounded (``inside_known`` taking any t in [0, 1]): the
@@ -370,9 +371,9 @@ def test_pieces_of_a_proven_edge_are_known_and_a_stray_piece_is_proven():
         for x, y in ((a, m), (m, c), (c, m), (a, m1), (m1, m), (m1, m2), (m2, c)):
             assert prover.edge(key(x), key(y))
     assert prover.configurations == before
-    a, c = path[4], path[5]
-    stray = a + 0.5 * (c - a) + np.array([0.02, 0.0, 0.0, 0.0])
-    assert checker.collides(stray)
+    a, c, stray = next((a, c, m) for d in (0.02, -0.02, 0.05, -0.05, 0.1, -0.1)
+                       for a, c in zip(path[:-1], path[1:], strict=True)
+                       if checker.collides(m := a + 0.5 * (c - a) + np.array([d, 0, 0, 0])))
     assert not prover.edge(key(a), key(stray))
     before = prover.configurations
     prover.edge(key(a + 0.5 * (c - a)), key(c + 0.3 * (c - a)))
@@ -662,9 +663,10 @@ class _Clock:
 
 
 def test_the_simplifier_stops_at_the_time_limit(monkeypatch):
-    """With a clock that runs 20 ms at each reading, a 1 s limit ends the simplifier part way: the
-    path is the shortest proven by then (every edge proven, the dense check clear), and the
-    plan says the simplifier was stopped.
+    """With a clock that stands still while RRTConnect plans and runs 50 ms at each reading
+    in the simplifier, a 1 s limit ends the simplifier part way: the path is the shortest
+    proven by then (every edge proven, the dense check clear), and the plan says the
+    simplifier was stopped.
 
     Mutation caught: ``EdgeProver.edge`` ignoring its deadline (the simplifier unbounded,
     as before) -> no edge answered late, the message says nothing; fails.
@@ -672,7 +674,14 @@ def test_the_simplifier_stops_at_the_time_limit(monkeypatch):
     from scara_opt.planning import ompl_backend
 
     checker = so.CollisionChecker(ROBOT, POST)
-    monkeypatch.setattr(ompl_backend, "time", _Clock(0.02))
+    clock, simplify = _Clock(0.0), ompl_backend.simplify_path
+
+    def slow_simplify(*args):
+        clock.step = 0.05
+        simplify(*args)
+
+    monkeypatch.setattr(ompl_backend, "time", clock)
+    monkeypatch.setattr(ompl_backend, "simplify_path", slow_simplify)
     res = plan_path(checker, QA, QB, seed=3, time_limit=1.0)
     assert res.success and "stopped at the time limit" in res.message
     assert dense_clear(checker, res.path)
