@@ -11,6 +11,7 @@ raises ``KeyboardInterrupt`` again (:func:`check` does the same from a solve's s
 from __future__ import annotations
 
 import _thread
+import importlib
 import os
 import signal
 import sys
@@ -37,6 +38,42 @@ def check(stats: dict[str, Any]) -> None:
         raise KeyboardInterrupt
 
 
+#: the C module under ``signal`` (no typing stub): its calls run no Python code
+_signal: Any = importlib.import_module("_signal")
+_SIGINT = int(signal.SIGINT)
+
+
+def _set_sigint(handler: Any) -> None:
+    """Install ``handler`` for SIGINT by the C call alone.
+
+    ``signal.signal`` wraps that call in Python code (enum conversions), where a SIGINT's
+    handler can raise half-way; in CI an interrupt casadi had left set failed there as
+    ``SystemError: <class 'int'> returned a result with an exception set``, and guard's
+    flag stayed installed (see :func:`_raise_interrupt`).
+    """
+    _signal.signal(_SIGINT, handler)
+
+
+def _restore_sigint(handler: Any) -> bool:
+    """Install ``handler`` for SIGINT whatever arrives meanwhile; whether SIGINT raised.
+
+    A ``KeyboardInterrupt`` raised around the call (by the handler being replaced, or by
+    ``handler`` itself once installed) is noted and the call made again: the handler is
+    ``handler`` when this returns, and the caller raises the interrupt.
+    """
+    interrupted = False
+    while True:
+        try:
+            _set_sigint(handler)
+            return interrupted
+        except KeyboardInterrupt:
+            interrupted = True
+        except SystemError as exc:  # an interrupt casadi left set (see _raise_interrupt)
+            if not isinstance(exc.__cause__, KeyboardInterrupt):
+                raise
+            interrupted = True
+
+
 class _Flag:
     """A SIGINT handler around the current one that notes the interrupts it raised."""
 
@@ -52,6 +89,22 @@ class _Flag:
             raise
 
 
+def _raise_interrupt() -> NoReturn:
+    """Raise ``KeyboardInterrupt``, also where casadi left one set as the current error.
+
+    casadi runs Python code (its numpy conversions) from C++: a ``KeyboardInterrupt``
+    raised there is caught in C++ but stays set, and the next call that checks turns it
+    into ``SystemError: <class 'KeyboardInterrupt'> returned a result with an exception
+    set`` (3 of 150 interrupted loops of solves). That error clears it; raised again, the
+    interrupt is itself.
+    """
+    try:
+        raise KeyboardInterrupt
+    except SystemError:
+        pass
+    raise KeyboardInterrupt from None
+
+
 @contextmanager
 def guard() -> Iterator[None]:
     """Run a casadi solve; an interrupt it swallowed is raised after it.
@@ -63,23 +116,26 @@ def guard() -> Iterator[None]:
             about an interrupt.
     """
     flag = None
-    if threading.current_thread() is threading.main_thread():
-        prior = signal.getsignal(signal.SIGINT)
-        if callable(prior):
-            flag = _Flag(prior)
-            signal.signal(signal.SIGINT, flag)
     try:
+        if threading.current_thread() is threading.main_thread():
+            prior = _signal.getsignal(_SIGINT)
+            while isinstance(prior, _Flag):  # left by a guard that could not restore it
+                prior = prior.prior
+            if callable(prior):
+                flag = _Flag(prior)
+                _set_sigint(flag)
         yield
     except Exception as exc:
-        if (flag is not None and flag.raised) or (isinstance(exc, RuntimeError)
-                                                  and is_interrupt_error(exc)):
-            raise KeyboardInterrupt from None
+        raised = flag is not None and (_restore_sigint(flag.prior) or flag.raised)
+        if raised or (isinstance(exc, RuntimeError) and is_interrupt_error(exc)):
+            _raise_interrupt()
         raise
-    finally:
+    except BaseException:
         if flag is not None:
-            signal.signal(signal.SIGINT, flag.prior)
-    if flag is not None and flag.raised:
-        raise KeyboardInterrupt
+            _restore_sigint(flag.prior)
+        raise
+    if flag is not None and (_restore_sigint(flag.prior) or flag.raised):
+        _raise_interrupt()
 
 
 #: text of the warning casadi prints (to ``sys.stderr``) when it catches an interrupt
@@ -213,19 +269,25 @@ def watch() -> Iterator[_Watch]:
     """
     _WATCH.received = False
     main = threading.current_thread() is threading.main_thread()
-    prior = signal.getsignal(signal.SIGINT) if main else None
+    prior = _signal.getsignal(_SIGINT) if main else None
     install = prior is signal.default_int_handler
-    if install:
-        signal.signal(signal.SIGINT, _note_sigint)
     try:
+        if install:
+            _set_sigint(_note_sigint)
         yield _WATCH
     except Exception:
+        if install and _restore_sigint(prior):
+            _WATCH.received = True
         if _WATCH.received:  # a library turned the interrupt into another error
-            raise KeyboardInterrupt from None
+            _raise_interrupt()
         raise
-    finally:
+    except BaseException:
         if install:
-            signal.signal(signal.SIGINT, prior)
+            _restore_sigint(prior)
+        raise
+    if install and _restore_sigint(prior):
+        _WATCH.received = True
+        _raise_interrupt()
 
 
 def exit_now(code: int) -> NoReturn:
@@ -240,7 +302,7 @@ def exit_now(code: int) -> NoReturn:
     while True:
         try:
             if threading.current_thread() is threading.main_thread():
-                signal.signal(signal.SIGINT, signal.SIG_IGN)
+                _set_sigint(_signal.SIG_IGN)  # the int: _signal refuses the enum
             for stream in (sys.stdout, sys.stderr):
                 try:
                     stream.flush()

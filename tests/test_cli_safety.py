@@ -11,6 +11,7 @@ import time
 from concurrent.futures import Executor, Future
 from pathlib import Path
 
+import casadi
 import numpy as np
 import pytest
 
@@ -165,6 +166,73 @@ def test_swallowed_interrupt_is_raised_again():
     with pytest.raises(RuntimeError, match="dimension"):
         with interrupt.guard():
             raise RuntimeError("dimension mismatch")
+
+
+@pytest.mark.parametrize("block_error", [None, ValueError])
+@pytest.mark.parametrize("scope", ["guard", "watch"])
+def test_an_interrupt_while_the_handler_is_restored_still_restores_it(monkeypatch, scope,
+                                                                      block_error):
+    """A SIGINT that lands as guard() or watch() puts the prior handler back: the prior
+    handler is back afterwards and the interrupt is raised (over the block's own error).
+
+    Seen in CI: the SIGINT landed in ``signal.signal``'s Python wrapper inside guard's
+    restore, the handler stayed guard's flag, and the next tests' watch() noted nothing.
+    Mutation: _restore_sigint's retry loop removed (one call): the handler stayed the
+    block's and the test failed.
+    """
+    before = signal.getsignal(signal.SIGINT)
+    real, calls = interrupt._set_sigint, []
+
+    def flaky(handler):
+        calls.append(handler)
+        if handler is before and calls.count(before) == 1:
+            raise KeyboardInterrupt  # the SIGINT, before the C call
+        real(handler)
+
+    monkeypatch.setattr(interrupt, "_set_sigint", flaky)
+    context = interrupt.guard() if scope == "guard" else interrupt.watch()
+    try:
+        with pytest.raises(KeyboardInterrupt):
+            with context:
+                if block_error is not None:
+                    raise block_error("the block's own error")
+        assert signal.getsignal(signal.SIGINT) is before
+        assert calls.count(before) == 2
+    finally:
+        signal.signal(signal.SIGINT, before)
+
+
+@pytest.mark.parametrize("at_call", [1, 2, 5])
+def test_an_interrupt_casadi_leaves_set_is_raised_as_itself(monkeypatch, at_call):
+    """SIGINT inside casadi's numpy conversion (Python run from casadi's C++): casadi
+    catches the KeyboardInterrupt there but leaves it set, and the next checking call
+    failed with ``SystemError: ... returned a result with an exception set`` (3 of 150
+    interrupted loops of solves; the CI failure's cause). Now KeyboardInterrupt, and
+    Python's handler back. The signal is sent from the ``at_call``-th conversion.
+
+    Mutations: _restore_sigint's ``except SystemError`` removed: at_call=1 failed
+    ("<built-in function signal> returned a result ..."); _raise_interrupt a plain
+    ``raise KeyboardInterrupt``: at_call=2 and 5 failed.
+    """
+    robot = so.load_robot("zavar2024")
+    solver = so.get_solver("ipopt")
+    target = so.Target(np.array([0.3, 0.1, -0.07]))
+    solver.solve(robot, target)  # NLPs built before the signal
+    before = signal.getsignal(signal.SIGINT)
+    real, calls = casadi.DM.toarray, []
+
+    def toarray(self, *args, **kwargs):
+        calls.append(1)
+        if len(calls) == at_call:
+            os.kill(os.getpid(), signal.SIGINT)
+        return real(self, *args, **kwargs)
+
+    monkeypatch.setattr(casadi.DM, "toarray", toarray)
+    with pytest.raises(KeyboardInterrupt):
+        for seed in range(50):
+            solver.solve(robot, target, seed=seed)
+    assert len(calls) >= at_call
+    assert signal.getsignal(signal.SIGINT) is before
 
 
 def test_sigint_during_ipopt_solves_is_raised_again():
