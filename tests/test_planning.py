@@ -316,15 +316,17 @@ def test_last_resort_stops_at_every_waypoint(monkeypatch):
     assert dense_clear_trajectory(so.CollisionChecker(ROBOT, POST), traj)
 
 
-def test_edge_prover_remembers_proven_edges_only():
+def test_edge_prover_remembers_its_verdicts():
     """An edge proven once is not proven again, in either direction (no configuration is
     computed: the simplified path's final re-check costs nothing for the edges it kept); an
-    edge that was refused is checked again and refused again.
+    edge that was refused is refused again, in either direction, also without computing
+    (OMPL's rope shortcut asks the same far edges after each shortcut).
 
     Mutation caught: the cache not consulted (``if (a, b) in self.known`` dropped): the
     second pass computes midpoints again. Mutation caught: an edge remembered before it is
     proven (``known.add`` at the top of ``edge``): the refused swing through the post
-    passes on the second ask.
+    passes on the second ask. Mutation caught: refusals not remembered (``if (a, b) in
+    self.refused`` dropped): the second ask computes configurations again.
     """
     from scara_opt.planning.ompl_backend import EdgeProver
 
@@ -337,7 +339,9 @@ def test_edge_prover_remembers_proven_edges_only():
     assert prover.configurations == before
     a, b = tuple(QA.tolist()), tuple(QB.tolist())
     assert not prover.edge(a, b)
+    before = prover.configurations
     assert not prover.edge(a, b) and not prover.edge(b, a)
+    assert prover.configurations == before
 
 
 def test_pieces_of_a_proven_edge_are_known_and_a_stray_piece_is_proven():
@@ -754,3 +758,33 @@ def test_a_section_timed_with_peak_bounds_is_the_one_timed_with_exact_peaks(monk
         assert note == ref_note and np.array_equal(knots, ref_knots)
         for p, r in zip(pieces, ref, strict=True):
             assert np.array_equal(p.c, r.c) and np.array_equal(p.x, r.x)
+
+
+@pytest.mark.parametrize(("extent", "delta"), [(5.0, 1.0), (28.8, 2.88)])
+def test_the_rope_spaces_its_states_by_the_box_or_by_ompls_default(extent, delta):
+    """The rope shortcut's states are 0.1 of the joint box's diagonal apart, never closer
+    than OMPL's default 1.0 (a 0.2 + 0.2 m SCARA's box: 1.0; the UR5's: 2.88), and the
+    simplifier's steps run in their order.
+
+    Mutation caught: ``max(1.0, ...)`` dropped: the small box's spacing is 0.5. Mutation
+    caught: the spacing not passed (OMPL's default): the UR5's is 1.0.
+    """
+    from types import SimpleNamespace
+
+    from scara_opt.planning.ompl_backend import simplify_path
+
+    calls: list[tuple] = []
+
+    class Simplifier:
+        def __init__(self, si):
+            pass
+
+        def __getattr__(self, name):
+            return lambda path, *args: calls.append((name, *args)) and False
+
+    si = SimpleNamespace(getMaximumExtent=lambda: extent)
+    simplify_path(SimpleNamespace(PathSimplifier=Simplifier), si, object())
+    assert [c[0] for c in calls] == ["reduceVertices", "ropeShortcutPath",
+                                     "partialShortcutPath", "collapseCloseVertices",
+                                     "reduceVertices", "smoothBSpline"]
+    assert calls[1][1:] == pytest.approx((delta,))

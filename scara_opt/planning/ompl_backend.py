@@ -55,6 +55,18 @@ RANGE = 0.4
 SHORTCUT_ROUNDS = 1
 SMOOTHING_STEPS = 2
 
+#: the rope shortcut's spacing of the states it puts on the path is OMPL's default (1.0 in
+#: the space's units) or this fraction of the joint box's diagonal, the larger: it asks
+#: for an edge from every state to each state beyond it, and 1.0 is 0.035 of the UR5's
+#: box. Tried on the cells of benchmarks/bench_plan.py (10 pairs a cell, the same seeds,
+#: medians a call, sums of the durations): the UR5's meshes 65.4 -> 51.4 ms (a busy
+#: machine; bench_plan's own run: 67.7 -> 35.0 ms, 2.45 -> 1.33 of OMPL's), durations
+#: +0.8 %; the capsule arm, the IRB-like and the large SCARA 4-11 % faster, durations
+#: -0.8 to +0.3 %; 0.2 was faster still but its durations up to 2.4 % longer. As a
+#: fraction alone (0.73 on the 0.2 + 0.2 m SCARA, finer than 1.0) it lengthened the
+#: guide's pick-and-place move past the rack from 0.87 to 1.26 s
+ROPE_DELTA = 0.1
+
 #: how far [m] a piece of a proven edge may stray from it (rounding) and still be taken as
 #: proven (:meth:`EdgeProver.inside_known`): half the proofs' tolerance
 SUBSEGMENT_SLACK = DISTANCE_TOL / 2
@@ -93,6 +105,9 @@ class EdgeProver:
         known: the edges proven so far, both directions (an edge asked again, as the
             simplified path's are at the end, is not proven again), and the pieces of
             proven edges found by :meth:`inside_known`.
+        refused: the edges the rule did not prove, both directions: asked again (OMPL's
+            rope shortcut asks the same far edges after each shortcut it takes), they are
+            refused at once; the rule's verdict on an edge is the same every time.
         pieces: whether :meth:`edge` looks for the edge on a proven one
             (:meth:`inside_known`): on for the simplified path's final check with meshes,
             where OMPL's pieces of edges are.
@@ -117,6 +132,7 @@ class EdgeProver:
         self.late = 0
         self.deadline = math.inf
         self.known: set[tuple[tuple[float, ...], tuple[float, ...]]] = set()
+        self.refused: set[tuple[tuple[float, ...], tuple[float, ...]]] = set()
         self.pieces = False
         self._lines: list[tuple[Array, Array]] = []  # the edges proven by the rule
         self._stacked: tuple[Array, Array, Array] | None = None  # as arrays: P, D, |D|^2
@@ -198,6 +214,8 @@ class EdgeProver:
             self.known.add((a, b))
             self.known.add((b, a))
             return True
+        if (a, b) in self.refused:
+            return False
         if time.perf_counter() > self.deadline:  # out of time: not proven, not tried
             self.late += 1
             return False
@@ -206,6 +224,8 @@ class EdgeProver:
         else:
             clear = self._prove(a, b)
         if not clear:
+            self.refused.add((a, b))
+            self.refused.add((b, a))
             return False
         self.proven += 1
         self.known.add((a, b))
@@ -500,10 +520,11 @@ def simplify_path(og: ModuleType, si: Any, path: Any) -> None:
     """Shorten and smooth ``path`` in place with OMPL's PathSimplifier (its checks are ours).
 
     Vertex reduction, one rope shortcut (OMPL 2's ``ropeShortcutPath``: the path pulled
-    taut against the obstacles), up to :data:`SHORTCUT_ROUNDS` rounds of partial shortcuts
-    (segments between points anywhere on the path), close vertices collapsed, vertices
-    reduced again, then :data:`SMOOTHING_STEPS` steps of B-spline smoothing (each corner
-    cut where the new segments are proven clear). Chosen by measurement on the cells of
+    taut against the obstacles, its states :data:`ROPE_DELTA` of the box apart), up to
+    :data:`SHORTCUT_ROUNDS` rounds of partial shortcuts (segments between points anywhere
+    on the path), close vertices collapsed, vertices reduced again, then
+    :data:`SMOOTHING_STEPS` steps of B-spline smoothing (each corner cut where the new
+    segments are proven clear). Chosen by measurement on the cells of
     benchmarks/bench_plan.py (25-40 pairs each, median path length of the timed trajectory
     against OMPL's simplified one, and time against OMPL's plan + simplify): 6 partial
     rounds alone 1.045 and 0.64; the rope alone 1.006 and 0.64; the rope and 4 rounds 0.983
@@ -515,7 +536,7 @@ def simplify_path(og: ModuleType, si: Any, path: Any) -> None:
     """
     ps = og.PathSimplifier(si)
     ps.reduceVertices(path)
-    ps.ropeShortcutPath(path)
+    ps.ropeShortcutPath(path, max(1.0, ROPE_DELTA * si.getMaximumExtent()))
     for _ in range(SHORTCUT_ROUNDS):
         if not ps.partialShortcutPath(path):
             break
