@@ -68,10 +68,6 @@ def _restore_sigint(handler: Any) -> bool:
             return interrupted
         except KeyboardInterrupt:
             interrupted = True
-        except SystemError as exc:  # an interrupt casadi left set (see _raise_interrupt)
-            if not isinstance(exc.__cause__, KeyboardInterrupt):
-                raise
-            interrupted = True
 
 
 class _Flag:
@@ -117,24 +113,24 @@ def guard() -> Iterator[None]:
     """
     flag = None
     try:
-        if threading.current_thread() is threading.main_thread():
-            prior = _signal.getsignal(_SIGINT)
-            while isinstance(prior, _Flag):  # left by a guard that could not restore it
-                prior = prior.prior
-            if callable(prior):
-                flag = _Flag(prior)
-                _set_sigint(flag)
-        yield
+        try:
+            if threading.current_thread() is threading.main_thread():
+                prior = _signal.getsignal(_SIGINT)
+                if callable(prior):
+                    flag = _Flag(prior)
+                    _set_sigint(flag)
+            yield
+        finally:  # _restore_sigint absorbs a SIGINT meanwhile: the block's error stays
+            # (a SystemError from an interrupt casadi left set leaves it with the handler
+            # already set, and is an error after a SIGINT: the interrupt, below)
+            if flag is not None and _restore_sigint(flag.prior):
+                flag.raised = True
     except Exception as exc:
-        raised = flag is not None and (_restore_sigint(flag.prior) or flag.raised)
-        if raised or (isinstance(exc, RuntimeError) and is_interrupt_error(exc)):
+        if (flag is not None and flag.raised) or (isinstance(exc, RuntimeError)
+                                                  and is_interrupt_error(exc)):
             _raise_interrupt()
         raise
-    except BaseException:
-        if flag is not None:
-            _restore_sigint(flag.prior)
-        raise
-    if flag is not None and (_restore_sigint(flag.prior) or flag.raised):
+    if flag is not None and flag.raised:
         _raise_interrupt()
 
 
@@ -271,22 +267,20 @@ def watch() -> Iterator[_Watch]:
     main = threading.current_thread() is threading.main_thread()
     prior = _signal.getsignal(_SIGINT) if main else None
     install = prior is signal.default_int_handler
+    late = False  # a SIGINT while the prior handler was put back
     try:
-        if install:
-            _set_sigint(_note_sigint)
-        yield _WATCH
+        try:
+            if install:
+                _set_sigint(_note_sigint)
+            yield _WATCH
+        finally:  # _restore_sigint absorbs a SIGINT meanwhile: the block's error stays
+            late = install and _restore_sigint(prior)
+            _WATCH.received = _WATCH.received or late
     except Exception:
-        if install and _restore_sigint(prior):
-            _WATCH.received = True
         if _WATCH.received:  # a library turned the interrupt into another error
             _raise_interrupt()
         raise
-    except BaseException:
-        if install:
-            _restore_sigint(prior)
-        raise
-    if install and _restore_sigint(prior):
-        _WATCH.received = True
+    if late:
         _raise_interrupt()
 
 

@@ -175,8 +175,9 @@ def test_an_interrupt_while_the_handler_is_restored_still_restores_it(monkeypatc
     """A SIGINT that lands as guard() or watch() puts the prior handler back: the prior
     handler is back afterwards and the interrupt is raised (over the block's own error).
 
-    Seen in CI: the SIGINT landed in ``signal.signal``'s Python wrapper inside guard's
-    restore, the handler stayed guard's flag, and the next tests' watch() noted nothing.
+    Seen in CI: guard's restore failed (a SystemError in ``signal.signal``, the next
+    test's cause), the handler stayed guard's flag, and the next tests' watch() noted
+    nothing.
     Mutation: _restore_sigint's retry loop removed (one call): the handler stayed the
     block's and the test failed.
     """
@@ -210,9 +211,9 @@ def test_an_interrupt_casadi_leaves_set_is_raised_as_itself(monkeypatch, at_call
     interrupted loops of solves; the CI failure's cause). Now KeyboardInterrupt, and
     Python's handler back. The signal is sent from the ``at_call``-th conversion.
 
-    Mutations: _restore_sigint's ``except SystemError`` removed: at_call=1 failed
-    ("<built-in function signal> returned a result ..."); _raise_interrupt a plain
-    ``raise KeyboardInterrupt``: at_call=2 and 5 failed.
+    Mutations: guard's ``except Exception`` not asking ``flag.raised``: at_call=1 failed
+    ("<built-in function signal> returned a result ...", raised as the handler is put
+    back); _raise_interrupt a plain ``raise KeyboardInterrupt``: at_call=2 and 5 failed.
     """
     robot = so.load_robot("zavar2024")
     solver = so.get_solver("ipopt")

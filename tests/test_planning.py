@@ -767,7 +767,7 @@ def test_the_rope_spaces_its_states_by_the_box_or_by_ompls_default(extent, delta
     simplifier's steps run in their order.
 
     Mutation caught: ``max(1.0, ...)`` dropped: the small box's spacing is 0.5. Mutation
-    caught: the spacing not passed (OMPL's default): the UR5's is 1.0.
+    caught: the spacing not passed (OMPL's default 1.0 then): both cases fail.
     """
     from types import SimpleNamespace
 
