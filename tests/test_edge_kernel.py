@@ -121,6 +121,35 @@ def test_native_edges_agree_with_the_python_form(checker):
     assert native.midpoints > 500
 
 
+def test_a_state_in_contact_stops_at_its_first_pair_in_contact(checker):
+    """States of 300 random configurations (many in contact): the compiled prover's
+    verdicts are the Python form's, found with fewer pair distances than states times
+    pairs; asked for afterwards, a refused state's distances are all there and are the
+    Python form's; and an edge from a state in contact is refused without its end.
+
+    Mutation caught: the early exit dropped (every pair at every state): the count of pair
+    distances is states times pairs. Mutation caught: the exit on the first pair whatever
+    its distance (``if (!all) return``): states not in contact refused. Mutation caught:
+    a cached state not completed when its distances are asked for: NaN distances.
+    """
+    robot = checker.robot
+    rng = np.random.default_rng(13)
+    keys = [tuple(q) for q in rng.uniform(robot.lower, robot.upper, (300, robot.nq)).tolist()]
+    native, python = EdgeProver(checker), EdgeProver(checker, native=False)
+    verdicts = [native.valid(k) for k in keys]
+    assert verdicts == [python.valid(k) for k in keys]
+    assert 0.1 < np.mean(verdicts) < 0.9
+    compiled = native._native
+    assert compiled is not None
+    assert compiled.states == 300 and compiled.pairs < 300 * checker.npairs
+    for k in keys[:60]:
+        assert np.abs(np.subtract(native.distances(k), python.distances(k))).max() < 1e-6
+    assert compiled.states == 300  # completed in place, not computed anew
+    hit = keys[verdicts.index(False)]
+    assert not native.edge(hit, tuple(np.add(hit, 0.01).tolist()))
+    assert compiled.states == 300  # the end of an edge from a contact is not computed
+
+
 def test_native_plans_are_the_python_forms():
     """A planned PTP around a post: the same path (bit for bit) with the kernel and without.
 

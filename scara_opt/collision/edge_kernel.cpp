@@ -746,7 +746,9 @@ namespace {
 
 struct State {
     std::vector<double> d, up, down;
+    std::vector<char> known;        /* the pairs whose distance d holds */
     double least;
+    bool complete;                  /* every pair's distance known */
 };
 
 struct Prover {
@@ -754,21 +756,44 @@ struct Prover {
     int nq, np;
     std::vector<double> W, A, a, b; /* weights; gaps (A empty: none), a and b less the shift */
     std::map<std::vector<double>, State> cache;
-    long long states = 0, midpoints = 0;
+    long long states = 0, midpoints = 0, pairs = 0; /* pairs: the states' pair distances */
+    std::vector<int> order;         /* the pairs in the order a state computes them: the
+                                     * last one found in contact first */
 
-    const State &state(const double *q) {
+    /* The state's distances as the proofs take them (and no body inside a solid), pair by
+     * pair in `order`; unless `all`, it stops at the first pair in contact: the state is
+     * then refused whatever the others' distances (its `least` is <= 0 either way). */
+    void fill(State &s, const double *q, bool all) {
+        k->place(q);
+        for (int i = 0; i < np; ++i) {
+            const int p = order[i];
+            if (s.known[p]) continue;
+            s.d[p] = k->at_rest(p) - k->shift;
+            s.known[p] = 1;
+            ++pairs;
+            s.least = std::min(s.least, s.d[p]);
+            if (s.d[p] <= 0 && !all) {
+                std::rotate(order.begin(), order.begin() + i, order.begin() + i + 1);
+                s.complete = std::all_of(s.known.begin(), s.known.end(),
+                                         [](char x) { return x != 0; });
+                return;
+            }
+        }
+        s.complete = true;
+    }
+
+    const State &state(const double *q, bool all = false) {
         std::vector<double> key(q, q + nq);
         auto it = cache.find(key);
-        if (it != cache.end()) return it->second;
-        State s;
-        s.d.resize(np);
-        k->place(q);
-        s.least = std::numeric_limits<double>::infinity();
-        for (int p = 0; p < np; ++p) {
-            /* a state: its distances as the proofs take them, and no body inside a solid */
-            s.d[p] = k->at_rest(p) - k->shift;
-            s.least = std::min(s.least, s.d[p]);
+        if (it != cache.end()) {
+            if (all && !it->second.complete) fill(it->second, q, true);
+            return it->second;
         }
+        State s;
+        s.d.assign(np, std::numeric_limits<double>::quiet_NaN());
+        s.known.assign(np, 0);
+        s.least = std::numeric_limits<double>::infinity();
+        fill(s, q, all);
         if (!A.empty()) {
             s.up.resize(np);
             s.down.resize(np);
@@ -806,6 +831,8 @@ void *edge_prover_new(void *kernel, const double *W, const double *A, const doub
     p->k = k;
     p->nq = k->nq;
     p->np = (int)k->first.size();
+    p->order.resize(p->np);
+    for (int i = 0; i < p->np; ++i) p->order[i] = i;
     p->W.assign(W, W + (size_t)p->np * p->nq);
     if (A) {
         p->A.assign(A, A + (size_t)p->np * p->nq);
@@ -817,26 +844,29 @@ void *edge_prover_new(void *kernel, const double *W, const double *A, const doub
 
 void edge_prover_free(void *prover) { delete (Prover *)prover; }
 
-/* The state's distances less the shift into out (npairs,; or NULL); returns whether all
- * are > 0. counts[0]: states so far. */
+/* The state's distances less the shift into out (npairs,; or NULL: a state in contact
+ * may stop at its first pair in contact); returns whether all are > 0. counts: [states,
+ * midpoints, pair distances of states] so far. */
 int edge_prover_state(void *prover, const double *q, double *out, long long *counts) {
     auto *p = (Prover *)prover;
-    const State &s = p->state(q);
+    const State &s = p->state(q, out != nullptr);
     if (out) std::copy(s.d.begin(), s.d.end(), out);
     counts[0] = p->states;
+    counts[1] = p->midpoints;
+    counts[2] = p->pairs;
     return s.least > 0 || p->np == 0;
 }
 
-/* EdgeProver.edge (without its memory of proven edges): 1 proven clear, 0 not.
- * counts: [states, midpoints] so far. */
+/* EdgeProver.edge (without its memory of proven edges): 1 proven clear, 0 not; a start
+ * in contact refuses it before its end is computed. counts: as edge_prover_state's. */
 int edge_prover_edge(void *prover, const double *qa, const double *qb, double resolution,
                      long long *counts) {
     auto *p = (Prover *)prover;
     const int nq = p->nq, np = p->np;
     const State &sa = p->state(qa);
-    const State &sb = p->state(qb);
-    int ok = 1;
-    if (np && (sa.least <= 0 || sb.least <= 0)) ok = 0;
+    int ok = !np || sa.least > 0;
+    const State &sb = ok ? p->state(qb) : sa; /* (a refused start: the end is not needed) */
+    if (np && sb.least <= 0) ok = 0;
     if (ok && np) {
         std::vector<int> open;
         std::vector<double> M(np), Ms, da, db, spans;
@@ -871,6 +901,7 @@ int edge_prover_edge(void *prover, const double *qa, const double *qb, double re
     }
     counts[0] = p->states;
     counts[1] = p->midpoints;
+    counts[2] = p->pairs;
     return ok;
 }
 

@@ -279,7 +279,12 @@ class NativeProver:
 
     The states' distances (less the shift) and a SCARA's height gaps are cached per
     configuration in C++; :meth:`edge` is ``EdgeProver.edge`` without its memory of proven
-    edges. ``states``, ``midpoints``: the counts so far.
+    edges. A state's pairs are computed until the first in contact, which refuses it
+    whatever the others' distances (the same verdict as all of them: the least is <= 0
+    either way); RRTConnect's samples and extensions are mostly such states (on the UR5's
+    meshes in the STL-fixture cell of benchmarks/bench_plan.py, the planner's part of a
+    call 17.9 -> 8.5 ms, the same paths). ``states``, ``midpoints``, ``pairs``: the counts
+    so far.
     """
 
     def __init__(self, kernel: EdgeKernel, W: Array,
@@ -294,7 +299,7 @@ class NativeProver:
         # buffers the calls fill, and their addresses (ctypes' conversions cost ~6 µs each)
         self._q = np.zeros((2, kernel.nq))
         self._d = np.zeros(kernel.npairs)
-        self._counts = np.zeros(2, np.int64)
+        self._counts = np.zeros(3, np.int64)
         self._at = (self._q.ctypes.data, self._q[1].ctypes.data, self._d.ctypes.data,
                     self._counts.ctypes.data)
         self._state, self._edge = self._lib.edge_prover_state, self._lib.edge_prover_edge
@@ -313,6 +318,13 @@ class NativeProver:
     def midpoints(self) -> int:
         """Configurations computed inside edges."""
         return int(self._counts[1])
+
+    @property
+    def pairs(self) -> int:
+        """Pair distances computed at states: a state in contact stops at its first pair
+        in contact (the one last found in contact is asked first), unless its distances
+        are asked for (:meth:`distances` completes them)."""
+        return int(self._counts[2])
 
     def distances(self, key: tuple[float, ...]) -> list[float]:
         """Distances less the shift (npairs,) at ``key`` (cached)."""
