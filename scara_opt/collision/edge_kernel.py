@@ -321,9 +321,10 @@ class NativeProver:
 
     @property
     def pairs(self) -> int:
-        """Pair distances computed at states: a state in contact stops at its first pair
-        in contact (the one last found in contact is asked first), unless its distances
-        are asked for (:meth:`distances` completes them)."""
+        """Pair distances computed at states (a state in contact: up to its first one).
+
+        The pair last found in contact is asked first; :meth:`distances` completes a state.
+        """
         return int(self._counts[2])
 
     def distances(self, key: tuple[float, ...]) -> list[float]:
