@@ -131,6 +131,8 @@ def test_a_state_in_contact_stops_at_its_first_pair_in_contact(checker):
     distances is states times pairs. Mutation caught: the exit on the first pair whatever
     its distance (``if (!all) return``): states not in contact refused. Mutation caught:
     a cached state not completed when its distances are asked for: NaN distances.
+    Mutation caught: the Python form's ``_prove`` computing the end before it looks at
+    the start: 301 states.
     """
     robot = checker.robot
     rng = np.random.default_rng(13)
@@ -146,8 +148,10 @@ def test_a_state_in_contact_stops_at_its_first_pair_in_contact(checker):
         assert np.abs(np.subtract(native.distances(k), python.distances(k))).max() < 1e-6
     assert compiled.states == 300  # completed in place, not computed anew
     hit = keys[verdicts.index(False)]
-    assert not native.edge(hit, tuple(np.add(hit, 0.01).tolist()))
+    end = tuple(np.add(hit, 0.01).tolist())
+    assert not native.edge(hit, end) and not python.edge(hit, end)
     assert compiled.states == 300  # the end of an edge from a contact is not computed
+    assert python.states == 300  # nor by the Python form
 
 
 def test_native_plans_are_the_python_forms():

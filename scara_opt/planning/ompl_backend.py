@@ -273,8 +273,11 @@ class EdgeProver:
 
     def _prove(self, a: tuple[float, ...], b: tuple[float, ...]) -> bool:
         """:meth:`edge`'s rule in Python: from the ends, then :meth:`_split`."""
-        Da, Db = self.distances(a), self.distances(b)
-        if min(Da, default=1.0) <= 0 or min(Db, default=1.0) <= 0:
+        Da = self.distances(a)
+        if min(Da, default=1.0) <= 0:  # refused at its start: its end is not computed
+            return False
+        Db = self.distances(b)
+        if min(Db, default=1.0) <= 0:
             return False
         qa = np.array(a)
         dq = np.array(b) - qa
