@@ -10,7 +10,7 @@ import pytest
 import scara_opt as so
 from scara_opt.collision.edge_kernel import shape_code
 from scara_opt.errors import FallbackWarning
-from scara_opt.planning.ompl_backend import EdgeProver
+from scara_opt.planning.ompl_backend import RESOLUTION, EdgeProver
 from tests.conftest import DATA, pinocchio_collides
 
 SCARA = so.load_robot("zavar2024")
@@ -152,6 +152,45 @@ def test_a_state_in_contact_stops_at_its_first_pair_in_contact(checker):
     assert not native.edge(hit, end) and not python.edge(hit, end)
     assert compiled.states == 300  # the end of an edge from a contact is not computed
     assert python.states == 300  # nor by the Python form
+
+
+def test_a_midpoint_asks_first_the_pair_that_last_refused_one(checker):
+    """Short edges from random states, refused at their first midpoint: where the pair
+    that refused the midpoint before (known when one pair alone was in contact there, by
+    the Python form's distances) is in contact again, one pair distance is computed at the
+    midpoint; the verdicts are the Python form's.
+
+    Mutation caught: the lead pair ignored (the midpoint's pairs in their open order):
+    later refusals compute the pairs before it as well.
+    """
+    robot = checker.robot
+    rng = np.random.default_rng(21)
+    native, python = EdgeProver(checker), EdgeProver(checker, native=False)
+    compiled = native._native
+    assert compiled is not None
+    last: int | None = None
+    repeats, later = 0, 0
+    for _ in range(12000):
+        qa = rng.uniform(robot.lower, robot.upper)
+        qb = np.clip(qa + rng.normal(0.0, 1.0, robot.nq), robot.lower, robot.upper)
+        a, b = tuple(qa.tolist()), tuple(qb.tolist())
+        if not (native.valid(a) and native.valid(b)):
+            continue
+        mid = tuple(((np.array(a) + np.array(b)) / 2).tolist())
+        inside = [k for k, d in enumerate(python.distances(mid)) if d <= 0]
+        m0, p0 = compiled.midpoints, compiled.midpoint_pairs
+        verdict = native._native.edge(a, b, RESOLUTION)
+        assert verdict == python._prove(a, b)
+        if verdict:
+            continue  # a proven edge leaves the lead pair as it was
+        if compiled.midpoints == m0 + 1 and last in inside:
+            repeats += 1
+            later += compiled.midpoint_pairs - p0
+        elif compiled.midpoints == m0 + 1 and len(inside) == 1:
+            last = inside[0]
+        else:
+            last = None  # refused by a pair the test does not know
+    assert repeats >= 5 and later == repeats
 
 
 def test_native_plans_are_the_python_forms():

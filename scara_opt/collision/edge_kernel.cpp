@@ -90,6 +90,8 @@ struct Kernel {
     std::vector<int> slot;          /* a body's row in the Function's output, or -1: fixed */
     std::vector<int> first, second; /* the pairs' bodies */
     double shift = 0.0, margin = 0.0;
+    int split_hit = -1;             /* the pair that last refused a split's midpoint */
+    long long split_pairs = 0;      /* the splits' pair distances at midpoints */
     /* per body: a ball holding it, centre in its own frame and radius (4 numbers); a point
      * of it (3 numbers: a primitive's centre, a mesh's vertex); its mesh or -1 */
     std::vector<double> balls, inner;
@@ -556,10 +558,21 @@ int edge_kernel_split(void *kernel, const double *qa, const double *qb, int n,
         ++*midpoints;
         const size_t m = iv.pairs.size();
         dm.resize(m);
-        for (size_t i = 0; i < m; ++i) {
+        /* the pair that last refused a midpoint first: a midpoint in contact is refused
+         * whichever of its pairs is found in contact, so the verdict is the same */
+        size_t lead = m;
+        for (size_t i = 0; i < m && k->split_hit >= 0; ++i)
+            if (open[iv.pairs[i]] == k->split_hit) { lead = i; break; }
+        for (size_t r = 0; r <= m; ++r) {
+            const size_t i = r == 0 ? lead : r - 1;
+            if (i >= m || (r > 0 && i == lead)) continue;
             /* above h M, the pair leaves both halves: no closer bound is needed */
             dm[i] = k->distance(open[iv.pairs[i]], h * M[iv.pairs[i]]);
-            if (dm[i] <= 0) return 0;
+            ++k->split_pairs;
+            if (dm[i] <= 0) {
+                k->split_hit = open[iv.pairs[i]];
+                return 0;
+            }
         }
         for (int half = 0; half < 2; ++half) {
             const double lo = half ? iv.s0 + h : iv.s0, hi = lo + h;
@@ -846,7 +859,7 @@ void edge_prover_free(void *prover) { delete (Prover *)prover; }
 
 /* The state's distances less the shift into out (npairs,; or NULL: a state in contact
  * may stop at its first pair in contact); returns whether all are > 0. counts: [states,
- * midpoints, pair distances of states] so far. */
+ * midpoints, pair distances of states, of the kernel's midpoints] so far. */
 int edge_prover_state(void *prover, const double *q, double *out, long long *counts) {
     auto *p = (Prover *)prover;
     const State &s = p->state(q, out != nullptr);
@@ -854,6 +867,7 @@ int edge_prover_state(void *prover, const double *q, double *out, long long *cou
     counts[0] = p->states;
     counts[1] = p->midpoints;
     counts[2] = p->pairs;
+    counts[3] = p->k->split_pairs;
     return s.least > 0 || p->np == 0;
 }
 
@@ -902,6 +916,7 @@ int edge_prover_edge(void *prover, const double *qa, const double *qb, double re
     counts[0] = p->states;
     counts[1] = p->midpoints;
     counts[2] = p->pairs;
+    counts[3] = p->k->split_pairs;
     return ok;
 }
 

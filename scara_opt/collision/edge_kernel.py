@@ -283,8 +283,9 @@ class NativeProver:
     whatever the others' distances (the same verdict as all of them: the least is <= 0
     either way); RRTConnect's samples and extensions are mostly such states (on the UR5's
     meshes in the STL-fixture cell of benchmarks/bench_plan.py, the planner's part of a
-    call 17.9 -> 8.5 ms, the same paths). ``states``, ``midpoints``, ``pairs``: the counts
-    so far.
+    call 17.9 -> 8.5 ms, the same paths). Likewise a midpoint inside an edge asks first
+    the pair that last refused one. ``states``, ``midpoints``, ``pairs``,
+    ``midpoint_pairs``: the counts so far.
     """
 
     def __init__(self, kernel: EdgeKernel, W: Array,
@@ -299,7 +300,7 @@ class NativeProver:
         # buffers the calls fill, and their addresses (ctypes' conversions cost ~6 µs each)
         self._q = np.zeros((2, kernel.nq))
         self._d = np.zeros(kernel.npairs)
-        self._counts = np.zeros(3, np.int64)
+        self._counts = np.zeros(4, np.int64)
         self._at = (self._q.ctypes.data, self._q[1].ctypes.data, self._d.ctypes.data,
                     self._counts.ctypes.data)
         self._state, self._edge = self._lib.edge_prover_state, self._lib.edge_prover_edge
@@ -326,6 +327,14 @@ class NativeProver:
         The pair last found in contact is asked first; :meth:`distances` completes a state.
         """
         return int(self._counts[2])
+
+    @property
+    def midpoint_pairs(self) -> int:
+        """Pair distances computed at midpoints of edges, on this prover's kernel.
+
+        All the kernel's queries count. The pair that last refused a midpoint is asked first.
+        """
+        return int(self._counts[3])
 
     def distances(self, key: tuple[float, ...]) -> list[float]:
         """Distances less the shift (npairs,) at ``key`` (cached)."""
