@@ -193,6 +193,57 @@ def test_a_midpoint_asks_first_the_pair_that_last_refused_one(checker):
     assert repeats >= 5 and later == repeats
 
 
+def test_the_compiled_path_proof_is_the_python_forms(checker, monkeypatch):
+    """Cubic splines through short chains of random clear states (toppra's joint paths'
+    form): the compiled ``check_path`` gives the Python form's verdict, evaluations and
+    clearance (to 1e-9 m), and some of them are proven. At the middles it computes at most
+    the pairs the Python form does (each pair failing on some interval of the level), and
+    fewer on some paths: a pair proven on an interval is not computed at its middle.
+
+    Mutation caught: a pair proven on an interval computed again at its middle (``if
+    (false) continue``): more pair distances than the Python form's. Mutation caught: the
+    pairs failing on any interval computed (as before): never fewer.
+    """
+    from scipy.interpolate import CubicSpline
+
+    from scara_opt.collision.continuous import check_path
+
+    robot = checker.robot
+    rng = np.random.default_rng(5)
+    cases, proven, fewer = 0, 0, 0
+    while cases < 40:
+        q = rng.uniform(robot.lower, robot.upper)
+        Q = [q]
+        for _ in range(3):
+            Q.append(np.clip(Q[-1] + rng.normal(0.0, 0.3, robot.nq), robot.lower, robot.upper))
+        if any(checker.collides(x) for x in Q):
+            continue
+        cases += 1
+        path = CubicSpline(np.arange(4.0), np.array(Q), bc_type="clamped")
+        native = check_path(checker, path)
+        computed = checker._kernel().path_pairs
+        asked = [0, 0]  # calls; the Python form's pair distances at middles
+        distances = checker.pair_distances
+
+        def counted(Q, cols=None, kind="exact", asked=asked, distances=distances):
+            if asked[0]:  # not the first call (the breakpoints)
+                asked[1] += len(Q) * (checker.npairs if cols is None else len(cols))
+            asked[0] += 1
+            return distances(Q, cols, kind)
+
+        with monkeypatch.context() as m:
+            m.setattr(checker, "_kernel", lambda: None)
+            m.setattr(checker, "pair_distances", counted)
+            python = check_path(checker, path)
+        assert (native.clear, native.evaluations) == (python.clear, python.evaluations)
+        assert computed <= asked[1]
+        fewer += computed < asked[1]
+        if native.clear:
+            proven += 1
+            assert abs(native.clearance - python.clearance) < 1e-9
+    assert 5 <= proven < 40 and fewer >= 5
+
+
 def test_native_plans_are_the_python_forms():
     """A planned PTP around a post: the same path (bit for bit) with the kernel and without.
 

@@ -597,7 +597,8 @@ int edge_kernel_split(void *kernel, const double *qa, const double *qb, int n,
  * PPoly), V (m, nq) bounds on |q'| per piece, W (npairs, nq) the pairs' weights, A
  * (npairs, nq) with a, b (npairs) a SCARA's height gaps (or NULL), resolution [m],
  * budget (configurations). The same levels, in the same order, as continuous.prove.
- * out: [spare, at, distance, pair, touching, evaluations]; returns 1 when clear. */
+ * out: [spare, at, distance, pair, touching, evaluations, pair distances at middles];
+ * returns 1 when clear. */
 int edge_kernel_prove_path(void *kernel, int m, int order, const double *x, const double *c,
                            const double *V, const double *W, const double *A, const double *ga,
                            const double *gb, double resolution, long long budget,
@@ -616,11 +617,12 @@ int edge_kernel_prove_path(void *kernel, int m, int order, const double *x, cons
             q[j] = res;
         }
     };
+    long long computed = 0; /* pair distances at middles */
     auto contact = [&](double at, const double *d, int touching, long long evals) {
         int best = 0;
         for (int p = 1; p < np; ++p) if (d[p] < d[best]) best = p;
         out[0] = -inf; out[1] = at; out[2] = d[best] + k->shift; out[3] = best;
-        out[4] = touching; out[5] = (double)evals;
+        out[4] = touching; out[5] = (double)evals; out[6] = (double)computed;
         return 0;
     };
     /* the first samples: the breakpoints (the last on the last piece) */
@@ -644,7 +646,7 @@ int edge_kernel_prove_path(void *kernel, int m, int order, const double *x, cons
     double spare = inf;
     long long evals = 0;
     std::vector<double> M, fine, half(nq), box_lo(nq), box_hi(nq), Dm;
-    std::vector<char> passed, fails(np);
+    std::vector<char> passed;
     std::vector<int> rest;
     while (!lo.empty()) {
         const size_t n = lo.size();
@@ -664,7 +666,6 @@ int edge_kernel_prove_path(void *kernel, int m, int order, const double *x, cons
                 }
             }
             bool ok = true;
-            double least = inf;
             for (int p = 0; p < np; ++p) {
                 double speed = 0.0;
                 for (int j = 0; j < nq; ++j) speed += v[j] * W[(size_t)p * nq + j];
@@ -685,10 +686,9 @@ int edge_kernel_prove_path(void *kernel, int m, int order, const double *x, cons
                 fine[r * np + p] = f;
                 passed[r * np + p] = f > 0;
                 ok = ok && f > 0;
-                least = std::min(least, f);
+                if (f > 0) spare = std::min(spare, f);
             }
-            if (ok) spare = std::min(spare, least);
-            else rest.push_back((int)r);
+            if (!ok) rest.push_back((int)r);
         }
         if (rest.empty()) break;
         int graze = -1;
@@ -704,9 +704,6 @@ int edge_kernel_prove_path(void *kernel, int m, int order, const double *x, cons
             for (int p = 0; p < np; ++p) d[p] = std::min(Dlo[r * np + p], Dhi[r * np + p]);
             return contact(lo[r], d.data(), 0, evals);
         }
-        std::fill(fails.begin(), fails.end(), 0);
-        for (int r : rest)
-            for (int p = 0; p < np; ++p) fails[p] |= !passed[r * np + p];
         const size_t nr = rest.size();
         std::vector<double> mids(nr), Qm(nr * nq);
         Dm.assign(nr * np, inf);
@@ -717,8 +714,9 @@ int edge_kernel_prove_path(void *kernel, int m, int order, const double *x, cons
             eval(piece[r], mids[i], &Qm[i * nq]);
             k->place(&Qm[i * nq]);
             for (int p = 0; p < np; ++p) {
-                if (!fails[p]) continue;
+                if (passed[r * np + p]) continue;  /* proven on the interval: inf */
                 Dm[i * np + p] = k->bound(p) - k->shift;
+                ++computed;
                 if (Dm[i * np + p] <= 0 && (hit < 0 || mids[i] < mids[hit])) hit = (int)i;
             }
         }
@@ -746,6 +744,7 @@ int edge_kernel_prove_path(void *kernel, int m, int order, const double *x, cons
     }
     out[0] = spare + k->shift; out[1] = 0; out[2] = 0; out[3] = -1; out[4] = 0;
     out[5] = (double)evals;
+    out[6] = (double)computed;
     return 1;
 }
 

@@ -206,6 +206,7 @@ class EdgeKernel:
         self._open = np.zeros(self.npairs, np.intc)  # the pairs asked for by batch
         self._batch, self._prove_path = lib.edge_kernel_batch, lib.edge_kernel_prove_path
         self._collides = lib.edge_kernel_collides
+        self.path_pairs = 0  # the last prove_path's pair distances at middles
 
     def __del__(self) -> None:
         handle = getattr(self, "_handle", None)
@@ -259,18 +260,21 @@ class EdgeKernel:
         Returns:
             ``(clear, spare, at, distance, pair, touching, evaluations)``: as
             :func:`~scara_opt.collision.continuous.prove`'s Proof and Contact hold them
-            (``spare``: the proven clearance [m]; ``pair``: -1 when clear).
+            (``spare``: the proven clearance [m]; ``pair``: -1 when clear). ``path_pairs``
+            then holds the pair distances computed at middles (a pair proven on an
+            interval is not computed at its middle).
         """
         x, c = np.ascontiguousarray(x, float), np.ascontiguousarray(c, float)
         V, W = np.ascontiguousarray(V, float), np.ascontiguousarray(W, float)
         A, a, b = (None, None, None) if gaps is None else (
             np.ascontiguousarray(g, float) for g in gaps)
-        out = np.zeros(6)
+        out = np.zeros(7)
         ok = self._prove_path(self._handle, len(x) - 1, c.shape[0] - 1, x.ctypes.data,
                               c.ctypes.data, V.ctypes.data, W.ctypes.data,
                               *(None if g is None else g.ctypes.data for g in (A, a, b)),
                               resolution, budget, out.ctypes.data)
-        spare, at, dist, pair, touching, evals = out.tolist()
+        spare, at, dist, pair, touching, evals, computed = out.tolist()
+        self.path_pairs = int(computed)
         return bool(ok), spare, at, dist, int(pair), bool(touching), int(evals)
 
 
