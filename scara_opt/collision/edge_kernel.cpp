@@ -558,22 +558,22 @@ int edge_kernel_split(void *kernel, const double *qa, const double *qb, int n,
         ++*midpoints;
         const size_t m = iv.pairs.size();
         dm.resize(m);
+        /* whether the interval's pair i is apart at the midpoint (above h M, the pair
+         * leaves both halves: no closer bound is needed); one in contact is remembered */
+        auto apart_at = [&](size_t i) {
+            dm[i] = k->distance(open[iv.pairs[i]], h * M[iv.pairs[i]]);
+            ++k->split_pairs;
+            if (dm[i] <= 0) k->split_hit = open[iv.pairs[i]];
+            return dm[i] > 0;
+        };
         /* the pair that last refused a midpoint first: a midpoint in contact is refused
          * whichever of its pairs is found in contact, so the verdict is the same */
         size_t lead = m;
         for (size_t i = 0; i < m && k->split_hit >= 0; ++i)
             if (open[iv.pairs[i]] == k->split_hit) { lead = i; break; }
-        for (size_t r = 0; r <= m; ++r) {
-            const size_t i = r == 0 ? lead : r - 1;
-            if (i >= m || (r > 0 && i == lead)) continue;
-            /* above h M, the pair leaves both halves: no closer bound is needed */
-            dm[i] = k->distance(open[iv.pairs[i]], h * M[iv.pairs[i]]);
-            ++k->split_pairs;
-            if (dm[i] <= 0) {
-                k->split_hit = open[iv.pairs[i]];
-                return 0;
-            }
-        }
+        if (lead < m && !apart_at(lead)) return 0;
+        for (size_t i = 0; i < m; ++i)
+            if (i != lead && !apart_at(i)) return 0;
         for (int half = 0; half < 2; ++half) {
             const double lo = half ? iv.s0 + h : iv.s0, hi = lo + h;
             const std::vector<double> &dl = half ? dm : iv.d0;
@@ -760,7 +760,6 @@ struct State {
     std::vector<double> d, up, down;
     std::vector<char> known;        /* the pairs whose distance d holds */
     double least;
-    bool complete;                  /* every pair's distance known */
 };
 
 struct Prover {
@@ -786,19 +785,18 @@ struct Prover {
             s.least = std::min(s.least, s.d[p]);
             if (s.d[p] <= 0 && !all) {
                 std::rotate(order.begin(), order.begin() + i, order.begin() + i + 1);
-                s.complete = std::all_of(s.known.begin(), s.known.end(),
-                                         [](char x) { return x != 0; });
                 return;
             }
         }
-        s.complete = true;
     }
 
     const State &state(const double *q, bool all = false) {
         std::vector<double> key(q, q + nq);
         auto it = cache.find(key);
         if (it != cache.end()) {
-            if (all && !it->second.complete) fill(it->second, q, true);
+            const std::vector<char> &known = it->second.known;
+            if (all && std::find(known.begin(), known.end(), 0) != known.end())
+                fill(it->second, q, true);  /* a refused state completed */
             return it->second;
         }
         State s;
