@@ -257,7 +257,7 @@ def test_the_three_point_passing_spline_is_toppras():
     """
     import toppra
 
-    from scara_opt.trajectory.passing import _parabola
+    from scara_opt.trajectory.spline import _parabola
 
     Q = np.random.default_rng(0).uniform(-1, 1, (3, 4))
     s = np.array([0.0, 0.3, 1.0])

@@ -31,6 +31,7 @@ from scara_opt.motion.tool_limits import ToolProfile, path_derivatives
 from scara_opt.trajectory.limits import JERK_PER_ACCELERATION, Limits, resolve_limits
 from scara_opt.trajectory.passing import bounds_grid, check_bounds, compose, path_bounds
 from scara_opt.trajectory.registry import time_parameterize
+from scara_opt.trajectory.spline import geometric_path
 from scara_opt.trajectory.toppra_backend import chord_parameter
 from scara_opt.trajectory.trajectory import Trajectory, stretch
 
@@ -60,10 +61,8 @@ def _bounds(robot: Robot, path: Any, s: Array, limits: Limits,
 def jerk_limited_section(robot: Robot, Q: Array, limits: Limits,
                          tool: ToolProfile) -> tuple[tuple[PPoly, ...], str, Array]:
     """Like :func:`~scara_opt.motion.timing.time_section`, jerk-limited along the path."""
-    import toppra
-
     s = chord_parameter(Q, limits.vmax)
-    path = toppra.SplineInterpolator(s, Q)
+    path = geometric_path(s, Q)
     V, U = _bounds(robot, path, s, limits, tool)
     one = resolve_limits(None, 1, V, U, JERK_PER_ACCELERATION * U, need_jerk=True)
     ps = time_parameterize([[0.0], [1.0]], None, method="ruckig", vmax=one.vmax,

@@ -29,6 +29,7 @@ from scara_opt.motion.tool_limits import (
 )
 from scara_opt.trajectory.dynamics import RobotDynamics
 from scara_opt.trajectory.limits import Limits
+from scara_opt.trajectory.spline import geometric_path
 from scara_opt.trajectory.toppra_backend import chord_parameter, solve_on_grid
 from scara_opt.trajectory.trajectory import Trajectory, stretch
 
@@ -128,10 +129,8 @@ def section_spline(Q: Array, limits: Limits) -> SplineInterpolator:
 
 @functools.lru_cache(maxsize=8)
 def _spline(q: bytes, shape: tuple[int, ...], vmax: bytes) -> SplineInterpolator:
-    import toppra
-
     Q = np.frombuffer(q).reshape(shape)
-    return toppra.SplineInterpolator(chord_parameter(Q, np.frombuffer(vmax)), Q)
+    return geometric_path(chord_parameter(Q, np.frombuffer(vmax)), Q)
 
 
 @functools.lru_cache(maxsize=8)

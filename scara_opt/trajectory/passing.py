@@ -39,6 +39,7 @@ from scipy.interpolate import CubicSpline, PPoly
 
 from scara_opt.errors import TrajectoryError
 from scara_opt.trajectory.limits import Limits
+from scara_opt.trajectory.spline import not_a_knot
 from scara_opt.trajectory.toppra_backend import chord_parameter
 
 Array = NDArray[np.float64]
@@ -55,29 +56,8 @@ SAMPLES = 4
 
 def spline(Q: Array, limits: Limits) -> tuple[CubicSpline, Array]:
     """toppra's spline through ``Q`` (n, nq) on the chord parameter, and that parameter (n,)."""
-    import toppra
-
     s = chord_parameter(Q, limits.vmax)
-    if len(Q) == 3:
-        return _parabola(s, Q), s
-    return toppra.SplineInterpolator(s, Q).cspl, s
-
-
-def _parabola(s: Array, Q: Array) -> CubicSpline:
-    """toppra's not-a-knot spline through three points: the parabola through them.
-
-    Built directly: scipy solves a 3 x 3 system for it through LAPACK, ~10 ms a call where
-    OpenBLAS's threads contend for the cores (0.02 ms with one thread).
-    """
-    h0, h1 = s[1] - s[0], s[2] - s[1]
-    m0, m1 = (Q[1] - Q[0]) / h0, (Q[2] - Q[1]) / h1
-    d2 = 2.0 * (m1 - m0) / (h0 + h1)  # (nq,) the second derivative, constant
-    d1 = (m0 * h1 + m1 * h0) / (h0 + h1)  # at the middle point
-    c = np.zeros((4, 2, Q.shape[1]))
-    c[1] = d2 / 2
-    c[2] = [d1 - d2 * h0, d1]
-    c[3] = Q[:2]
-    return CubicSpline.construct_fast(c, np.asarray(s, float))
+    return not_a_knot(s, Q), s
 
 
 def passing_velocities(Q: Array, limits: Limits) -> Array:

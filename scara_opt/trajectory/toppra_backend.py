@@ -1,7 +1,8 @@
 r"""Time-optimal timing through waypoints with TOPP-RA (toppra): joint velocity and acceleration.
 
 The geometric path is toppra's cubic :class:`~toppra.SplineInterpolator` through the
-waypoints, parameterised by the normalised chord length :math:`s_i = \sum \|Δq / v_{max}\|`
+waypoints (built by :func:`~scara_opt.trajectory.spline.geometric_path`), parameterised
+by the normalised chord length :math:`s_i = \sum \|Δq / v_{max}\|`
 (so the spline bends where the joints move, not where they rest). TOPP-RA (toppra's
 ``TOPPRA`` with the ``seidel`` solver, interpolation discretisation of the acceleration
 constraint; its two passes run by :mod:`~scara_opt.trajectory.toppra_passes`) computes
@@ -45,6 +46,7 @@ from scara_opt.errors import TrajectoryError
 from scara_opt.trajectory.dynamics import RobotDynamics
 from scara_opt.trajectory.limits import Limits
 from scara_opt.trajectory.methods import TimingMethod, check_option
+from scara_opt.trajectory.spline import geometric_path
 from scara_opt.trajectory.toppra_passes import reachability_passes
 from scara_opt.trajectory.trajectory import Trajectory, cubic_range, stretch
 
@@ -148,10 +150,8 @@ def toppra_trajectory(Q: Array, limits: Limits, duration: float | None = None, *
         InputError: an option outside its range (named in the message).
     """
     check_options(margin, grid_per_segment, min_grid, max_refine)
-    import toppra
-
     s = chord_parameter(Q, limits.vmax)
-    path = toppra.SplineInterpolator(s, Q)
+    path = geometric_path(s, Q)
     if dynamics is not None:
         dynamics.check_static(path(np.linspace(0.0, 1.0, 201)))
     per_segment = max(int(grid_per_segment), math.ceil(min_grid / (len(Q) - 1)))
