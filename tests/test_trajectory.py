@@ -109,7 +109,11 @@ def test_toppra_on_a_straight_move_is_bang_coast_bang(fang):
 
 # ---------------------------------------------------------------- backends vs libraries
 def test_toppra_pieces_equal_toppras_const_accel_output(zavar, circle_path):
-    """The degree-6 pieces reproduce toppra's own ParametrizeConstAccel to round-off."""
+    """The degree-6 pieces reproduce toppra's own ParametrizeConstAccel to round-off.
+
+    Mutation caught: the powers of ``s - knot`` built with the wrong term of the quadratic
+    (``w[j + 1]`` for ``w[j]``) -> fails.
+    """
     import toppra
     import toppra.algorithm as algo
     import toppra.constraint as constraint

@@ -85,15 +85,6 @@ def chord_parameter(Q: Array, vmax: Array) -> Array:
     return s / s[-1]
 
 
-def _multiply(A: list[Array], B: list[Array]) -> list[Array]:
-    """Product of two polynomials given as increasing-power coefficient lists of (N,) arrays."""
-    out = [np.zeros_like(A[0]) for _ in range(len(A) + len(B) - 1)]
-    for i, a in enumerate(A):
-        for j, b in enumerate(B):
-            out[i + j] = out[i + j] + a * b
-    return out
-
-
 def timed_pieces(spline: CubicSpline, grid: Array, sd: Array) -> tuple[Array, Array]:
     r"""The exact time parameterisation toppra computed, as degree-6 pieces in time.
 
@@ -112,15 +103,15 @@ def timed_pieces(spline: CubicSpline, grid: Array, sd: Array) -> tuple[Array, Ar
     u = (sd[1:] ** 2 - sd[:-1] ** 2) / (2.0 * ds)
     knots = spline.x
     k = np.clip(np.searchsorted(knots, grid[:-1], side="right") - 1, 0, len(knots) - 2)
-    w = [grid[:-1] - knots[k], sd[:-1], 0.5 * u]
-    powers = [[np.ones_like(dt)], w]
-    powers += [_multiply(powers[-1], w), _multiply(_multiply(powers[-1], w), w)]
-    pc = spline.c[:, k, :]  # (4, N, nq), highest power first
-    coeffs = np.zeros((7, len(dt), pc.shape[2]))
-    for m, poly in enumerate(powers):  # pc[3 - m] multiplies w^m
-        for deg, term in enumerate(poly):
-            coeffs[6 - deg] += pc[3 - m] * term[:, None]
-    return np.concatenate([[0.0], np.cumsum(dt)]), coeffs
+    w = (grid[:-1] - knots[k], sd[:-1], 0.5 * u)  # s - knot = w0 + w1 τ + w2 τ², (N,) each
+    powers = np.zeros((len(dt), 4, 7))  # [:, m, j]: the τ^j coefficient of (s - knot)^m
+    powers[:, 0, 0] = 1.0
+    for m in range(1, 4):
+        for j, wj in enumerate(w):
+            powers[:, m, j:j + 2 * m - 1] += powers[:, m - 1, :2 * m - 1] * wj[:, None]
+    pc = spline.c[::-1, k, :].transpose(1, 0, 2)  # (N, 4, nq): the pieces, lowest power first
+    coeffs = np.matmul(powers.transpose(0, 2, 1), pc)  # (N, 7, nq), lowest power first
+    return np.concatenate([[0.0], np.cumsum(dt)]), coeffs.transpose(1, 0, 2)[::-1]
 
 
 def toppra_trajectory(Q: Array, limits: Limits, duration: float | None = None, *,
@@ -235,7 +226,9 @@ def solve_on_grid(path: Any, s: Array, per_segment: int, cons: list, failed: str
             f"toppra's path speed is zero at both ends of grid interval {int(stall[0])} of "
             f"{len(grid) - 1}, so it would take forever: " + stalled)
     t, coeffs = timed_pieces(path.cspl, grid, sd)
-    pieces = tuple(PPoly(coeffs[:, :, k], t, extrapolate=False) for k in range(coeffs.shape[2]))
+    pieces = tuple(PPoly.construct_fast(np.ascontiguousarray(coeffs[:, :, k]), t,
+                                        extrapolate=False)  # t finite, increasing: unchecked
+                   for k in range(coeffs.shape[2]))
     return pieces, grid, t[::per_segment].copy()
 
 
