@@ -59,3 +59,15 @@ def test_the_geometric_path_is_toppras():
     for a, b in zip(acc.compute_constraint_params(got, grid),
                     acc.compute_constraint_params(want, grid), strict=True):
         assert (a is None and b is None) or np.allclose(a, b, rtol=1e-9, atol=1e-9)
+
+
+def test_parameters_not_increasing_are_refused():
+    """A repeated or decreasing parameter (a zero-length segment) raises, as scipy does,
+    instead of dividing by zero into NaN coefficients.
+
+    Mutation caught: the check dropped -> NaN coefficients, no error, fails.
+    """
+    Q = np.zeros((4, 2))
+    for s in ([0.0, 0.5, 0.5, 1.0], [0.0, 0.6, 0.4, 1.0], [0.0]):
+        with pytest.raises(ValueError, match="strictly increasing"):
+            not_a_knot(np.array(s), Q[:len(s)])

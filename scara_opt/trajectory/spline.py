@@ -27,12 +27,17 @@ __all__ = ["geometric_path", "not_a_knot"]
 def not_a_knot(s: Array, Q: Array) -> CubicSpline:
     """scipy's ``CubicSpline(s, Q)`` (not-a-knot ends), from its own formulas.
 
-    ``s`` (n,) strictly increasing, ``Q`` (n, nq), n >= 2: not checked (the callers build
-    ``s`` from ``Q``, :func:`~scara_opt.trajectory.toppra_backend.chord_parameter`).
+    ``s`` (n,) strictly increasing, ``Q`` (n, nq) finite, n >= 2 (the callers build ``s``
+    from validated waypoints, :func:`~scara_opt.trajectory.toppra_backend.chord_parameter`).
+
+    Raises:
+        ValueError: ``s`` not strictly increasing (as scipy), or n < 2.
     """
     s = np.asarray(s, dtype=float)
     Q = np.asarray(Q, dtype=float)
     n = len(s)
+    if n < 2 or not (np.diff(s) > 0.0).all():
+        raise ValueError(f"a spline needs n >= 2 strictly increasing parameters; got {s!r}")
     if n == 3:
         return _parabola(s, Q)
     dx = np.diff(s)
