@@ -36,6 +36,25 @@ def test_the_not_a_knot_spline_is_scipys(n):
         assert got.c.shape == want.c.shape
 
 
+def test_the_three_point_passing_spline_is_toppras():
+    """The parabola built for three waypoints is toppra's not-a-knot spline, its value and
+    first two derivatives, on uneven parameter steps.
+
+    Mutation caught: the middle slope weighted the wrong way round (m0 * h0 + m1 * h1)
+    -> fails.
+    """
+    import toppra
+
+    from scara_opt.trajectory.spline import _parabola
+
+    Q = np.random.default_rng(0).uniform(-1, 1, (3, 4))
+    s = np.array([0.0, 0.3, 1.0])
+    want, got = toppra.SplineInterpolator(s, Q).cspl, _parabola(s, Q)
+    x = np.linspace(0.0, 1.0, 21)
+    for nu in range(3):
+        assert np.allclose(got(x, nu), want(x, nu), atol=1e-12)
+
+
 def test_the_geometric_path_is_toppras():
     """geometric_path(s, Q) answers as toppra's SplineInterpolator(s, Q): path(s, order) for
     orders 0-2, its waypoints, interval and dof; toppra's joint constraints give the same

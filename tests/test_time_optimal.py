@@ -248,25 +248,6 @@ def test_another_seed_is_planned_while_the_path_is_far_from_the_bound():
     assert dense_clear_trajectory(checker, fast)
 
 
-def test_the_three_point_passing_spline_is_toppras():
-    """The parabola built for three waypoints is toppra's not-a-knot spline, its value and
-    first two derivatives, on uneven parameter steps.
-
-    Mutation caught: the middle slope weighted the wrong way round (m0 * h0 + m1 * h1)
-    -> fails.
-    """
-    import toppra
-
-    from scara_opt.trajectory.spline import _parabola
-
-    Q = np.random.default_rng(0).uniform(-1, 1, (3, 4))
-    s = np.array([0.0, 0.3, 1.0])
-    want, got = toppra.SplineInterpolator(s, Q).cspl, _parabola(s, Q)
-    x = np.linspace(0.0, 1.0, 21)
-    for nu in range(3):
-        assert np.allclose(got(x, nu), want(x, nu), atol=1e-12)
-
-
 def test_a_program_file_and_the_cli_take_the_objective(tmp_path, capsys):
     """A program file's ``objective = "time"`` reaches plan(); a misspelt one is a
     ProgramError naming both values; ``scara-opt cycle --objective time`` prints the bound.
